@@ -26,6 +26,11 @@ double virgin_force(double s, const MicroslipParameters& p);
 /// branch from |F| = y0 F_s to y1 F_s is (F_s²/k) J. Accurate to round-off relative to J(0, y1).
 double loading_dissipation_integral(double y0, double y1, double n);
 
+/// The same integral with each end point also given by its complement w = (1-y)^{1-n} (the variable
+/// that falls linearly with the loading slip). For n near 1, y rounds to 1 long before the virgin
+/// curve reaches full slip while w is still accurate; the integral is then taken from w.
+double loading_dissipation_integral(double y0, double w0, double y1, double w1, double n);
+
 /// W_D of eq. (11) (ĝ < g_T^max) or eq. (12) (ĝ ≥ g_T^max), literally as printed, with the printed
 /// g_T^max = 3F_s/(2k) and the printed exponents. Exact for n = 1/3 only (docs/theory.md).
 double dissipation_paper(double loading_span, const MicroslipParameters& p);

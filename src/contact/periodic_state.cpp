@@ -1,0 +1,220 @@
+// Periodic steady state of a tangential law on a sampled path (periodic_state.hpp).
+#include "jointhb/contact/periodic_state.hpp"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace jointhb::contact {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// Minimum-norm solution of (I - M) x = b; directions with singular value below the threshold are
+// those in which the periodicity condition does not fix the state (sticking throughout).
+struct PeriodicSolve {
+  Mat2 pseudo_inverse;  // (I - M)^+
+  Mat2 null_projector;  // projector onto the null space of I - M
+};
+
+PeriodicSolve periodic_solve(const Mat2& monodromy) {
+  const Mat2 a = Mat2::Identity() - monodromy;
+  Eigen::JacobiSVD<Mat2> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Vec2 sigma = svd.singularValues();
+  const double threshold = 1.0e-13;  // M has entries O(1): singular below round-off
+  PeriodicSolve r;
+  r.pseudo_inverse.setZero();
+  r.null_projector.setZero();
+  for (int j = 0; j < 2; ++j) {
+    const Vec2 v = svd.matrixV().col(j);
+    if (sigma(j) > threshold) {
+      r.pseudo_inverse += v * svd.matrixU().col(j).transpose() / sigma(j);
+    } else {
+      r.null_projector += v * v.transpose();
+    }
+  }
+  return r;
+}
+
+Vec2 clamp_to(const Vec2& t, double limit) {
+  const double norm = t.norm();
+  return norm > limit && norm > 0.0 ? Vec2(t * (limit / norm)) : t;
+}
+
+struct Sweep {
+  Vec2 end = Vec2::Zero();
+  Mat2 monodromy = Mat2::Identity();
+  double scale = 0.0;  // max |t_i| over the sweep
+};
+
+// One period of steps from t_0; fills `out` (tractions, derivatives, energy) when given.
+Sweep sweep(const TangentialLaw& law, const PeriodicPath& path, const Vec2& t0,
+            PeriodicStateResult* out) {
+  const std::size_t n = path.slip.size();
+  Sweep s;
+  Vec2 t = t0;
+  if (out) {
+    out->traction.assign(n, Vec2::Zero());
+    out->dissipation = 0.0;
+    out->loading_slip = 0.0;
+    out->stuck = true;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t next = (i + 1) % n;
+    if (out) out->traction[i] = t;
+    const TangentialStep step = law.step(t, path.slip[next] - path.slip[i], path.limits[next]);
+    t = step.traction;
+    s.monodromy = step.d_traction * s.monodromy;
+    s.scale = std::max(s.scale, t.norm());
+    if (out) {
+      out->dissipation += step.dissipation;
+      out->loading_slip += step.loading_slip;
+      out->stuck = out->stuck && step.elastic;
+      if (!out->d_traction.empty()) {
+        out->d_traction[i] = step.d_traction;
+        out->d_slip[i] = step.d_slip;
+        out->d_limit[i] = step.d_limit;
+        out->d_stiffness[i] = step.d_stiffness;
+      }
+    }
+  }
+  s.end = t;
+  return s;
+}
+
+}  // namespace
+
+std::string PeriodicStateOptions::validate() const {
+  if (!(tolerance > 0.0 && tolerance <= 1.0e-3)) return "tolerance must lie in (0, 1e-3]";
+  if (max_iterations < 1) return "max_iterations must be >= 1";
+  if (!reference_traction.allFinite()) return "reference_traction must be finite";
+  if (!reference_slip.allFinite()) return "reference_slip must be finite";
+  return {};
+}
+
+PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const PeriodicPath& path,
+                                         const PeriodicStateOptions& options) {
+  if (const std::string msg = options.validate(); !msg.empty()) {
+    throw std::invalid_argument("periodic state options: " + msg);
+  }
+  const std::size_t n = path.slip.size();
+  if (n < 2 || path.limits.size() != n) {
+    throw std::invalid_argument("periodic path: need N >= 2 samples with one limit per sample");
+  }
+  double limit_max = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& l = path.limits[i];
+    if (!path.slip[i].allFinite() || !std::isfinite(l.slip_limit) || !std::isfinite(l.stiffness) ||
+        l.slip_limit < 0.0 || l.stiffness < 0.0) {
+      throw std::invalid_argument("periodic path: sample " + std::to_string(i) +
+                                  " has a non-finite or negative slip, limit or stiffness");
+    }
+    limit_max = std::max(limit_max, l.slip_limit);
+  }
+
+  PeriodicStateResult result;
+  result.anchor_offset = path.slip[0] - options.reference_slip;
+  result.anchor_stiffness = path.limits[0].stiffness;
+  // Anchor: the elastic branch through the reference state, on the limit at most.
+  Vec2 t = clamp_to(options.reference_traction + result.anchor_stiffness * result.anchor_offset,
+                    path.limits[0].slip_limit);
+
+  const double tolerance = options.tolerance * limit_max;
+  double previous_residual = std::numeric_limits<double>::infinity();
+  Vec2 previous_t = t;
+  Vec2 previous_end = t;
+  bool last_was_newton = false;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    const Sweep s = sweep(law, path, t, nullptr);
+    ++result.iterations;
+    const double residual = (s.end - t).norm();
+    // Round-off floor of one period of steps: below it the residual carries no information.
+    const double floor = 16.0 * kEps * std::sqrt(static_cast<double>(n)) * s.scale;
+    if (residual <= tolerance || residual <= floor) {
+      result.status = PeriodicStatus::converged;
+      result.residual = residual;
+      result.monodromy = s.monodromy;
+      break;
+    }
+    if (last_was_newton && residual >= previous_residual) {
+      // Newton did not reduce the residual: fall back to a fixed-point step from the last state.
+      t = previous_end;
+      last_was_newton = false;
+      continue;
+    }
+    previous_residual = residual;
+    previous_t = t;
+    previous_end = s.end;
+    result.residual = residual;
+    result.monodromy = s.monodromy;
+    const PeriodicSolve solve = periodic_solve(s.monodromy);
+    const Vec2 newton = t + solve.pseudo_inverse * (s.end - t);
+    last_was_newton = (newton - t).norm() > 0.0;
+    t = clamp_to(last_was_newton ? newton : s.end, path.limits[0].slip_limit);
+  }
+  if (result.status != PeriodicStatus::converged) {
+    t = previous_t;
+    result.message = "periodic state not converged after " + std::to_string(result.iterations) +
+                     " periods; residual " + std::to_string(result.residual);
+  }
+
+  if (options.keep_step_derivatives) {
+    result.d_traction.assign(n, Mat2::Zero());
+    result.d_slip.assign(n, Mat2::Zero());
+    result.d_limit.assign(n, Vec2::Zero());
+    result.d_stiffness.assign(n, Vec2::Zero());
+  }
+  const Sweep final_sweep = sweep(law, path, t, &result);
+  result.monodromy = final_sweep.monodromy;
+  if (result.status == PeriodicStatus::converged) {
+    result.residual = (final_sweep.end - t).norm();
+  }
+  return result;
+}
+
+Eigen::MatrixXd periodic_sensitivity(const PeriodicStateResult& state,
+                                     const Eigen::MatrixXd& slip, const Eigen::MatrixXd& limit,
+                                     const Eigen::MatrixXd& stiffness) {
+  const auto n = static_cast<Eigen::Index>(state.traction.size());
+  if (static_cast<Eigen::Index>(state.d_traction.size()) != n) {
+    throw std::invalid_argument("periodic_sensitivity: the state has no step derivatives "
+                                "(solve with keep_step_derivatives = true)");
+  }
+  const Eigen::Index m = slip.cols();
+  if (slip.rows() != 2 * n || (limit.size() && (limit.rows() != n || limit.cols() != m)) ||
+      (stiffness.size() && (stiffness.rows() != n || stiffness.cols() != m))) {
+    throw std::invalid_argument("periodic_sensitivity: perturbations must be 2N x m, N x m, N x m");
+  }
+  // Particular solution r_i (zero start) and homogeneous propagator Π_i, step by step:
+  //   δt_{i+1} = A_i δt_i + B_i (δg_{i+1} - δg_i) + c_i δL_{i+1} + d_i δk_{i+1}.
+  Eigen::MatrixXd particular(2 * n, m);
+  std::vector<Mat2> propagator(static_cast<std::size_t>(n));
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(2, m);
+  Mat2 pi = Mat2::Identity();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    particular.middleRows(2 * i, 2) = r;
+    propagator[static_cast<std::size_t>(i)] = pi;
+    const Eigen::Index next = (i + 1) % n;
+    const auto k = static_cast<std::size_t>(i);
+    Eigen::MatrixXd forcing =
+        state.d_slip[k] * (slip.middleRows(2 * next, 2) - slip.middleRows(2 * i, 2));
+    if (limit.size()) forcing += state.d_limit[k] * limit.row(next);
+    if (stiffness.size()) forcing += state.d_stiffness[k] * stiffness.row(next);
+    r = state.d_traction[k] * r + forcing;
+    pi = state.d_traction[k] * pi;
+  }
+  // Periodicity δt_0 = M δt_0 + r_N; the null directions of I - M follow the anchor
+  // t_0 = t_ref + k_0 (g_0 - g_ref).
+  const PeriodicSolve solve = periodic_solve(pi);
+  Eigen::MatrixXd anchor = state.anchor_stiffness * slip.topRows(2);
+  if (stiffness.size()) anchor += state.anchor_offset * stiffness.row(0);
+  const Eigen::MatrixXd start = solve.pseudo_inverse * r + solve.null_projector * anchor;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    particular.middleRows(2 * i, 2) += propagator[static_cast<std::size_t>(i)] * start;
+  }
+  return particular;
+}
+
+}  // namespace jointhb::contact
