@@ -1,0 +1,93 @@
+// Closed forms of the Gaul–Mayer law: eq. (11)/(12) as printed vs the general-n formula derived
+// in docs/theory.md, and both vs an independent quadrature of the steady loop.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "jointhb/contact/closed_forms.hpp"
+
+namespace cf = jointhb::contact::closed_form;
+
+namespace {
+
+// W_D of the symmetric loop by composite Simpson quadrature of ∮ F dg over the analytic branches:
+// elastic unloading from F̂ to 0, then the virgin curve over the span ĝ (both half cycles).
+double loop_quadrature(double span, const cf::MicroslipParameters& p, int m) {
+  const double fhat = cf::virgin_force(span, p);
+  double loading = 0.0;  // ∫_0^ĝ F_virgin(s) ds
+  const double h = span / m;
+  for (int i = 0; i <= m; ++i) {
+    const double w = (i == 0 || i == m) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    loading += w * cf::virgin_force(i * h, p);
+  }
+  loading *= h / 3.0;
+  return 2.0 * (loading - fhat * fhat / (2.0 * p.stiffness));
+}
+
+}  // namespace
+
+TEST(ClosedForms, PaperEq11And12EqualTheGeneralFormulaForMindlinExponent) {
+  const cf::MicroslipParameters p{1.0 / 3.0, 2.0, 5.0};
+  const double gmax = cf::full_slip_span(p);
+  EXPECT_DOUBLE_EQ(gmax, cf::full_slip_span_printed(p));
+  for (double x : {0.05, 0.3, 0.7, 0.999, 1.0, 1.5, 10.0}) {
+    const double general = cf::dissipation_general(x * gmax, p);
+    EXPECT_NEAR(cf::dissipation_paper(x * gmax, p), general, 1e-12 * general) << "x=" << x;
+  }
+}
+
+TEST(ClosedForms, GeneralFormulaMatchesQuadratureOfTheLoopForAnyExponent) {
+  for (double n : {0.05, 0.2, 0.5, 0.9}) {
+    const cf::MicroslipParameters p{n, 1.0, 1.0};
+    for (double x : {0.2, 0.6, 0.9}) {
+      const double span = x * cf::full_slip_span(p);
+      const double general = cf::dissipation_general(span, p);
+      EXPECT_NEAR(loop_quadrature(span, p, 20000), general, 1e-7 * general) << n << " " << x;
+    }
+  }
+}
+
+TEST(ClosedForms, PrintedFormulasFailAwayFromMindlinExponent) {
+  for (double n : {0.05, 0.2, 0.5, 0.9}) {
+    const cf::MicroslipParameters p{n, 1.0, 1.0};
+    const double span = 0.5 * cf::full_slip_span(p);
+    const double ratio = cf::dissipation_paper(span, p) / cf::dissipation_general(span, p);
+    EXPECT_GT(std::abs(ratio - 1.0), 0.01) << "n=" << n;
+  }
+  // For n < 1/3 the printed eq. (11) turns negative at small spans (NUMERICS.md §2): its O(x²)
+  // term is (3/(4(1-n)) - 9/8) x², which vanishes only at n = 1/3.
+  const cf::MicroslipParameters small{0.05, 1.0, 1.0};
+  for (double x : {0.001, 0.1, 0.3}) {
+    EXPECT_LT(cf::dissipation_paper(x * cf::full_slip_span_printed(small), small), 0.0) << x;
+  }
+}
+
+TEST(ClosedForms, GrossSlipConstantIsTheLoadingIntegralToFullSlip) {
+  for (double n : {0.05, 1.0 / 3.0, 0.9}) {
+    EXPECT_NEAR(cf::loading_dissipation_integral(0.0, 1.0, n),
+                n * (3 - n) / (2 * (2 - 3 * n + n * n)), 1e-13 / (1 - n));
+  }
+}
+
+TEST(ClosedForms, SmallAmplitudeExpansionWithoutCancellation) {
+  // I(y) = n y³/3 + n(n+1) y⁴/8 + O(y⁵): the stable evaluation keeps full relative accuracy.
+  for (double n : {0.05, 1.0 / 3.0, 0.9}) {
+    for (double y : {1e-8, 1e-5}) {
+      const double series = n * y * y * y / 3 + n * (n + 1) * std::pow(y, 4) / 8 +
+                            n * (n + 1) * (n + 2) / 6 * std::pow(y, 5) / 5;
+      EXPECT_NEAR(cf::loading_dissipation_integral(0.0, y, n), series, 1e-14 * series);
+    }
+  }
+}
+
+TEST(ClosedForms, SymmetricLoopSolvesItsEquationAndMeetsJenkinsLimit) {
+  const cf::MicroslipParameters p{0.4, 3.0, 100.0};
+  for (double a : {1e-9, 1e-4, 0.03, 0.2}) {
+    const auto loop = cf::symmetric_loop(a, p);
+    EXPECT_NEAR(loop.loading_span, 2 * a - loop.force_amplitude / p.stiffness, 1e-15 * a);
+    EXPECT_NEAR(loop.force_amplitude, cf::virgin_force(loop.loading_span, p),
+                1e-14 * loop.force_amplitude + 1e-300);
+  }
+  EXPECT_EQ(cf::dissipation_jenkins(0.01, 1.0, 10.0), 0.0);
+  EXPECT_DOUBLE_EQ(cf::dissipation_jenkins(0.3, 1.0, 10.0), 4.0 * (0.3 - 0.1));
+}
