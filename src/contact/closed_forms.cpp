@@ -71,6 +71,32 @@ double dissipation_paper(double loading_span, const MicroslipParameters& p) {
   const double n = p.exponent;
   const double scale = 2.0 * p.slip_limit * p.slip_limit / p.stiffness;
   const double x = loading_span / full_slip_span_printed(p);
+  if (x <= 0.25) {
+    // eq. (11) as printed, by its Taylor series in x: the literal expression cancels O(x) terms
+    // down to an O(x²) (n ≠ 1/3) or O(x³) (n = 1/3) result. With p = (2-n)/(1-n), c = 3/(2p):
+    //   f = 3x/2 + c[(1-x)^p - 1] - ½[1 - (1-x)^{3/2}]² = Σ_{j≥2} f_j x^j,
+    //   f_1 = 3/2 - c p = 0,  f_2 = 3/(4(1-n)) - 9/8 (exactly, not by cancellation),
+    //   f_j = c α_j - ½ Σ_{i=1}^{j-1} β_i β_{j-i},  α_j = C(p,j)(-1)^j,  β_j = -C(3/2,j)(-1)^j.
+    const double pexp = (2.0 - n) / (1.0 - n);
+    const double c = 1.5 * (1.0 - n) / (2.0 - n);
+    constexpr int kTerms = 60;  // x ≤ 1/4: the terms fall like 4^{-j}
+    double alpha[kTerms + 1], beta[kTerms + 1];
+    alpha[1] = -pexp;
+    beta[1] = 1.5;
+    for (int j = 1; j < kTerms; ++j) {
+      alpha[j + 1] = -alpha[j] * (pexp - j) / (j + 1);
+      beta[j + 1] = -beta[j] * (1.5 - j) / (j + 1);
+    }
+    double sum = 1.125 * (n - 1.0 / 3.0) / (1.0 - n) * x * x;  // f_2 = 3/(4(1-n)) - 9/8
+    double power = x * x;
+    for (int j = 3; j <= kTerms; ++j) {
+      power *= x;
+      double gamma = 0.0;
+      for (int i = 1; i < j; ++i) gamma += beta[i] * beta[j - i];
+      sum += (c * alpha[j] - 0.5 * gamma) * power;
+    }
+    return scale * sum;
+  }
   if (x < 1.0) {  // eq. (11), literally
     const double a = 1.5 * x;
     const double b = 1.5 * (1.0 - n) / (2.0 - n) * (std::pow(1.0 - x, (2.0 - n) / (1.0 - n)) - 1.0);

@@ -47,6 +47,11 @@ std::string LoopOptions::validate() const {
     return "lambda: must be > 0 when the normal amplitude is not zero";
   }
   if (time_samples < 4) return "time_samples: must be >= 4";
+  for (const auto& h : harmonics) {
+    if (2 * h.order >= time_samples) {
+      return "harmonic order: must be < time_samples/2 (it would alias onto a lower harmonic)";
+    }
+  }
   return {};
 }
 

@@ -103,7 +103,6 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   if (n < 2 || path.limits.size() != n) {
     throw std::invalid_argument("periodic path: need N >= 2 samples with one limit per sample");
   }
-  double limit_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& l = path.limits[i];
     if (!path.slip[i].allFinite() || !std::isfinite(l.slip_limit) || !std::isfinite(l.stiffness) ||
@@ -111,7 +110,6 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
       throw std::invalid_argument("periodic path: sample " + std::to_string(i) +
                                   " has a non-finite or negative slip, limit or stiffness");
     }
-    limit_max = std::max(limit_max, l.slip_limit);
   }
 
   PeriodicStateResult result;
@@ -121,7 +119,6 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   Vec2 t = clamp_to(options.reference_traction + result.anchor_stiffness * result.anchor_offset,
                     path.limits[0].slip_limit);
 
-  const double tolerance = options.tolerance * limit_max;
   double previous_residual = std::numeric_limits<double>::infinity();
   Vec2 previous_t = t;
   Vec2 previous_end = t;
@@ -130,9 +127,10 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
     const Sweep s = sweep(law, path, t, nullptr);
     ++result.iterations;
     const double residual = (s.end - t).norm();
-    // Round-off floor of one period of steps: below it the residual carries no information.
+    // Converged relative to the loop's own traction scale (not the limit: at small amplitude
+    // max|t| ≪ F_s), or at the round-off floor of one period of steps.
     const double floor = 16.0 * kEps * std::sqrt(static_cast<double>(n)) * s.scale;
-    if (residual <= tolerance || residual <= floor) {
+    if (residual <= options.tolerance * s.scale || residual <= floor) {
       result.status = PeriodicStatus::converged;
       result.residual = residual;
       result.monodromy = s.monodromy;

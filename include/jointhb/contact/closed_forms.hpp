@@ -33,6 +33,8 @@ double loading_dissipation_integral(double y0, double w0, double y1, double w1, 
 
 /// W_D of eq. (11) (ĝ < g_T^max) or eq. (12) (ĝ ≥ g_T^max), literally as printed, with the printed
 /// g_T^max = 3F_s/(2k) and the printed exponents. Exact for n = 1/3 only (docs/theory.md).
+/// For x = ĝ/g_T^max ≤ 1/4 the same expression is summed as its Taylor series, so that the
+/// printed formula is not blurred by the cancellation of its O(x) terms.
 double dissipation_paper(double loading_span, const MicroslipParameters& p);
 
 /// W_D derived from eq. (10) for any n ∈ (0,1), x = ĝ/g_max with g_max = F_s/((1-n)k):

@@ -50,7 +50,7 @@ struct LoopResult {
   double dissipation_paper_amplitude_reading = 0.0;  ///< eq. (11)/(12) at ĝ = a (the other reading)
   double dissipation_general = 0.0;  ///< general-n formula at ĝ = loading_span
   double dissipation_jenkins = 0.0;  ///< Jenkins closed form (law = jenkins)
-  double full_slip_span = 0.0;       ///< g_max = μF_N/((1-n)k)
+  double full_slip_span = 0.0;       ///< g_max = μF_N/((1-n)k) (gaul-mayer); μF_N/k (jenkins)
   double seconds = 0.0;              ///< wall time of the periodic solve
 };
 

@@ -31,7 +31,7 @@ struct PeriodicPath {
 };
 
 struct PeriodicStateOptions {
-  double tolerance = 1.0e-15;      ///< (0, 1e-3]: |t_0 - Φ_N(t_0)| ≤ tolerance · max_i L_i
+  double tolerance = 1.0e-15;      ///< (0, 1e-3]: |t_0 - Φ_N(t_0)| ≤ tolerance · max_i |t_i|
   int max_iterations = 200;        ///< ≥ 1: Newton/fixed-point iterations
   Vec2 reference_traction = Vec2::Zero();  ///< t_ref: tangential traction of the reference state
   Vec2 reference_slip = Vec2::Zero();      ///< g_ref: slip of the reference state

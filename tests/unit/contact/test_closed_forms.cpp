@@ -91,3 +91,23 @@ TEST(ClosedForms, SymmetricLoopSolvesItsEquationAndMeetsJenkinsLimit) {
   EXPECT_EQ(cf::dissipation_jenkins(0.01, 1.0, 10.0), 0.0);
   EXPECT_DOUBLE_EQ(cf::dissipation_jenkins(0.3, 1.0, 10.0), 4.0 * (0.3 - 0.1));
 }
+
+TEST(ClosedForms, PrintedFormulaSeriesJoinsTheLiteralExpression) {
+  // The series branch (x ≤ 1/4) and the literal expression agree where both are accurate, and at
+  // n = 1/3 the printed formula equals the general one down to tiny spans.
+  for (double n : {0.05, 1.0 / 3.0, 0.7}) {
+    const cf::MicroslipParameters p{n, 1.0, 1.0};
+    const double g = cf::full_slip_span_printed(p);
+    const double x = 0.25, xl = 0.25 * (1 + 1e-12);
+    const double literal = 2.0 * (1.5 * xl + 1.5 * (1 - n) / (2 - n) *
+                                                 (std::pow(1 - xl, (2 - n) / (1 - n)) - 1) -
+                                  0.5 * std::pow(1 - std::pow(1 - xl, 1.5), 2));
+    EXPECT_NEAR(cf::dissipation_paper(x * g, p), literal, 1e-11 * std::abs(literal)) << n;
+  }
+  const cf::MicroslipParameters mindlin{1.0 / 3.0, 1.0, 1.0};
+  for (double x : {1e-6, 1e-3, 0.2}) {
+    const double span = x * cf::full_slip_span(mindlin);
+    const double general = cf::dissipation_general(span, mindlin);
+    EXPECT_NEAR(cf::dissipation_paper(span, mindlin), general, 1e-13 * general) << x;
+  }
+}
