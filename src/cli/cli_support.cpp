@@ -1,0 +1,39 @@
+#include "cli_support.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "jointhb/io/value_checks.hpp"
+
+namespace jointhb::cli {
+
+void require_option(const std::string& option, const std::string& constraint) {
+  if (!constraint.empty()) throw io::InputError(io::command_line, 0, 0, option, constraint);
+}
+
+double number_option(const std::string& option, const std::string& text) {
+  const auto value = io::parse_number(text);
+  if (!value) require_option(option, "must be a number, got '" + text + "'");
+  return *value;
+}
+
+int integer_option(const std::string& option, const std::string& text, long long min,
+                   long long max) {
+  const auto value = io::parse_integer(text);
+  if (!value) require_option(option, "must be an integer, got '" + text + "'");
+  require_option(option, io::check_in_range(*value, min, max));
+  return static_cast<int>(*value);
+}
+
+void require_finite_result(const std::string& name, double value) {
+  if (!std::isfinite(value)) {
+    throw std::runtime_error("result '" + name + "' is not finite (" + io::format_number(value) +
+                             "); nothing written");
+  }
+}
+
+bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+
+}  // namespace jointhb::cli

@@ -1,0 +1,88 @@
+// jointhb: harmonic balance for bolted joints with zero-thickness contact elements.
+//
+// Sample runs:
+//   jointhb loop --amplitude 2e-5 --json
+//   jointhb run                                  (built-in default case into ./jointhb-out)
+//   jointhb run cases/01-contact-loop/case.yaml -o out
+//
+// Every error is one line on stderr; exit codes: 0 ok, 1 runtime failure, 2 bad input.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include "cli_support.hpp"
+#include "jointhb/io/input_error.hpp"
+#include "loop_command.hpp"
+#include "run_command.hpp"
+
+namespace {
+
+using namespace jointhb::cli;
+
+// Each error is reported as exactly one line, prefixed with the command that raised it.
+void print_error(const std::string& command, const std::string& message) {
+  std::string line = message;
+  for (char& c : line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  std::cerr << command << ": " << line << '\n';
+}
+
+template <class Command>
+int run_guarded(const std::string& name, const Command& command) {
+  try {
+    return command.run();
+  } catch (const jointhb::io::InputError& e) {
+    // Options have no file position: name the option the way the user typed it.
+    if (e.file() == jointhb::io::command_line) {
+      print_error(name, "option '" + e.key() + "': " + e.constraint());
+    } else {
+      print_error(name, e.what());
+    }
+    return exit_bad_input;
+  } catch (const UsageError& e) {
+    print_error(name, e.what());
+    return exit_bad_input;
+  } catch (const std::exception& e) {
+    print_error(name, e.what());
+    return exit_failure;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "jointhb " JOINTHB_VERSION
+      ": vibration of bolted joints by harmonic balance with the Gaul-Mayer microslip contact "
+      "law.",
+      "jointhb"};
+  app.set_version_flag("--version", "jointhb " JOINTHB_VERSION);
+  app.require_subcommand(0, 1);
+  app.footer(
+      "Run 'jointhb COMMAND --help' for the options of a command (units, ranges, defaults).\n"
+      "Exit codes: 0 ok, 1 runtime failure, 2 bad input (options, case file).");
+  LoopCommand loop(app);
+  RunCommand run(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    print_error("jointhb", std::string(e.what()) + " (see 'jointhb --help')");
+    return exit_bad_input;
+  }
+
+  if (loop.selected()) return run_guarded("jointhb loop", loop);
+  if (run.selected()) return run_guarded("jointhb run", run);
+  print_error("jointhb", "a command is required: loop or run (see 'jointhb --help')");
+  return exit_bad_input;
+}

@@ -1,0 +1,27 @@
+#pragma once
+// `jointhb run [CASE.yaml] [-o DIR]`: runs the analysis a case file asks for (so far the W_D
+// amplitude sweep of one contact point), or the built-in default case. docs/cli.md.
+
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace jointhb::cli {
+
+class RunCommand {
+ public:
+  explicit RunCommand(CLI::App& parent);
+
+  [[nodiscard]] bool selected() const;
+  /// Runs after parsing; returns the exit code. Throws io::InputError for a bad case file or -o.
+  [[nodiscard]] int run() const;
+
+ private:
+  CLI::App* app_;
+  std::string case_path_;
+  std::string output_dir_ = "jointhb-out";
+};
+
+}  // namespace jointhb::cli

@@ -1,0 +1,64 @@
+#include "jointhb/io/csv_writer.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
+
+namespace jointhb::io {
+
+CsvWriter::CsvWriter(std::filesystem::path path, std::vector<std::string> columns)
+    : path_(std::move(path)), columns_(std::move(columns)) {
+  if (columns_.empty()) throw std::invalid_argument("CsvWriter: the header has no columns");
+  for (const auto& column : columns_) {
+    if (column.empty() || column.find_first_of(",\"\r\n") != std::string::npos) {
+      throw std::invalid_argument("CsvWriter: column name '" + column +
+                                  "' is empty or contains a comma, quote or line break");
+    }
+  }
+  out_.open(path_, std::ios::out | std::ios::trunc);
+  if (!out_) {
+    throw std::runtime_error("cannot open '" + path_.string() +
+                             "' for writing: " + std::strerror(errno));
+  }
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    out_ << (i ? "," : "") << columns_[i];
+  }
+  out_ << '\n';
+  flush_or_throw();
+}
+
+void CsvWriter::write_row(std::span<const double> values) {
+  if (values.size() != columns_.size()) {
+    throw std::invalid_argument("CsvWriter: row of " + std::to_string(values.size()) +
+                                " values for " + std::to_string(columns_.size()) + " columns in '" +
+                                path_.string() + "'");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw std::invalid_argument("CsvWriter: column '" + columns_[i] + "' of '" + path_.string() +
+                                  "' is not finite");
+    }
+  }
+  // The whole row is formatted before anything is written, so a failed row leaves no half line.
+  std::string line;
+  char buffer[32];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::snprintf(buffer, sizeof buffer, "%.17g", values[i]);
+    if (i) line += ',';
+    line += buffer;
+  }
+  line += '\n';
+  out_ << line;
+  flush_or_throw();
+  ++rows_;
+}
+
+void CsvWriter::flush_or_throw() {
+  out_.flush();
+  if (!out_) throw std::runtime_error("cannot write to '" + path_.string() + "'");
+}
+
+}  // namespace jointhb::io
