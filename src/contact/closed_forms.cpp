@@ -136,7 +136,10 @@ SymmetricLoop symmetric_loop(double amplitude, const MicroslipParameters& p) {
     for (int it = 0; it < 200; ++it) {
       const double span = 2.0 * amplitude - f / k;
       const double h = f - virgin_force(span, p);
-      if (h > 0.0) hi = f; else lo = f;
+      if (h > 0.0)
+        hi = f;
+      else
+        lo = f;
       const double x = span / full_slip_span(p);
       const double slope = 1.0 + std::pow(std::max(1.0 - x, 0.0), p.exponent / (1.0 - p.exponent));
       double next = f - h / slope;  // Newton, safeguarded by the bracket

@@ -120,7 +120,8 @@ Eigen::MatrixXd ContactPoint::periodic_sensitivity(const PeriodicContactResult& 
   Eigen::MatrixXd result(3 * n, m);
   for (Eigen::Index i = 0; i < n; ++i) {
     result.middleRows(3 * i, 2) = tangential.middleRows(2 * i, 2);
-    result.row(3 * i + 2) = state.normal_stiffness[static_cast<std::size_t>(i)] * path.row(3 * i + 2);
+    result.row(3 * i + 2) =
+        state.normal_stiffness[static_cast<std::size_t>(i)] * path.row(3 * i + 2);
   }
   return result;
 }

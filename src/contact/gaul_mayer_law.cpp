@@ -46,7 +46,8 @@ ScalarStep load(double y0, double m, double s, double n, double fs, double k) {
   r.d_slip = k * psi1;
   r.d_stiffness = s * psi1 * m;
   r.d_limit = s * (y1 - psi1 * (y0 / psi0 + k * m / fs));
-  r.dissipation = fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, y1, 1.0 - c1, n);
+  r.dissipation =
+      fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, y1, 1.0 - c1, n);
   return r;
 }
 

@@ -55,12 +55,10 @@ std::string LoopOptions::validate() const {
   return {};
 }
 
-std::shared_ptr<const TangentialLaw> make_tangential_law(const std::string& name,
-                                                         double exponent) {
+std::shared_ptr<const TangentialLaw> make_tangential_law(const std::string& name, double exponent) {
   if (name == "gaul-mayer") return std::make_shared<GaulMayerLaw>(exponent);
   if (name == "jenkins") return std::make_shared<JenkinsLaw>();
-  throw std::invalid_argument("unknown tangential law '" + name +
-                              "' (known: gaul-mayer, jenkins)");
+  throw std::invalid_argument("unknown tangential law '" + name + "' (known: gaul-mayer, jenkins)");
 }
 
 LoopResult run_loop(const LoopOptions& o) {
@@ -100,7 +98,8 @@ LoopResult run_loop(const LoopOptions& o) {
   r.loading_span = 0.5 * r.state.loading_slip;  // two loading branches per period
   const closed_form::MicroslipParameters p{o.exponent, o.friction_coefficient * o.normal_force,
                                            o.stiffness};
-  r.full_slip_span = o.law == "gaul-mayer" ? closed_form::full_slip_span(p) : p.slip_limit / p.stiffness;
+  r.full_slip_span =
+      o.law == "gaul-mayer" ? closed_form::full_slip_span(p) : p.slip_limit / p.stiffness;
   r.formulas_apply = o.law == "gaul-mayer" && o.harmonics.empty() && o.normal_amplitude == 0.0;
   if (r.formulas_apply) {
     r.dissipation_paper = closed_form::dissipation_paper(r.loading_span, p);
@@ -108,7 +107,8 @@ LoopResult run_loop(const LoopOptions& o) {
     r.dissipation_general = closed_form::dissipation_general(r.loading_span, p);
   }
   if (o.law == "jenkins" && o.harmonics.empty() && o.normal_amplitude == 0.0) {
-    r.dissipation_jenkins = closed_form::dissipation_jenkins(o.amplitude, p.slip_limit, p.stiffness);
+    r.dissipation_jenkins =
+        closed_form::dissipation_jenkins(o.amplitude, p.slip_limit, p.stiffness);
   }
   return r;
 }

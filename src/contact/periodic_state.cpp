@@ -135,8 +135,8 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
     // is measured at 0.1–0.3 ε√N max|t|; a looser floor stops Newton before the conditioning
     // limit (F̂ was then up to 100× less accurate at a ~ 1e-6 g_max).
     const double noise = kEps * std::sqrt(static_cast<double>(n)) * s.scale;
-    const bool stagnated = newton_steps >= 3 && residual > 0.5 * previous_residual &&
-                           residual <= 64.0 * noise;
+    const bool stagnated =
+        newton_steps >= 3 && residual > 0.5 * previous_residual && residual <= 64.0 * noise;
     if (residual <= options.tolerance * s.scale || residual <= 2.0 * noise || stagnated) {
       result.status = PeriodicStatus::converged;
       result.residual = residual;
@@ -185,13 +185,14 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   return result;
 }
 
-Eigen::MatrixXd periodic_sensitivity(const PeriodicStateResult& state,
-                                     const Eigen::MatrixXd& slip, const Eigen::MatrixXd& limit,
+Eigen::MatrixXd periodic_sensitivity(const PeriodicStateResult& state, const Eigen::MatrixXd& slip,
+                                     const Eigen::MatrixXd& limit,
                                      const Eigen::MatrixXd& stiffness) {
   const auto n = static_cast<Eigen::Index>(state.traction.size());
   if (static_cast<Eigen::Index>(state.d_traction.size()) != n) {
-    throw std::invalid_argument("periodic_sensitivity: the state has no step derivatives "
-                                "(solve with keep_step_derivatives = true)");
+    throw std::invalid_argument(
+        "periodic_sensitivity: the state has no step derivatives "
+        "(solve with keep_step_derivatives = true)");
   }
   const Eigen::Index m = slip.cols();
   if (slip.rows() != 2 * n || (limit.size() && (limit.rows() != n || limit.cols() != m)) ||

@@ -24,7 +24,7 @@ TangentialStep TangentialLaw::step(const Vec2& t0, const Vec2& slip,
 
   // If the limit fell below |t_0| (the normal pressure dropped), t_0 slips radially onto it.
   Vec2 start = t0;
-  Mat2 d_start = Mat2::Identity();  // ∂start/∂t_0
+  Mat2 d_start = Mat2::Identity();    // ∂start/∂t_0
   Vec2 d_start_limit = Vec2::Zero();  // ∂start/∂limit
   double clamp_dissipation = 0.0;
   const double norm0 = t0.norm();

@@ -5,9 +5,10 @@
 //   stiffness       k_T = χ λ p_N   (proportional: Mindlin's k_T/k_N = χ, 2(1-ν)/(2-ν) for equal
 //                                   materials)   or   k_T = k_T0 (constant)
 // Input: the relative displacement g = (g_Tx, g_Ty, g_N) (g_N: gap, opening positive).
-// Output: the traction t = (t_Tx, t_Ty, t_N) conjugate to g (t_N = -p_N) and its consistent tangent.
-// Below the gapping floor p_N < ε_gap p_N0 the point is open: t_T = 0 and its tangents vanish, so no
-// quantity divides by p_N. All quantities are per unit area; with p_N0 a force (N) they are forces.
+// Output: the traction t = (t_Tx, t_Ty, t_N) conjugate to g (t_N = -p_N) and its consistent
+// tangent. Below the gapping floor p_N < ε_gap p_N0 the point is open: t_T = 0 and its tangents
+// vanish, so no quantity divides by p_N. All quantities are per unit area; with p_N0 a force (N)
+// they are forces.
 
 #include <Eigen/Core>
 #include <memory>
@@ -29,11 +30,11 @@ enum class TangentialStiffnessModel {
 };
 
 struct ContactPointOptions {
-  ExponentialNormalLaw normal;  ///< eq. (6)
-  double friction_coefficient = 0.3;   ///< μ [-], > 0
+  ExponentialNormalLaw normal;        ///< eq. (6)
+  double friction_coefficient = 0.3;  ///< μ [-], > 0
   TangentialStiffnessModel stiffness_model = TangentialStiffnessModel::proportional;
   double stiffness_ratio = 2.0 * (1.0 - 0.33) / (2.0 - 0.33);  ///< χ [-], > 0 (proportional)
-  double tangential_stiffness = 0.0;  ///< k_T0 [Pa/m], > 0 (constant model)
+  double tangential_stiffness = 0.0;    ///< k_T0 [Pa/m], > 0 (constant model)
   double gap_pressure_ratio = 1.0e-12;  ///< ε_gap ∈ [0, 1): p_N/p_N0 below which the point is open
 
   [[nodiscard]] std::string validate() const;
@@ -42,30 +43,30 @@ struct ContactPointOptions {
 /// Slip limit and stiffness at a gap, with their derivatives with respect to the gap.
 struct TangentialState {
   TangentialLimits limits;
-  double d_limit = 0.0;      ///< dL/dg_N
-  double d_stiffness = 0.0;  ///< dk_T/dg_N
-  double pressure = 0.0;     ///< p_N
+  double d_limit = 0.0;           ///< dL/dg_N
+  double d_stiffness = 0.0;       ///< dk_T/dg_N
+  double pressure = 0.0;          ///< p_N
   double normal_stiffness = 0.0;  ///< λ p_N
-  bool open = false;         ///< p_N below the gapping floor
+  bool open = false;              ///< p_N below the gapping floor
 };
 
 /// One increment of a contact point.
 struct ContactStep {
-  Vec3 traction = Vec3::Zero();   ///< t_1 = (t_Tx, t_Ty, t_N)
-  Mat3 tangent = Mat3::Zero();    ///< consistent tangent ∂t_1/∂g_1 (t_0 and g_0 held)
-  Mat3 d_previous = Mat3::Zero(); ///< ∂t_1/∂t_T0 in the first two columns (third zero)
+  Vec3 traction = Vec3::Zero();    ///< t_1 = (t_Tx, t_Ty, t_N)
+  Mat3 tangent = Mat3::Zero();     ///< consistent tangent ∂t_1/∂g_1 (t_0 and g_0 held)
+  Mat3 d_previous = Mat3::Zero();  ///< ∂t_1/∂t_T0 in the first two columns (third zero)
   double dissipation = 0.0;
   bool open = false;
 };
 
 /// Periodic steady state of a contact point on a sampled path.
 struct PeriodicContactResult {
-  PeriodicStateResult tangential;      ///< the tangential periodic state (with step derivatives)
-  std::vector<Vec3> traction;          ///< t(t_i)
-  std::vector<double> d_limit;         ///< dL_i/dg_N,i
-  std::vector<double> d_stiffness;     ///< dk_i/dg_N,i
-  std::vector<double> normal_stiffness;///< λ p_N,i = dt_N/dg_N
-  double open_fraction = 0.0;          ///< share of samples below the gapping floor
+  PeriodicStateResult tangential;        ///< the tangential periodic state (with step derivatives)
+  std::vector<Vec3> traction;            ///< t(t_i)
+  std::vector<double> d_limit;           ///< dL_i/dg_N,i
+  std::vector<double> d_stiffness;       ///< dk_i/dg_N,i
+  std::vector<double> normal_stiffness;  ///< λ p_N,i = dt_N/dg_N
+  double open_fraction = 0.0;            ///< share of samples below the gapping floor
 };
 
 class ContactPoint {

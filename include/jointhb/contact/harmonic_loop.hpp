@@ -20,18 +20,18 @@ struct LoopHarmonic {
 };
 
 struct LoopOptions {
-  std::string law = "gaul-mayer";  ///< "gaul-mayer" or "jenkins"
-  double exponent = 1.0 / 3.0;     ///< n ∈ (0, 1) (gaul-mayer)
-  double friction_coefficient = 0.3;  ///< μ > 0
-  double normal_force = 100.0;     ///< F_N [N] > 0 (mean normal load)
-  double stiffness = 1.0e6;        ///< k_T0 [N/m] > 0
+  std::string law = "gaul-mayer";         ///< "gaul-mayer" or "jenkins"
+  double exponent = 1.0 / 3.0;            ///< n ∈ (0, 1) (gaul-mayer)
+  double friction_coefficient = 0.3;      ///< μ > 0
+  double normal_force = 100.0;            ///< F_N [N] > 0 (mean normal load)
+  double stiffness = 1.0e6;               ///< k_T0 [N/m] > 0
   bool stiffness_follows_normal = false;  ///< k_T(t) = k_T0 F_N(t)/F_N when true
-  double amplitude = 1.0e-5;       ///< a [m] ≥ 0 (fundamental)
-  std::vector<LoopHarmonic> harmonics;  ///< optional higher harmonics
-  double normal_amplitude = 0.0;   ///< a_N [m] (normal motion)
-  double normal_phase = 0.0;       ///< φ_N [rad]
-  double normal_decay = 0.0;       ///< λ [1/m] ≥ 0 (needed when a_N ≠ 0)
-  int time_samples = 256;          ///< N ≥ 4
+  double amplitude = 1.0e-5;              ///< a [m] ≥ 0 (fundamental)
+  std::vector<LoopHarmonic> harmonics;    ///< optional higher harmonics
+  double normal_amplitude = 0.0;          ///< a_N [m] (normal motion)
+  double normal_phase = 0.0;              ///< φ_N [rad]
+  double normal_decay = 0.0;              ///< λ [1/m] ≥ 0 (needed when a_N ≠ 0)
+  int time_samples = 256;                 ///< N ≥ 4
 
   [[nodiscard]] std::string validate() const;
 };
@@ -48,10 +48,10 @@ struct LoopResult {
   bool formulas_apply = false;       ///< single harmonic, no normal motion: eq. (11)/(12) apply
   double dissipation_paper = 0.0;    ///< eq. (11)/(12) as printed at ĝ = loading_span
   double dissipation_paper_amplitude_reading = 0.0;  ///< eq. (11)/(12) at ĝ = a (the other reading)
-  double dissipation_general = 0.0;  ///< general-n formula at ĝ = loading_span
-  double dissipation_jenkins = 0.0;  ///< Jenkins closed form (law = jenkins)
-  double full_slip_span = 0.0;       ///< g_max = μF_N/((1-n)k) (gaul-mayer); μF_N/k (jenkins)
-  double seconds = 0.0;              ///< wall time of the periodic solve
+  double dissipation_general = 0.0;                  ///< general-n formula at ĝ = loading_span
+  double dissipation_jenkins = 0.0;                  ///< Jenkins closed form (law = jenkins)
+  double full_slip_span = 0.0;  ///< g_max = μF_N/((1-n)k) (gaul-mayer); μF_N/k (jenkins)
+  double seconds = 0.0;         ///< wall time of the periodic solve
 };
 
 /// Throws std::invalid_argument (naming the option) on invalid options.

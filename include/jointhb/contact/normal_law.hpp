@@ -12,9 +12,10 @@
 namespace jointhb::contact {
 
 struct ExponentialNormalLaw {
-  double reference_pressure = 1.0e6;  ///< p_N0 [Pa] (or [N] in force mode), > 0: value at g_N = g_N0
-  double decay = 1.0e5;               ///< λ = 1/σ [1/m], > 0: inverse standard deviation of roughness
-  double reference_gap = 0.0;         ///< g_N0 [m]: gap at which p_N = p_N0
+  double reference_pressure =
+      1.0e6;                   ///< p_N0 [Pa] (or [N] in force mode), > 0: value at g_N = g_N0
+  double decay = 1.0e5;        ///< λ = 1/σ [1/m], > 0: inverse standard deviation of roughness
+  double reference_gap = 0.0;  ///< g_N0 [m]: gap at which p_N = p_N0
 
   /// Empty when valid, otherwise a message naming the field and the violated constraint.
   [[nodiscard]] std::string validate() const;

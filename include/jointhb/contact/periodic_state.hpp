@@ -31,8 +31,8 @@ struct PeriodicPath {
 };
 
 struct PeriodicStateOptions {
-  double tolerance = 1.0e-15;      ///< (0, 1e-3]: |t_0 - Φ_N(t_0)| ≤ tolerance · max_i |t_i|
-  int max_iterations = 200;        ///< ≥ 1: Newton/fixed-point iterations
+  double tolerance = 1.0e-15;  ///< (0, 1e-3]: |t_0 - Φ_N(t_0)| ≤ tolerance · max_i |t_i|
+  int max_iterations = 200;    ///< ≥ 1: Newton/fixed-point iterations
   Vec2 reference_traction = Vec2::Zero();  ///< t_ref: tangential traction of the reference state
   Vec2 reference_slip = Vec2::Zero();      ///< g_ref: slip of the reference state
   bool keep_step_derivatives = true;       ///< store A_i, B_i, c_i, d_i for sensitivities
@@ -48,19 +48,19 @@ enum class PeriodicStatus {
 struct PeriodicStateResult {
   PeriodicStatus status = PeriodicStatus::not_converged;
   std::string message;
-  std::vector<Vec2> traction;  ///< t_T(t_i), i = 0..N-1
-  double dissipation = 0.0;    ///< Σ of the step dissipations over one period (W_D)
-  double loading_slip = 0.0;   ///< slip travelled on non-elastic branches over one period
-  bool stuck = true;           ///< every step elastic (linear about the reference)
-  int iterations = 0;          ///< periods evaluated
-  double residual = 0.0;       ///< |t_0 - Φ_N(t_0)| at the returned state
+  std::vector<Vec2> traction;         ///< t_T(t_i), i = 0..N-1
+  double dissipation = 0.0;           ///< Σ of the step dissipations over one period (W_D)
+  double loading_slip = 0.0;          ///< slip travelled on non-elastic branches over one period
+  bool stuck = true;                  ///< every step elastic (linear about the reference)
+  int iterations = 0;                 ///< periods evaluated
+  double residual = 0.0;              ///< |t_0 - Φ_N(t_0)| at the returned state
   Mat2 monodromy = Mat2::Identity();  ///< M = ∂Φ_N/∂t_0
 
   // Step derivatives of step i (t_i → t_{i+1}), kept when requested.
-  std::vector<Mat2> d_traction;   ///< A_i = ∂t_{i+1}/∂t_i
-  std::vector<Mat2> d_slip;       ///< B_i = ∂t_{i+1}/∂(g_{i+1} - g_i)
-  std::vector<Vec2> d_limit;      ///< c_i = ∂t_{i+1}/∂L_{i+1}
-  std::vector<Vec2> d_stiffness;  ///< d_i = ∂t_{i+1}/∂k_{i+1}
+  std::vector<Mat2> d_traction;       ///< A_i = ∂t_{i+1}/∂t_i
+  std::vector<Mat2> d_slip;           ///< B_i = ∂t_{i+1}/∂(g_{i+1} - g_i)
+  std::vector<Vec2> d_limit;          ///< c_i = ∂t_{i+1}/∂L_{i+1}
+  std::vector<Vec2> d_stiffness;      ///< d_i = ∂t_{i+1}/∂k_{i+1}
   Vec2 anchor_offset = Vec2::Zero();  ///< g_0 - g_ref (for the derivative of the anchor)
   double anchor_stiffness = 0.0;      ///< k_0
 };
@@ -72,8 +72,7 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
 ///   slip:      2N × m  (rows 2i, 2i+1: δg_x, δg_y at sample i)
 ///   limit:     N × m or empty (δL_i),   stiffness: N × m or empty (δk_i)
 /// returns the 2N × m matrix of δt_i. Requires keep_step_derivatives.
-Eigen::MatrixXd periodic_sensitivity(const PeriodicStateResult& state,
-                                     const Eigen::MatrixXd& slip,
+Eigen::MatrixXd periodic_sensitivity(const PeriodicStateResult& state, const Eigen::MatrixXd& slip,
                                      const Eigen::MatrixXd& limit = {},
                                      const Eigen::MatrixXd& stiffness = {});
 

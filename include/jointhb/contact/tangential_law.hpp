@@ -31,25 +31,25 @@ struct TangentialLimits {
 
 /// One exact 1D increment, with the derivatives of the new force.
 struct ScalarStep {
-  double force = 0.0;          ///< f_1: tangential force (traction) after the increment
-  double d_force = 0.0;        ///< ∂f_1/∂f_0
-  double d_slip = 0.0;         ///< ∂f_1/∂Δg
-  double d_limit = 0.0;        ///< ∂f_1/∂(slip limit)
-  double d_stiffness = 0.0;    ///< ∂f_1/∂k
-  double dissipation = 0.0;    ///< energy dissipated in the increment, ≥ 0 (J or J/m²)
-  double loading_slip = 0.0;   ///< |Δg| travelled on the non-elastic (loading or sliding) branch
+  double force = 0.0;         ///< f_1: tangential force (traction) after the increment
+  double d_force = 0.0;       ///< ∂f_1/∂f_0
+  double d_slip = 0.0;        ///< ∂f_1/∂Δg
+  double d_limit = 0.0;       ///< ∂f_1/∂(slip limit)
+  double d_stiffness = 0.0;   ///< ∂f_1/∂k
+  double dissipation = 0.0;   ///< energy dissipated in the increment, ≥ 0 (J or J/m²)
+  double loading_slip = 0.0;  ///< |Δg| travelled on the non-elastic (loading or sliding) branch
 };
 
 /// One increment in the tangential plane, with the derivatives of the new traction.
 struct TangentialStep {
-  Vec2 traction = Vec2::Zero();          ///< t_1
-  Mat2 d_traction = Mat2::Identity();    ///< ∂t_1/∂t_0
-  Mat2 d_slip = Mat2::Zero();            ///< ∂t_1/∂Δg
-  Vec2 d_limit = Vec2::Zero();           ///< ∂t_1/∂(slip limit at the end)
-  Vec2 d_stiffness = Vec2::Zero();       ///< ∂t_1/∂(stiffness at the end)
-  double dissipation = 0.0;              ///< ≥ 0
-  double loading_slip = 0.0;             ///< slip travelled on the non-elastic branch
-  bool elastic = true;                   ///< true when the whole increment was elastic
+  Vec2 traction = Vec2::Zero();        ///< t_1
+  Mat2 d_traction = Mat2::Identity();  ///< ∂t_1/∂t_0
+  Mat2 d_slip = Mat2::Zero();          ///< ∂t_1/∂Δg
+  Vec2 d_limit = Vec2::Zero();         ///< ∂t_1/∂(slip limit at the end)
+  Vec2 d_stiffness = Vec2::Zero();     ///< ∂t_1/∂(stiffness at the end)
+  double dissipation = 0.0;            ///< ≥ 0
+  double loading_slip = 0.0;           ///< slip travelled on the non-elastic branch
+  bool elastic = true;                 ///< true when the whole increment was elastic
 };
 
 class TangentialLaw {

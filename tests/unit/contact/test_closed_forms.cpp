@@ -99,9 +99,9 @@ TEST(ClosedForms, PrintedFormulaSeriesJoinsTheLiteralExpression) {
     const cf::MicroslipParameters p{n, 1.0, 1.0};
     const double g = cf::full_slip_span_printed(p);
     const double x = 0.25, xl = 0.25 * (1 + 1e-12);
-    const double literal = 2.0 * (1.5 * xl + 1.5 * (1 - n) / (2 - n) *
-                                                 (std::pow(1 - xl, (2 - n) / (1 - n)) - 1) -
-                                  0.5 * std::pow(1 - std::pow(1 - xl, 1.5), 2));
+    const double literal =
+        2.0 * (1.5 * xl + 1.5 * (1 - n) / (2 - n) * (std::pow(1 - xl, (2 - n) / (1 - n)) - 1) -
+               0.5 * std::pow(1 - std::pow(1 - xl, 1.5), 2));
     EXPECT_NEAR(cf::dissipation_paper(x * g, p), literal, 1e-11 * std::abs(literal)) << n;
   }
   const cf::MicroslipParameters mindlin{1.0 / 3.0, 1.0, 1.0};

@@ -46,8 +46,8 @@ TEST(ContactPoint, OpenPointHasZeroTractionAndFiniteTangent) {
 }
 
 TEST(ContactPoint, ConsistentTangentMatchesFiniteDifferences) {
-  for (auto model : {jc::TangentialStiffnessModel::proportional,
-                     jc::TangentialStiffnessModel::constant}) {
+  for (auto model :
+       {jc::TangentialStiffnessModel::proportional, jc::TangentialStiffnessModel::constant}) {
     const auto cp = make_point(model);
     const Vec2 t0(3.0e5, -1.0e5);
     const Vec3 g0(0.0, 0.0, -2.0e-6);
@@ -56,7 +56,8 @@ TEST(ContactPoint, ConsistentTangentMatchesFiniteDifferences) {
     for (int j = 0; j < 3; ++j) {
       const double h = 1e-12;
       const Vec3 e = Vec3::Unit(j);
-      const Vec3 fd = (cp.step(t0, g0, g1 + h * e).traction - cp.step(t0, g0, g1 - h * e).traction) / (2 * h);
+      const Vec3 fd =
+          (cp.step(t0, g0, g1 + h * e).traction - cp.step(t0, g0, g1 - h * e).traction) / (2 * h);
       EXPECT_LT((fd - st.tangent.col(j)).norm(), 1e-6 * st.tangent.norm()) << "column " << j;
     }
   }
@@ -68,7 +69,8 @@ TEST(ContactPoint, PeriodicSensitivityWithNormalMotionMatchesFiniteDifferences) 
   std::vector<Vec3> path;
   for (int i = 0; i < n; ++i) {
     const double th = 2.0 * std::numbers::pi * i / n;
-    path.emplace_back(3e-6 * std::cos(th), 1e-6 * std::sin(2 * th), -2e-6 + 1.5e-6 * std::cos(th + 0.4));
+    path.emplace_back(3e-6 * std::cos(th), 1e-6 * std::sin(2 * th),
+                      -2e-6 + 1.5e-6 * std::cos(th + 0.4));
   }
   const auto base = cp.periodic(path);
   ASSERT_EQ(base.tangential.status, jc::PeriodicStatus::converged);

@@ -145,7 +145,9 @@ TEST(GaulMayerLaw, VanishingLimitAndExtremeIncrementsStayFinite) {
 
 namespace {
 
-struct Partials { double f0, slip, limit, stiffness; };
+struct Partials {
+  double f0, slip, limit, stiffness;
+};
 
 Partials central_differences(const jc::TangentialLaw& law, double f0, double slip,
                              jc::TangentialLimits lim) {
@@ -166,10 +168,16 @@ Partials central_differences(const jc::TangentialLaw& law, double f0, double sli
 TEST(GaulMayerLaw, AnalyticDerivativesMatchFiniteDifferences) {
   jc::GaulMayerLaw law(0.3);
   const jc::TangentialLimits lim{2.0, 40.0};
-  struct Case { double f0, slip; const char* what; };
-  const Case cases[] = {{0.5, 0.01, "loading"},   {0.5, -0.005, "unloading"},
-                        {1.2, -0.06, "unload through zero"}, {-1.9, 0.09, "through zero, far"},
-                        {0.0, 0.02, "virgin"},    {1.99, 0.001, "near the limit"}};
+  struct Case {
+    double f0, slip;
+    const char* what;
+  };
+  const Case cases[] = {{0.5, 0.01, "loading"},
+                        {0.5, -0.005, "unloading"},
+                        {1.2, -0.06, "unload through zero"},
+                        {-1.9, 0.09, "through zero, far"},
+                        {0.0, 0.02, "virgin"},
+                        {1.99, 0.001, "near the limit"}};
   for (const auto& c : cases) {
     const auto s = law.scalar_step(c.f0, c.slip, lim);
     const auto fd = central_differences(law, c.f0, c.slip, lim);

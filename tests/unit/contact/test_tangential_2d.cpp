@@ -68,8 +68,8 @@ TEST(TangentialStep2D, AnalyticDerivativesMatchFiniteDifferences) {
   jc::GaulMayerLaw gm(0.3);
   jc::JenkinsLaw jk;
   int compared = 0;
-  for (const jc::TangentialLaw* law : {static_cast<const jc::TangentialLaw*>(&gm),
-                                       static_cast<const jc::TangentialLaw*>(&jk)}) {
+  for (const jc::TangentialLaw* law :
+       {static_cast<const jc::TangentialLaw*>(&gm), static_cast<const jc::TangentialLaw*>(&jk)}) {
     for (int trial = 0; trial < 300; ++trial) {
       const jc::TangentialLimits lim{1.0 + 0.2 * u(rng), 10.0 * (1.0 + 0.2 * u(rng))};
       const Vec2 t0 = 1.05 * lim.slip_limit * Vec2(u(rng), u(rng)) / std::sqrt(2.0);
