@@ -16,7 +16,8 @@ namespace jointhb::contact {
 namespace {
 
 // Loading in direction s from |F| = y0 F_s over the slip m ≥ 0 (eq. 10).
-ScalarStep load(double y0, double m, double s, double n, double fs, double k) {
+// The dissipation integral (T-6) is evaluated only when `dissipation` is set.
+ScalarStep load(double y0, double m, double s, double n, double fs, double k, bool dissipation) {
   ScalarStep r;
   r.loading_slip = m;
   if (y0 >= 1.0) {  // already sliding: Coulomb
@@ -32,9 +33,11 @@ ScalarStep load(double y0, double m, double s, double n, double fs, double k) {
     const double reach = (1.0 - c0) * fs / ((1.0 - n) * k);
     r.force = s * fs;
     r.d_limit = s;
-    r.dissipation =
-        fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, 1.0, 0.0, n) +
-        fs * (m - reach);
+    r.dissipation = fs * (m - reach);
+    if (dissipation) {
+      r.dissipation +=
+          fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, 1.0, 0.0, n);
+    }
     return r;
   }
   const double log_u1 = std::log1p(-c1) / (1.0 - n);
@@ -46,8 +49,10 @@ ScalarStep load(double y0, double m, double s, double n, double fs, double k) {
   r.d_slip = k * psi1;
   r.d_stiffness = s * psi1 * m;
   r.d_limit = s * (y1 - psi1 * (y0 / psi0 + k * m / fs));
-  r.dissipation =
-      fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, y1, 1.0 - c1, n);
+  if (dissipation) {
+    r.dissipation =
+        fs * fs / k * closed_form::loading_dissipation_integral(y0, 1.0 - c0, y1, 1.0 - c1, n);
+  }
   return r;
 }
 
@@ -64,7 +69,8 @@ double GaulMayerLaw::virgin_force(double s, const TangentialLimits& limits) cons
   return closed_form::virgin_force(s, {n_, limits.slip_limit, limits.stiffness});
 }
 
-ScalarStep GaulMayerLaw::scalar_step(double f0, double slip, const TangentialLimits& limits) const {
+ScalarStep GaulMayerLaw::evaluate(double f0, double slip, const TangentialLimits& limits,
+                                  bool dissipation) const {
   const double fs = limits.slip_limit;
   const double k = limits.stiffness;
   ScalarStep r;
@@ -79,7 +85,7 @@ ScalarStep GaulMayerLaw::scalar_step(double f0, double slip, const TangentialLim
   }
   const double s = slip > 0.0 ? 1.0 : -1.0;
   const double m = std::abs(slip);
-  if (f0 * s >= 0.0) return load(std::abs(f0) / fs, m, s, n_, fs, k);
+  if (f0 * s >= 0.0) return load(std::abs(f0) / fs, m, s, n_, fs, k, dissipation);
 
   // Elastic unloading while |F| decreases.
   const double to_zero = std::abs(f0) / k;
@@ -92,7 +98,7 @@ ScalarStep GaulMayerLaw::scalar_step(double f0, double slip, const TangentialLim
   }
   // Unloading passes through F = 0: split there, load from zero over the rest.
   const double rest = m - to_zero;
-  ScalarStep v = load(0.0, rest, s, n_, fs, k);
+  ScalarStep v = load(0.0, rest, s, n_, fs, k, dissipation);
   const double dv = s * v.d_slip;  // dF/d(rest) along s, = s k ψ_1
   // rest = s·slip + s·f0/k  ⇒  ∂rest/∂f0 = s/k, ∂rest/∂slip = s, ∂rest/∂k = |f0|/k²
   r.force = v.force;

@@ -5,7 +5,8 @@
 
 namespace jointhb::contact {
 
-ScalarStep JenkinsLaw::scalar_step(double f0, double slip, const TangentialLimits& limits) const {
+ScalarStep JenkinsLaw::evaluate(double f0, double slip, const TangentialLimits& limits,
+                                bool /*dissipation*/) const {
   const double fs = limits.slip_limit;
   const double k = limits.stiffness;
   ScalarStep r;

@@ -64,7 +64,9 @@ Sweep sweep(const TangentialLaw& law, const PeriodicPath& path, const Vec2& t0,
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t next = (i + 1) % n;
     if (out) out->traction[i] = t;
-    const TangentialStep step = law.step(t, path.slip[next] - path.slip[i], path.limits[next]);
+    // Newton sweeps (out == nullptr) need forces and derivatives only, not the energy.
+    const TangentialStep step =
+        law.step(t, path.slip[next] - path.slip[i], path.limits[next], out != nullptr);
     t = step.traction;
     s.monodromy = step.d_traction * s.monodromy;
     s.scale = std::max(s.scale, t.norm());
@@ -120,7 +122,6 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
                     path.limits[0].slip_limit);
 
   double previous_residual = std::numeric_limits<double>::infinity();
-  Vec2 previous_t = t;
   Vec2 previous_end = t;
   bool last_was_newton = false;
   int newton_steps = 0;
@@ -139,8 +140,6 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
         newton_steps >= 3 && residual > 0.5 * previous_residual && residual <= 64.0 * noise;
     if (residual <= options.tolerance * s.scale || residual <= 2.0 * noise || stagnated) {
       result.status = PeriodicStatus::converged;
-      result.residual = residual;
-      result.monodromy = s.monodromy;
       if (stagnated && residual > best_residual) t = best_t;
       break;
     }
@@ -155,21 +154,14 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
       continue;
     }
     previous_residual = residual;
-    previous_t = t;
     previous_end = s.end;
-    result.residual = residual;
-    result.monodromy = s.monodromy;
     const PeriodicSolve solve = periodic_solve(s.monodromy);
     const Vec2 newton = t + solve.pseudo_inverse * (s.end - t);
     last_was_newton = (newton - t).norm() > 0.0;
     newton_steps += last_was_newton ? 1 : 0;
     t = clamp_to(last_was_newton ? newton : s.end, path.limits[0].slip_limit);
   }
-  if (result.status != PeriodicStatus::converged) {
-    t = previous_t;
-    result.message = "periodic state not converged after " + std::to_string(result.iterations) +
-                     " periods; residual " + std::to_string(result.residual);
-  }
+  if (result.status != PeriodicStatus::converged) t = best_t;  // the best state found
 
   if (options.keep_step_derivatives) {
     result.d_traction.assign(n, Mat2::Zero());
@@ -179,8 +171,10 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   }
   const Sweep final_sweep = sweep(law, path, t, &result);
   result.monodromy = final_sweep.monodromy;
-  if (result.status == PeriodicStatus::converged) {
-    result.residual = (final_sweep.end - t).norm();
+  result.residual = (final_sweep.end - t).norm();
+  if (result.status != PeriodicStatus::converged) {
+    result.message = "periodic state not converged after " + std::to_string(result.iterations) +
+                     " periods; residual " + std::to_string(result.residual);
   }
   return result;
 }

@@ -10,8 +10,8 @@
 
 namespace jointhb::contact {
 
-TangentialStep TangentialLaw::step(const Vec2& t0, const Vec2& slip,
-                                   const TangentialLimits& limits) const {
+TangentialStep TangentialLaw::step(const Vec2& t0, const Vec2& slip, const TangentialLimits& limits,
+                                   bool dissipation) const {
   TangentialStep r;
   const double fs = limits.slip_limit;
   const double k = limits.stiffness;
@@ -50,7 +50,7 @@ TangentialStep TangentialLaw::step(const Vec2& t0, const Vec2& slip,
     return r;
   }
   const Vec2 e = trial / q;
-  const ScalarStep s = scalar_step(e.dot(start), e.dot(slip), limits);
+  const ScalarStep s = scalar_step(e.dot(start), e.dot(slip), limits, dissipation);
   r.traction = s.force * e;
 
   // Derivatives: with P = (I - e eᵀ)/q and d(trial) = d start + k dΔg + Δg dk,

@@ -20,14 +20,16 @@ class GaulMayerLaw final : public TangentialLaw {
   /// exponent: n of eq. (10), in (0, 1). Throws std::invalid_argument otherwise.
   explicit GaulMayerLaw(double exponent);
 
-  [[nodiscard]] ScalarStep scalar_step(double f0, double slip,
-                                       const TangentialLimits& limits) const override;
   [[nodiscard]] std::string_view name() const override { return "gaul-mayer"; }
   [[nodiscard]] double exponent() const { return n_; }
 
   /// Force reached on the virgin (loading-from-zero) curve after slip s ≥ 0, eq. (8) generalised:
   ///   |F| = μF_N [1 - (1 - s/g_max)^(1/(1-n))],  g_max = μF_N/((1-n)k).
   [[nodiscard]] double virgin_force(double s, const TangentialLimits& limits) const;
+
+ protected:
+  [[nodiscard]] ScalarStep evaluate(double f0, double slip, const TangentialLimits& limits,
+                                    bool dissipation) const override;
 
  private:
   double n_;

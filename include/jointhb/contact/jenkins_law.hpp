@@ -9,9 +9,12 @@ namespace jointhb::contact {
 
 class JenkinsLaw final : public TangentialLaw {
  public:
-  [[nodiscard]] ScalarStep scalar_step(double f0, double slip,
-                                       const TangentialLimits& limits) const override;
   [[nodiscard]] std::string_view name() const override { return "jenkins"; }
+
+ protected:
+  /// The dissipation of Jenkins costs one product and is always evaluated.
+  [[nodiscard]] ScalarStep evaluate(double f0, double slip, const TangentialLimits& limits,
+                                    bool dissipation) const override;
 };
 
 }  // namespace jointhb::contact

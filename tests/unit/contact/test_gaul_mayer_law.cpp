@@ -204,3 +204,20 @@ TEST(JenkinsLaw, ElasticPerfectlyPlasticAndDerivatives) {
     EXPECT_NEAR(s.d_stiffness, fd.stiffness, 1e-7);
   }
 }
+
+TEST(GaulMayerLaw, SkippingTheDissipationChangesNothingElse) {
+  // Newton sweeps call the law without the energy; forces and derivatives must be identical.
+  jc::GaulMayerLaw law(0.3);
+  const jc::TangentialLimits lim{2.0, 40.0};
+  for (const auto& [f0, slip] :
+       {std::pair{0.5, 0.01}, std::pair{1.2, -0.06}, std::pair{1.99, 0.2}}) {
+    const auto with = law.scalar_step(f0, slip, lim);
+    const auto without = law.scalar_step(f0, slip, lim, false);
+    EXPECT_EQ(with.force, without.force);
+    EXPECT_EQ(with.d_force, without.d_force);
+    EXPECT_EQ(with.d_slip, without.d_slip);
+    EXPECT_EQ(with.d_limit, without.d_limit);
+    EXPECT_EQ(with.d_stiffness, without.d_stiffness);
+    EXPECT_GT(with.dissipation, without.dissipation);
+  }
+}
