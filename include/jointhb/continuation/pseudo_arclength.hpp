@@ -1,0 +1,95 @@
+#pragma once
+// Pseudo-arclength continuation of the solution branch of R(x, λ) = 0, x ∈ ℝⁿ, λ ∈ ℝ, for any
+// residual that comes with its Jacobian (harmonic balance over Ω, EPMC over log-amplitude, ...).
+//
+// Unknowns are scaled, y = (x ./ x_scale, λ / λ_scale), so that the arclength weighs the state
+// against the parameter. From an accepted point y_k with unit tangent τ_k (null vector of
+// [R_x D_x, R_λ λ_scale], oriented continuously), the predictor is y_k + s τ_k; the corrector
+// solves the bordered system
+//   [ R_x D_x      R_λ λ_scale ] Δy = - [ R                        ]
+//   [ τ_kᵀ (x part) τ_k (λ)     ]       [ τ_kᵀ (y - y_k) - s        ]
+// by Newton's method. The step s adapts to the corrector's iteration count (grows when below the
+// target, shrinks when above); a failed corrector halves s; below min_step the run stops with a
+// message and keeps every accepted point. Folds (turning points in λ) are passed: nothing in the
+// scheme divides by dλ/ds. See docs/theory.md, "Continuation".
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace jointhb::continuation {
+
+/// What the residual function returns at (x, λ).
+struct Evaluation {
+  Eigen::VectorXd residual;     ///< R (size n)
+  Eigen::MatrixXd d_state;      ///< ∂R/∂x (n × n), filled when the Jacobian was requested
+  Eigen::VectorXd d_parameter;  ///< ∂R/∂λ (size n), filled when the Jacobian was requested
+  bool ok = true;               ///< false: the point cannot be evaluated (the step is rejected)
+  std::string message;          ///< why not, when !ok
+};
+
+/// R(x, λ), with the Jacobian when `jacobian` is true.
+using ResidualFunction =
+    std::function<Evaluation(const Eigen::VectorXd& x, double lambda, bool jacobian)>;
+
+struct Options {
+  double initial_step = 1e-2;  ///< s₀ > 0, in scaled arclength
+  double min_step = 1e-8;      ///< (0, initial_step]: stop when a halved step falls below it
+  double max_step = 1e-1;      ///< ≥ initial_step
+  int max_points = 1000;       ///< ≥ 1: accepted points (including the start) before stopping
+  double parameter_start = 0.0;  ///< λ of the first point
+  double parameter_end = 1.0;    ///< the run stops at the first accepted point beyond it
+  ///< (the last point is placed on λ = parameter_end exactly by a final corrector at fixed λ)
+  int direction = +1;  ///< initial sign of dλ/ds (±1); ≠ sign(end - start) is an error
+  int max_corrector_iterations = 12;   ///< ≥ 1
+  int target_corrector_iterations = 4;  ///< ≥ 1: iteration count that keeps the step unchanged
+  double step_growth = 2.0;             ///< > 1: largest factor by which s grows after a step
+  double residual_tolerance = 1e-10;    ///< > 0: ‖R‖_∞ / residual_scale at convergence
+  double residual_scale = 1.0;          ///< > 0: force scale of R (e.g. ‖f_ex‖)
+  double step_tolerance = 1e-10;        ///< > 0: ‖Δy‖_∞ at convergence (scaled unknowns)
+  Eigen::VectorXd state_scale;          ///< x_scale (size n, > 0) or empty: all ones
+  double parameter_scale = 1.0;         ///< λ_scale > 0
+
+  [[nodiscard]] std::string validate(Eigen::Index n) const;  ///< empty when valid
+};
+
+/// One accepted point of the branch.
+struct Point {
+  Eigen::VectorXd x;
+  double lambda = 0.0;
+  Eigen::VectorXd tangent;  ///< unit tangent (scaled unknowns, size n+1; last entry: λ part)
+  double step = 0.0;        ///< arclength step that led to this point (0 for the start)
+  int iterations = 0;       ///< corrector iterations
+  double residual = 0.0;    ///< ‖R‖_∞ / residual_scale at acceptance
+  bool fold = false;        ///< dλ/ds changed sign between the previous point and this one
+};
+
+enum class StopReason {
+  reached_end,      ///< λ crossed parameter_end (last point on it)
+  max_points,       ///< max_points accepted
+  min_step,         ///< the step fell below min_step: see message
+  start_failed,     ///< the corrector at λ = parameter_start did not converge
+  stopped_by_user,  ///< the accept callback returned false
+};
+
+struct Result {
+  std::vector<Point> points;
+  StopReason reason = StopReason::start_failed;
+  std::string message;       ///< one line: why the run ended (always set)
+  int rejected_steps = 0;    ///< corrector failures (each halved the step)
+  int corrector_iterations = 0;  ///< total over the run (accepted and rejected)
+  int evaluations = 0;       ///< calls of the residual function
+  [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+};
+
+/// Called for every accepted point (the start included) in order; return false to stop the run.
+using AcceptCallback = std::function<bool(const Point&)>;
+
+/// Traces the branch from the initial guess x0 at λ = options.parameter_start (corrected at fixed
+/// λ first). Throws std::invalid_argument on invalid options; never throws for a numerical
+/// failure (it is reported in the result). Non-finite residuals count as a failed corrector.
+Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const Options& options,
+             const AcceptCallback& on_accept = {});
+
+}  // namespace jointhb::continuation

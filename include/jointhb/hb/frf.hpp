@@ -1,0 +1,74 @@
+#pragma once
+// Nonlinear frequency response of a discrete system: harmonic balance (hb/harmonic_balance.hpp)
+// traced over the excitation frequency Ω by pseudo-arclength continuation
+// (continuation/pseudo_arclength.hpp), one curve per excitation level.
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/hb/discrete_system.hpp"
+
+namespace jointhb::hb {
+
+/// Which harmonics harmonic balance keeps.
+enum class HarmonicSelection {
+  automatic,  ///< odd only when the case is symmetric (no static force, only odd forcing
+              ///< harmonics, contacts with zero reference force and slip), else all
+  all,        ///< 0, 1, ..., H
+  odd,        ///< 1, 3, 5, ... ≤ H (an error for a case that is not symmetric)
+};
+
+struct FrfOptions {
+  double omega_start = 0.5;  ///< Ω at the first point [rad/s], > 0
+  double omega_end = 2.0;    ///< Ω at the last point [rad/s], > 0, ≠ omega_start
+  int harmonics = 7;         ///< H ≥ 1
+  int time_samples = 128;    ///< N_t ≥ 2H + 2 (AFT samples per period)
+  int output_dof = 0;        ///< DOF reported in the curve
+  HarmonicSelection selection = HarmonicSelection::automatic;
+  double periodic_tolerance = 1e-14;  ///< contact periodic-state tolerance (relative)
+  continuation::Options continuation;  ///< steps, tolerances (start/end/scales set by trace_frf)
+
+  [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
+};
+
+/// One accepted point of an FRF curve.
+struct FrfPoint {
+  double omega = 0.0;          ///< Ω [rad/s]
+  double amplitude_h1 = 0.0;   ///< |fundamental| of the output DOF: √(a₁² + b₁²)
+  double amplitude_max = 0.0;  ///< max_t |x_out(t)| over the period (on the AFT samples)
+  double dissipation = 0.0;    ///< Σ contact W_D over the period [J]
+  int iterations = 0;          ///< corrector iterations
+  double step = 0.0;           ///< arclength step
+  bool fold = false;
+  Eigen::VectorXd coefficients;  ///< X: harmonic coefficients of all DOFs (hb/fourier.hpp order)
+};
+
+struct FrfTimings {
+  double aft = 0.0;          ///< contact forces and their sensitivities [s]
+  double assembly = 0.0;     ///< linear part and Jacobian assembly [s]
+  double linear_solve = 0.0; ///< factorisations and solves [s]
+  double total = 0.0;
+};
+
+struct FrfCurve {
+  std::vector<FrfPoint> points;
+  continuation::StopReason reason = continuation::StopReason::start_failed;
+  std::string message;
+  int newton_iterations = 0;
+  int rejected_steps = 0;
+  std::vector<int> kept_harmonics;  ///< the harmonic orders used
+  FrfTimings timings;
+  [[nodiscard]] bool completed() const { return reason == continuation::StopReason::reached_end; }
+};
+
+/// Traces one FRF curve for one excitation level; `on_point` sees each accepted point (for flushed
+/// output and progress) and may return false to stop. Throws std::invalid_argument on invalid
+/// options or system; numerical failures end the curve with a message, keeping accepted points.
+FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
+                   const FrfOptions& options,
+                   const std::function<bool(const FrfPoint&)>& on_point = {});
+
+}  // namespace jointhb::hb
