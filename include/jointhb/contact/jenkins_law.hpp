@@ -10,6 +10,7 @@ namespace jointhb::contact {
 class JenkinsLaw final : public TangentialLaw {
  public:
   [[nodiscard]] std::string_view name() const override { return "jenkins"; }
+  [[nodiscard]] bool sticks_below_limit() const override { return true; }
 
  protected:
   /// The dissipation of Jenkins costs one product and is always evaluated.

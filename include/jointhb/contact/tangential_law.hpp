@@ -65,6 +65,10 @@ class TangentialLaw {
     return evaluate(f0, slip, limits, dissipation);
   }
   [[nodiscard]] virtual std::string_view name() const = 0;
+  /// True when the law is exactly linear (f = f0 + k Δg) as long as |f| stays below the slip
+  /// limit (Jenkins). Lets harmonic balance treat a contact that sticks throughout as a spring.
+  /// Gaul–Mayer has no such range: any loading slip is already on the nonlinear branch.
+  [[nodiscard]] virtual bool sticks_below_limit() const { return false; }
 
   /// Increment in the tangential plane (trial-direction generalisation, see above). If |t0| exceeds
   /// the new slip limit (the normal pressure fell), t0 first slips radially onto the limit.

@@ -1,0 +1,89 @@
+#include "jointhb/hb/contact_aft.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "jointhb/contact/periodic_state.hpp"
+
+namespace jointhb::hb {
+namespace {
+
+// The elastic trial force of a contact that sticks throughout, anchored at its reference state.
+Eigen::VectorXd stuck_force(const ContactElement& c, const Eigen::VectorXd& g) {
+  return (c.reference_force + c.stiffness * (g.array() - c.reference_slip)).matrix();
+}
+
+// Same threshold as the periodic solver's pseudo-inverse: below it 1 − M is singular (sticking).
+constexpr double kSingular = 1.0e-13;
+
+}  // namespace
+
+ContactAftResult evaluate_contact(const ContactElement& element, const contact::TangentialLaw& law,
+                                  const FourierBasis& basis, const Eigen::VectorXd& gap_samples,
+                                  const ContactAftOptions& options) {
+  const int n = basis.time_samples();
+  const int m = basis.size();
+  ContactAftResult r;
+
+  if (options.skip_stuck && law.sticks_below_limit()) {
+    Eigen::VectorXd f = stuck_force(element, gap_samples);
+    if (f.cwiseAbs().maxCoeff() <= element.slip_limit()) {
+      r.force_samples = std::move(f);
+      r.skipped = true;
+      if (options.jacobian) {
+        r.d_force = element.stiffness * Eigen::MatrixXd::Identity(m, m);
+      }
+      return r;
+    }
+  }
+
+  contact::PeriodicPath path;
+  path.slip.resize(static_cast<std::size_t>(n));
+  path.limits.assign(static_cast<std::size_t>(n),
+                     contact::TangentialLimits{element.slip_limit(), element.stiffness});
+  for (int i = 0; i < n; ++i) path.slip[static_cast<std::size_t>(i)] = {gap_samples[i], 0.0};
+  contact::PeriodicStateOptions po;
+  po.tolerance = options.periodic_tolerance;
+  po.reference_traction = {element.reference_force, 0.0};
+  po.reference_slip = {element.reference_slip, 0.0};
+  po.keep_step_derivatives = options.jacobian;
+  const contact::PeriodicStateResult state = contact::solve_periodic_state(law, path, po);
+
+  r.force_samples.resize(n);
+  for (int i = 0; i < n; ++i) r.force_samples[i] = state.traction[static_cast<std::size_t>(i)].x();
+  r.dissipation = state.dissipation;
+  r.stuck = state.stuck;
+  r.iterations = state.iterations;
+  r.converged = state.status == contact::PeriodicStatus::converged;
+  r.message = state.message;
+  if (!options.jacobian) return r;
+
+  // Scalar sensitivity recursion over the m basis functions at once. On a path along x the
+  // trial direction stays x, so the x-components of the 2D step derivatives carry it exactly.
+  const Eigen::MatrixXd e = basis.synthesis_matrix();  // δg_i for unit δG_j: E(i, j)
+  Eigen::MatrixXd particular(n, m);                    // zero-start response
+  Eigen::VectorXd propagator(n);                       // Π_{l<i} a_l
+  Eigen::RowVectorXd acc = Eigen::RowVectorXd::Zero(m);
+  double pi = 1.0;
+  for (int i = 0; i < n; ++i) {
+    particular.row(i) = acc;
+    propagator[i] = pi;
+    const int next = (i + 1) % n;
+    const auto k = static_cast<std::size_t>(i);
+    const double a = state.d_traction[k](0, 0);
+    const double b = state.d_slip[k](0, 0);
+    acc = a * acc + b * (e.row(next) - e.row(i));
+    pi *= a;
+  }
+  Eigen::RowVectorXd start;
+  if (std::abs(1.0 - pi) > kSingular) {
+    start = acc / (1.0 - pi);
+  } else {
+    start = state.anchor_stiffness * e.row(0);  // anchored: t_0 = t_ref + k_0 (g_0 − g_ref)
+  }
+  particular += propagator * start;
+  r.d_force = basis.to_frequency(particular);
+  return r;
+}
+
+}  // namespace jointhb::hb

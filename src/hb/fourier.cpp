@@ -1,0 +1,172 @@
+#include "jointhb/hb/fourier.hpp"
+
+#include <fftw3.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <complex>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+
+namespace jointhb::hb {
+
+// FFTW's planner is not thread-safe; executing a plan on new arrays is (fftw_execute_dft_*).
+// Plans are made once per batch width m with FFTW_ESTIMATE | FFTW_UNALIGNED so that any Eigen
+// buffer may be passed at execution.
+namespace {
+std::mutex& planner_mutex() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
+
+struct FourierBasis::Plans {
+  struct Pair {
+    fftw_plan forward = nullptr;   // r2c: N real samples → N/2+1 complex, m columns
+    fftw_plan backward = nullptr;  // c2r
+  };
+  int n = 0;
+  std::mutex mutex;
+  std::map<Eigen::Index, Pair> by_width;
+
+  explicit Plans(int samples) : n(samples) {}
+  ~Plans() {
+    std::lock_guard<std::mutex> lock(planner_mutex());
+    for (auto& [m, p] : by_width) {
+      fftw_destroy_plan(p.forward);
+      fftw_destroy_plan(p.backward);
+    }
+  }
+  Plans(const Plans&) = delete;
+  Plans& operator=(const Plans&) = delete;
+
+  Pair get(Eigen::Index m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = by_width.find(m); it != by_width.end()) return it->second;
+    std::lock_guard<std::mutex> plan_lock(planner_mutex());
+    const int half = n / 2 + 1;
+    const int width = static_cast<int>(m);
+    std::vector<double> real(static_cast<std::size_t>(n) * static_cast<std::size_t>(m));
+    std::vector<fftw_complex> cplx(static_cast<std::size_t>(half) * static_cast<std::size_t>(m));
+    const unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+    Pair p;
+    p.forward = fftw_plan_many_dft_r2c(1, &n, width, real.data(), nullptr, 1, n, cplx.data(),
+                                       nullptr, 1, half, flags);
+    p.backward = fftw_plan_many_dft_c2r(1, &n, width, cplx.data(), nullptr, 1, half, real.data(),
+                                        nullptr, 1, n, flags);
+    if (p.forward == nullptr || p.backward == nullptr) {
+      throw std::runtime_error("FourierBasis: FFTW could not plan the transform");
+    }
+    by_width.emplace(m, p);
+    return p;
+  }
+};
+
+FourierBasis::FourierBasis(int harmonics, int time_samples, bool odd_only)
+    : harmonics_(harmonics), time_samples_(time_samples), odd_only_(odd_only) {
+  if (harmonics < 1) {
+    throw std::invalid_argument(fmt::format("harmonics: must be >= 1, got {}", harmonics));
+  }
+  if (time_samples < 2 * harmonics + 2) {
+    throw std::invalid_argument(fmt::format(
+        "time_samples: must be >= 2 harmonics + 2 = {} (no aliasing of the kept harmonics), got {}",
+        2 * harmonics + 2, time_samples));
+  }
+  for (int k = 1; k <= harmonics; ++k) {
+    if (!odd_only || k % 2 == 1) orders_.push_back(k);
+  }
+  plans_ = std::make_shared<Plans>(time_samples);
+}
+
+FourierBasis::~FourierBasis() = default;
+FourierBasis::FourierBasis(const FourierBasis&) = default;
+FourierBasis& FourierBasis::operator=(const FourierBasis&) = default;
+FourierBasis::FourierBasis(FourierBasis&&) noexcept = default;
+FourierBasis& FourierBasis::operator=(FourierBasis&&) noexcept = default;
+
+int FourierBasis::cosine_index(int order) const {
+  if (order < 1 || order > harmonics_ || (odd_only_ && order % 2 == 0)) return -1;
+  const int position = odd_only_ ? (order - 1) / 2 : order - 1;
+  return (has_mean() ? 1 : 0) + 2 * position;
+}
+
+Eigen::MatrixXd FourierBasis::to_time(const Eigen::MatrixXd& coefficients) const {
+  if (coefficients.rows() != size()) {
+    throw std::invalid_argument(fmt::format(
+        "FourierBasis::to_time: {} coefficient rows, expected {}", coefficients.rows(), size()));
+  }
+  const Eigen::Index m = coefficients.cols();
+  const int n = time_samples_;
+  const int half = n / 2 + 1;
+  Eigen::MatrixXd samples(n, m);
+  if (m == 0) return samples;
+  // Half spectrum Y_k = (a_k − i b_k)/2, Y_0 = x_0: c2r gives x_i = Σ a_k cos + b_k sin.
+  std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(half * m));
+  for (Eigen::Index j = 0; j < m; ++j) {
+    std::complex<double>* y = spectrum.data() + j * half;
+    if (has_mean()) y[0] = coefficients(0, j);
+    for (int k : orders_) {
+      const int c = cosine_index(k);
+      y[k] = 0.5 * std::complex<double>(coefficients(c, j), -coefficients(c + 1, j));
+    }
+  }
+  const auto plan = plans_->get(m).backward;
+  fftw_execute_dft_c2r(plan, reinterpret_cast<fftw_complex*>(spectrum.data()), samples.data());
+  return samples;
+}
+
+Eigen::MatrixXd FourierBasis::to_frequency(const Eigen::MatrixXd& samples) const {
+  if (samples.rows() != time_samples_) {
+    throw std::invalid_argument(fmt::format(
+        "FourierBasis::to_frequency: {} sample rows, expected {}", samples.rows(), time_samples_));
+  }
+  const Eigen::Index m = samples.cols();
+  const int n = time_samples_;
+  const int half = n / 2 + 1;
+  Eigen::MatrixXd coefficients(size(), m);
+  if (m == 0) return coefficients;
+  std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(half * m));
+  Eigen::MatrixXd input = samples;  // r2c may not preserve its input for batched plans
+  const auto plan = plans_->get(m).forward;
+  fftw_execute_dft_r2c(plan, input.data(), reinterpret_cast<fftw_complex*>(spectrum.data()));
+  // X_k = Σ x_i e^{−2πiki/N}: a_k = (2/N) Re X_k, b_k = −(2/N) Im X_k, x_0 = X_0/N.
+  const double scale = 2.0 / n;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const std::complex<double>* x = spectrum.data() + j * half;
+    if (has_mean()) coefficients(0, j) = x[0].real() / n;
+    for (int k : orders_) {
+      const int c = cosine_index(k);
+      coefficients(c, j) = scale * x[k].real();
+      coefficients(c + 1, j) = -scale * x[k].imag();
+    }
+  }
+  return coefficients;
+}
+
+Eigen::MatrixXd FourierBasis::synthesis_matrix() const {
+  const int n = time_samples_;
+  Eigen::MatrixXd e(n, size());
+  for (int i = 0; i < n; ++i) {
+    if (has_mean()) e(i, 0) = 1.0;
+    for (int k : orders_) {
+      const int c = cosine_index(k);
+      // Reduce k·i mod N first: the angle stays in [0, 2π) and exact for every sample.
+      const double theta = 2.0 * std::numbers::pi * static_cast<double>((k * i) % n) / n;
+      e(i, c) = std::cos(theta);
+      e(i, c + 1) = std::sin(theta);
+    }
+  }
+  return e;
+}
+
+Eigen::MatrixXd FourierBasis::analysis_matrix() const {
+  Eigen::MatrixXd a = synthesis_matrix().transpose();
+  const double scale = 2.0 / time_samples_;
+  a *= scale;
+  if (has_mean()) a.row(0) *= 0.5;
+  return a;
+}
+
+}  // namespace jointhb::hb
