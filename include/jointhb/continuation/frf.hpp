@@ -10,16 +10,13 @@
 
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/discrete_system.hpp"
+#include "jointhb/hb/harmonic_balance.hpp"
 
-namespace jointhb::hb {
+namespace jointhb::continuation {
 
-/// Which harmonics harmonic balance keeps.
-enum class HarmonicSelection {
-  automatic,  ///< odd only when the case is symmetric (no static force, only odd forcing
-              ///< harmonics, contacts with zero reference force and slip), else all
-  all,        ///< 0, 1, ..., H
-  odd,        ///< 1, 3, 5, ... ≤ H (an error for a case that is not symmetric)
-};
+using hb::DiscreteSystem;
+using hb::Excitation;
+using hb::HarmonicSelection;
 
 struct FrfOptions {
   double omega_start = 0.5;  ///< Ω at the first point [rad/s], > 0
@@ -29,7 +26,7 @@ struct FrfOptions {
   int output_dof = 0;        ///< DOF reported in the curve
   HarmonicSelection selection = HarmonicSelection::automatic;
   double periodic_tolerance = 1e-14;  ///< contact periodic-state tolerance (relative)
-  continuation::Options continuation;  ///< steps, tolerances (start/end/scales set by trace_frf)
+  Options continuation;  ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
 };
@@ -55,13 +52,13 @@ struct FrfTimings {
 
 struct FrfCurve {
   std::vector<FrfPoint> points;
-  continuation::StopReason reason = continuation::StopReason::start_failed;
+  StopReason reason = StopReason::start_failed;
   std::string message;
   int newton_iterations = 0;
   int rejected_steps = 0;
   std::vector<int> kept_harmonics;  ///< the harmonic orders used
   FrfTimings timings;
-  [[nodiscard]] bool completed() const { return reason == continuation::StopReason::reached_end; }
+  [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
 };
 
 /// Traces one FRF curve for one excitation level; `on_point` sees each accepted point (for flushed
@@ -71,4 +68,4 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
                    const FrfOptions& options,
                    const std::function<bool(const FrfPoint&)>& on_point = {});
 
-}  // namespace jointhb::hb
+}  // namespace jointhb::continuation
