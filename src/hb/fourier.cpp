@@ -3,6 +3,7 @@
 #include <fftw3.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <map>
@@ -143,6 +144,50 @@ Eigen::MatrixXd FourierBasis::to_frequency(const Eigen::MatrixXd& samples) const
     }
   }
   return coefficients;
+}
+
+double FourierBasis::peak_magnitude(const Eigen::VectorXd& c) const {
+  if (c.size() != size()) {
+    throw std::invalid_argument(fmt::format(
+        "FourierBasis::peak_magnitude: {} coefficients, expected {}", c.size(), size()));
+  }
+  // x^(d)(θ) for d = 0, 1, 2 at phase θ = Ωt.
+  const auto derivative = [&](double theta, int d) {
+    double v = d == 0 && has_mean() ? c[0] : 0.0;
+    for (int k : orders_) {
+      const int a = cosine_index(k);
+      const double ck = std::cos(k * theta), sk = std::sin(k * theta);
+      const double kd = std::pow(static_cast<double>(k), d);
+      if (d == 0) v += c[a] * ck + c[a + 1] * sk;
+      if (d == 1) v += kd * (-c[a] * sk + c[a + 1] * ck);
+      if (d == 2) v -= kd * (c[a] * ck + c[a + 1] * sk);
+    }
+    return v;
+  };
+  const int grid = std::max(time_samples_, 8 * harmonics_);
+  const double h = 2.0 * std::numbers::pi / grid;
+  double best = 0.0;
+  double best_theta = 0.0;
+  for (int i = 0; i < grid; ++i) {
+    const double v = std::abs(derivative(i * h, 0));
+    if (v > best) {
+      best = v;
+      best_theta = i * h;
+    }
+  }
+  // Newton on x'(θ) = 0 within one grid cell of the best sample; keep the best value seen.
+  double theta = best_theta;
+  for (int it = 0; it < 30; ++it) {
+    const double d2 = derivative(theta, 2);
+    if (d2 == 0.0) break;
+    const double next = theta - derivative(theta, 1) / d2;
+    if (!(std::abs(next - best_theta) <= h)) break;
+    const double v = std::abs(derivative(next, 0));
+    if (v >= best) best = v;
+    if (std::abs(next - theta) <= 1e-15 * (1.0 + std::abs(theta))) break;
+    theta = next;
+  }
+  return best;
 }
 
 Eigen::MatrixXd FourierBasis::synthesis_matrix() const {

@@ -286,12 +286,14 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, bool jaco
   }
 }
 
-Eigen::VectorXd HarmonicBalance::stuck_solution(double omega) const {
+const Eigen::VectorXd& HarmonicBalance::forcing() const { return impl_->forcing; }
+
+Eigen::VectorXd HarmonicBalance::stuck_solution(double omega, double forcing_scale) const {
   const Impl& p = *impl_;
   const Eigen::Index size = unknowns();
   Eigen::MatrixXd j = Eigen::MatrixXd::Zero(size, size);
   p.assemble_linear(omega, false, j);
-  Eigen::VectorXd rhs = p.forcing;
+  Eigen::VectorXd rhs = forcing_scale * p.forcing;
   const int m = p.m();
   for (const auto& c : p.system.contacts) {
     p.scatter_block(c, c.stiffness * Eigen::MatrixXd::Identity(m, m), j);

@@ -26,7 +26,7 @@ struct FrfOptions {
   int output_dof = 0;        ///< DOF reported in the curve
   HarmonicSelection selection = HarmonicSelection::automatic;
   double periodic_tolerance = 1e-14;  ///< contact periodic-state tolerance (relative)
-  Options continuation;  ///< steps, tolerances (start/end/scales set by trace_frf)
+  Options continuation;               ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
 };
@@ -35,7 +35,7 @@ struct FrfOptions {
 struct FrfPoint {
   double omega = 0.0;          ///< Ω [rad/s]
   double amplitude_h1 = 0.0;   ///< |fundamental| of the output DOF: √(a₁² + b₁²)
-  double amplitude_max = 0.0;  ///< max_t |x_out(t)| over the period (on the AFT samples)
+  double amplitude_max = 0.0;  ///< max_t |x_out(t)| over the period (FourierBasis::peak_magnitude)
   double dissipation = 0.0;    ///< Σ contact W_D over the period [J]
   int iterations = 0;          ///< corrector iterations
   double step = 0.0;           ///< arclength step
@@ -44,9 +44,9 @@ struct FrfPoint {
 };
 
 struct FrfTimings {
-  double aft = 0.0;          ///< contact forces and their sensitivities [s]
-  double assembly = 0.0;     ///< linear part and Jacobian assembly [s]
-  double linear_solve = 0.0; ///< factorisations and solves [s]
+  double aft = 0.0;           ///< contact forces and their sensitivities [s]
+  double assembly = 0.0;      ///< linear part and Jacobian assembly [s]
+  double linear_solve = 0.0;  ///< factorisations and solves [s]
   double total = 0.0;
 };
 

@@ -11,7 +11,8 @@
 // by Newton's method. The step s adapts to the corrector's iteration count (grows when below the
 // target, shrinks when above); a failed corrector halves s; below min_step the run stops with a
 // message and keeps every accepted point. Folds (turning points in λ) are passed: nothing in the
-// scheme divides by dλ/ds. See docs/theory.md, "Continuation".
+// scheme divides by dλ/ds. See docs/theory.md, "Continuation", and docs/continuation.md (the
+// method in full: convergence test, step rule, the final point on λ_end, stop reasons).
 
 #include <Eigen/Core>
 #include <functional>
@@ -34,22 +35,24 @@ using ResidualFunction =
     std::function<Evaluation(const Eigen::VectorXd& x, double lambda, bool jacobian)>;
 
 struct Options {
-  double initial_step = 1e-2;  ///< s₀ > 0, in scaled arclength
-  double min_step = 1e-8;      ///< (0, initial_step]: stop when a halved step falls below it
-  double max_step = 1e-1;      ///< ≥ initial_step
-  int max_points = 1000;       ///< ≥ 1: accepted points (including the start) before stopping
+  double initial_step = 1e-2;    ///< s₀ > 0, in scaled arclength
+  double min_step = 1e-8;        ///< (0, initial_step]: stop when a halved step falls below it
+  double max_step = 1e-1;        ///< ≥ initial_step
+  int max_points = 1000;         ///< ≥ 1: accepted points (including the start) before stopping
   double parameter_start = 0.0;  ///< λ of the first point
   double parameter_end = 1.0;    ///< the run stops at the first accepted point beyond it
   ///< (the last point is placed on λ = parameter_end exactly by a final corrector at fixed λ)
   int direction = +1;  ///< initial sign of dλ/ds (±1); ≠ sign(end - start) is an error
-  int max_corrector_iterations = 12;   ///< ≥ 1
-  int target_corrector_iterations = 4;  ///< ≥ 1: iteration count that keeps the step unchanged
-  double step_growth = 2.0;             ///< > 1: largest factor by which s grows after a step
-  double residual_tolerance = 1e-10;    ///< > 0: ‖R‖_∞ / residual_scale at convergence
-  double residual_scale = 1.0;          ///< > 0: force scale of R (e.g. ‖f_ex‖)
-  double step_tolerance = 1e-10;        ///< > 0: ‖Δy‖_∞ at convergence (scaled unknowns)
-  Eigen::VectorXd state_scale;          ///< x_scale (size n, > 0) or empty: all ones
-  double parameter_scale = 1.0;         ///< λ_scale > 0
+  int max_corrector_iterations = 12;  ///< ≥ 1
+  int max_start_iterations = 50;  ///< ≥ 1: Newton iterations of the first point (fixed λ, from x0)
+  int target_corrector_iterations =
+      4;                              ///< [1, max_corrector_iterations]: count keeping s unchanged
+  double step_growth = 2.0;           ///< > 1: largest factor by which s grows after a step
+  double residual_tolerance = 1e-10;  ///< > 0: ‖R‖_∞ / residual_scale at convergence
+  double residual_scale = 1.0;        ///< > 0: force scale of R (e.g. ‖f_ex‖)
+  double step_tolerance = 1e-10;      ///< > 0: ‖Δy‖_∞ at convergence (scaled unknowns)
+  Eigen::VectorXd state_scale;        ///< x_scale (size n, > 0) or empty: all ones
+  double parameter_scale = 1.0;       ///< λ_scale > 0
 
   [[nodiscard]] std::string validate(Eigen::Index n) const;  ///< empty when valid
 };
@@ -71,15 +74,19 @@ enum class StopReason {
   min_step,         ///< the step fell below min_step: see message
   start_failed,     ///< the corrector at λ = parameter_start did not converge
   stopped_by_user,  ///< the accept callback returned false
+  left_range,       ///< the branch turned back across parameter_start (last point on it)
 };
 
 struct Result {
   std::vector<Point> points;
   StopReason reason = StopReason::start_failed;
-  std::string message;       ///< one line: why the run ended (always set)
-  int rejected_steps = 0;    ///< corrector failures (each halved the step)
-  int corrector_iterations = 0;  ///< total over the run (accepted and rejected)
-  int evaluations = 0;       ///< calls of the residual function
+  std::string message;              ///< one line: why the run ended (always set)
+  int rejected_steps = 0;           ///< corrector failures (each halved the step)
+  int corrector_iterations = 0;     ///< total over the run (accepted and rejected)
+  int evaluations = 0;              ///< calls of the residual function
+  double evaluation_seconds = 0.0;  ///< wall time inside the residual function
+  double linear_solve_seconds =
+      0.0;  ///< wall time in factorisations and solves (tangent, corrector)
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
 };
 

@@ -46,6 +46,10 @@ class FourierBasis {
   /// Coefficients (size() × m) of m signals given by their samples (N × m).
   [[nodiscard]] Eigen::MatrixXd to_frequency(const Eigen::MatrixXd& samples) const;
 
+  /// max_t |x(t)| of one signal: located on a fine grid (≥ 8 samples per period of the highest
+  /// harmonic) and refined by Newton's method on x'(t) = 0 to round-off.
+  [[nodiscard]] double peak_magnitude(const Eigen::VectorXd& coefficients) const;
+
   /// The synthesis matrix E (N × size()): column j is basis function j at the samples.
   [[nodiscard]] Eigen::MatrixXd synthesis_matrix() const;
   /// The analysis matrix A (size() × N): to_frequency(x) = A x; A E = I.

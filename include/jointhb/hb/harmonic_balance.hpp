@@ -109,7 +109,11 @@ class HarmonicBalance {
 
   /// The harmonic coefficients of the linear system with every contact stuck (k_T0 springs about
   /// their reference state): the initial guess of a continuation and the small-force limit.
-  [[nodiscard]] Eigen::VectorXd stuck_solution(double omega) const;
+  /// `forcing_scale` multiplies F_ex (0: the reference state alone).
+  [[nodiscard]] Eigen::VectorXd stuck_solution(double omega, double forcing_scale = 1.0) const;
+
+  /// F_ex: the coefficients of the excitation.
+  [[nodiscard]] const Eigen::VectorXd& forcing() const;
 
   /// x_dof(t_i) over one period on the AFT samples.
   [[nodiscard]] Eigen::VectorXd time_history(const Eigen::VectorXd& coefficients, int dof) const;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -93,6 +94,22 @@ TEST(FourierBasis, HigherHarmonicsAreDroppedNotAliased) {
   Eigen::VectorXd x(16);
   for (int i = 0; i < 16; ++i) x[i] = std::cos(2.0 * std::numbers::pi * 4 * i / 16.0);
   EXPECT_LT(b.to_frequency(x).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(FourierBasis, PeakMagnitudeIsExactBetweenSamples) {
+  // x = cos(θ − 0.1234) + 0.2 cos(3θ): max |x| found by dense sampling of the closed form.
+  const FourierBasis b(3, 8);
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(b.size());
+  c[b.cosine_index(1)] = std::cos(0.1234);
+  c[b.cosine_index(1) + 1] = std::sin(0.1234);
+  c[b.cosine_index(3)] = 0.2;
+  double ref = 0.0;
+  for (int i = 0; i < 2000000; ++i) {
+    const double th = 2.0 * std::numbers::pi * i / 2000000.0;
+    ref = std::max(ref, std::abs(std::cos(th - 0.1234) + 0.2 * std::cos(3.0 * th)));
+  }
+  EXPECT_NEAR(b.peak_magnitude(c), ref, 1e-11);
+  EXPECT_GE(b.peak_magnitude(c), ref - 1e-15);  // the refined maximum is not below any sample
 }
 
 TEST(FourierBasis, RejectsTooFewSamples) {

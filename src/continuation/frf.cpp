@@ -1,0 +1,196 @@
+// Nonlinear FRF: harmonic balance continued over Ω (continuation/frf.hpp).
+#include "jointhb/continuation/frf.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace jointhb::continuation {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+hb::HarmonicBalanceOptions balance_options(const FrfOptions& o) {
+  hb::HarmonicBalanceOptions b;
+  b.harmonics = o.harmonics;
+  b.time_samples = o.time_samples;
+  b.selection = o.selection;
+  b.periodic_tolerance = o.periodic_tolerance;
+  return b;
+}
+
+// The scale of the unknowns in the arclength, so that a step weighs the response against Ω evenly:
+// the largest |coefficient| along a cheap probe of the same curve at one harmonic (a friction-
+// limited peak can be far below the stuck system's), else along the stuck linear response.
+double response_scale(const DiscreteSystem& system, const Excitation& excitation,
+                      const FrfOptions& options, const hb::HarmonicBalance& balance) {
+  double scale = 0.0;
+  try {
+    hb::HarmonicBalanceOptions ho;
+    ho.harmonics = 1;
+    ho.time_samples = 32;
+    ho.periodic_tolerance = options.periodic_tolerance;
+    const hb::HarmonicBalance probe(system, excitation, ho);
+    Options c = options.continuation;
+    c.parameter_start = options.omega_start;
+    c.parameter_end = options.omega_end;
+    c.direction = options.omega_end > options.omega_start ? 1 : -1;
+    c.parameter_scale = std::abs(options.omega_end - options.omega_start);
+    c.max_step = std::max(c.max_step, 0.1);
+    const Eigen::VectorXd x0 = probe.stuck_solution(options.omega_start);
+    c.state_scale = Eigen::VectorXd::Constant(
+        x0.size(), x0.lpNorm<Eigen::Infinity>() > 0.0 ? x0.lpNorm<Eigen::Infinity>() : 1.0);
+    hb::HarmonicBalanceEvaluation ev;
+    const Result r = trace(
+        [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
+          probe.evaluate(x, omega, jacobian, ev);
+          Evaluation e;
+          e.ok = ev.ok;
+          e.residual = ev.residual;
+          e.d_state = ev.d_coefficients;
+          e.d_parameter = ev.d_omega;
+          return e;
+        },
+        x0, c);
+    for (const auto& p : r.points) scale = std::max(scale, p.x.lpNorm<Eigen::Infinity>());
+  } catch (const std::exception&) {
+    scale = 0.0;  // the probe is a heuristic: fall back below
+  }
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    constexpr int kProbe = 64;
+    for (int i = 0; i <= kProbe; ++i) {
+      const double omega =
+          options.omega_start + (options.omega_end - options.omega_start) * i / kProbe;
+      scale = std::max(scale, balance.stuck_solution(omega).lpNorm<Eigen::Infinity>());
+    }
+  }
+  return std::isfinite(scale) && scale > 0.0 ? scale : 1.0;
+}
+
+}  // namespace
+
+std::string FrfOptions::validate(int dofs) const {
+  if (!(omega_start > 0.0) || !std::isfinite(omega_start)) {
+    return fmt::format("omega_start: must be finite and > 0, got {}", omega_start);
+  }
+  if (!(omega_end > 0.0) || !std::isfinite(omega_end)) {
+    return fmt::format("omega_end: must be finite and > 0, got {}", omega_end);
+  }
+  if (omega_end == omega_start) return "omega_end: must differ from omega_start";
+  if (output_dof < 0 || output_dof >= dofs) {
+    return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
+  }
+  return balance_options(*this).validate();
+}
+
+FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
+                   const FrfOptions& options,
+                   const std::function<bool(const FrfPoint&)>& on_point) {
+  const auto start_time = Clock::now();
+  if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
+  const hb::HarmonicBalance balance(system, excitation, balance_options(options));
+  const hb::FourierBasis& basis = balance.basis();
+
+  Options c = options.continuation;
+  c.parameter_start = options.omega_start;
+  c.parameter_end = options.omega_end;
+  c.direction = options.omega_end > options.omega_start ? 1 : -1;
+  const Eigen::VectorXd x0 = balance.stuck_solution(options.omega_start);
+  c.state_scale =
+      Eigen::VectorXd::Constant(x0.size(), response_scale(system, excitation, options, balance));
+  c.parameter_scale = std::abs(options.omega_end - options.omega_start);
+  double force_scale = 0.0;
+  for (const auto& f : excitation.forces)
+    force_scale = std::max(force_scale, std::abs(f.amplitude));
+  if (excitation.static_force.size() > 0) {
+    force_scale = std::max(force_scale, excitation.static_force.lpNorm<Eigen::Infinity>());
+  }
+  c.residual_scale = force_scale > 0.0 ? force_scale : 1.0;
+
+  // The last evaluation is kept so that an accepted point's diagnostics cost nothing extra when
+  // the corrector ended on it.
+  hb::HarmonicBalanceEvaluation last;
+  Eigen::VectorXd last_x;
+  double last_omega = std::numeric_limits<double>::quiet_NaN();
+  const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    Evaluation e;
+    balance.evaluate(x, omega, jacobian, last);
+    last_x = x;
+    last_omega = omega;
+    e.ok = last.ok;
+    e.message = last.message;
+    e.residual = last.residual;
+    if (jacobian) {
+      e.d_state = last.d_coefficients;
+      e.d_parameter = last.d_omega;
+    }
+    return e;
+  };
+
+  FrfCurve curve;
+  curve.kept_harmonics = basis.orders();
+  if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
+  const AcceptCallback accept = [&](const Point& p) {
+    if (p.lambda != last_omega || p.x != last_x) balance.evaluate(p.x, p.lambda, false, last);
+    FrfPoint f;
+    f.omega = p.lambda;
+    f.amplitude_h1 = balance.fundamental_amplitude(p.x, options.output_dof);
+    f.amplitude_max =
+        basis.peak_magnitude(p.x.segment(balance.index(options.output_dof, 0), basis.size()));
+    f.dissipation = last.dissipation;
+    f.iterations = p.iterations;
+    f.step = p.step;
+    f.fold = p.fold;
+    f.coefficients = p.x;
+    curve.points.push_back(f);
+    return on_point ? on_point(f) : true;
+  };
+
+  Result r = trace(residual, x0, c, accept);
+  if (r.reason == StopReason::start_failed) {
+    // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start. Reach
+    // the start instead by continuation in the force scale s ∈ [0, 1] at fixed Ω_start, from the
+    // reference state (s = 0, exact), with R_s = R(X, Ω_start) − (s − 1) F_ex.
+    const Eigen::VectorXd& f_ex = balance.forcing();
+    const double omega0 = options.omega_start;
+    const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
+      Evaluation e = residual(x, omega0, jacobian);
+      e.residual -= (s - 1.0) * f_ex;
+      if (jacobian) e.d_parameter = -f_ex;
+      return e;
+    };
+    Options h = c;
+    h.parameter_start = 0.0;
+    h.parameter_end = 1.0;
+    h.direction = 1;
+    h.parameter_scale = 1.0;
+    const Result ramp = trace(scaled, balance.stuck_solution(omega0, 0.0), h);
+    curve.newton_iterations += ramp.corrector_iterations;
+    if (ramp.completed()) {
+      curve.newton_iterations += r.corrector_iterations;  // the failed first start
+      r = trace(residual, ramp.points.back().x, c, accept);
+    } else {
+      r.message += fmt::format("; the force ramp at Ω_start failed too: {}", ramp.message);
+    }
+  }
+  curve.reason = r.reason;
+  curve.message = r.message;
+  curve.newton_iterations += r.corrector_iterations;
+  curve.rejected_steps = r.rejected_steps;
+  const hb::HarmonicBalanceTimings t = balance.timings();
+  curve.timings.aft = t.aft;
+  curve.timings.assembly = t.assembly;
+  curve.timings.linear_solve = r.linear_solve_seconds;
+  curve.timings.total = seconds_since(start_time);
+  return curve;
+}
+
+}  // namespace jointhb::continuation

@@ -1,0 +1,532 @@
+// Pseudo-arclength continuation of R(x, λ) = 0 (pseudo_arclength.hpp; the method in
+// docs/continuation.md).
+//
+// Every Newton iteration here, at fixed λ or on the arclength hyperplane, solves one bordered
+// system in the scaled unknowns y = (x ./ x_scale, λ / λ_scale):
+//   [ J_y ] Δy = - [ R / r_s   ],    J_y = [R_x D_x, R_λ λ_scale] / r_s,  r_s = residual_scale,
+//   [ cᵀ  ]        [ cᵀ y - d  ]
+// closed by the linear constraint cᵀ y = d:
+//   λ = λ_fixed (start, final point on a bound):  c = e_λ,  d = λ_fixed / λ_scale;
+//   τ_kᵀ (y - y_k) = s (arclength, Keller 1977):  c = τ_k,  d = τ_kᵀ y_k + s.
+#include "jointhb/continuation/pseudo_arclength.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <utility>
+
+namespace jointhb::continuation {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// A small Newton step alone does not prove convergence (a stagnating iteration also makes small
+// steps); it is accepted only when the residual is within three decades of the tolerance, which
+// lets a run whose residual is floored by round-off (ε ‖R_x‖ ‖x‖ > tolerance · r_s) converge
+// without ever accepting a point far from the branch.
+constexpr double kSmallStepResidualFactor = 1.0e3;
+
+// Halvings of the damped Newton step at the start point before giving up (α ≥ 2⁻¹⁰).
+constexpr int kMaxHalvings = 10;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Messages are one line: the residual function's own message may not be.
+std::string one_line(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  std::replace(text.begin(), text.end(), '\r', ' ');
+  return text;
+}
+
+// R and its scaled Jacobian at one point.
+struct Sample {
+  VectorXd y;         // scaled unknowns (x ./ D, λ / λ_scale)
+  VectorXd x;         // physical state
+  double lambda = 0;  // physical parameter (exact where it was fixed)
+  VectorXd residual;  // R / r_s
+  MatrixXd jacobian;  // J_y = [R_x D, R_λ λ_scale] / r_s, n × (n+1)
+  double norm = 0;    // ‖R‖_∞ / r_s
+};
+
+// Outcome of one Newton run.
+struct Correction {
+  bool converged = false;
+  Sample sample;        // the converged point
+  int iterations = 0;   // Newton steps (linear solves) taken
+  std::string failure;  // why it did not converge
+};
+
+// The linear constraint cᵀ y = d that closes the bordered system; `fixed_lambda` is set when the
+// constraint is λ = const, so that λ is kept exactly (not as λ_scale · (λ / λ_scale)).
+struct Constraint {
+  VectorXd c;
+  double d = 0.0;
+  std::optional<double> fixed_lambda;
+};
+
+class Tracer {
+ public:
+  Tracer(const ResidualFunction& residual, const Options& options, Index n, Result& result)
+      : residual_(residual), options_(options), n_(n), result_(result) {
+    state_scale_ = options.state_scale.size() ? options.state_scale : VectorXd::Ones(n);
+  }
+
+  VectorXd scaled(const VectorXd& x, double lambda) const {
+    VectorXd y(n_ + 1);
+    y.head(n_) = x.cwiseQuotient(state_scale_);
+    y(n_) = lambda / options_.parameter_scale;
+    return y;
+  }
+
+  Constraint fixed_lambda(double lambda) const {
+    Constraint k;
+    k.c = VectorXd::Unit(n_ + 1, n_);
+    k.d = lambda / options_.parameter_scale;
+    k.fixed_lambda = lambda;
+    return k;
+  }
+
+  // Newton's method on the bordered system from y. Converged when ‖R‖_∞/r_s ≤ tol, or when the
+  // last step had ‖Δy‖_∞ ≤ step_tolerance and ‖R‖_∞/r_s ≤ 1e3 tol (the residual is always that of
+  // the returned point).
+  //   Safeguard::growth_test: a residual that grows in two consecutive iterations is divergence
+  //     (arclength steps: the caller retries with a shorter step).
+  //   Safeguard::line_search: damped Newton y ← y + α Δy, α = 1, 1/2, … (at most kMaxHalvings
+  //     halvings) until ‖R/r_s‖₂ decreases by the Armijo factor (1 − α/4) (the start: there is no
+  //     shorter step to retry with, and a poor x0 needs globalisation).
+  enum class Safeguard { growth_test, line_search };
+
+  Correction correct(VectorXd y, const Constraint& constraint, int max_iterations,
+                     Safeguard safeguard) {
+    Correction out;
+    if (constraint.fixed_lambda) y(n_) = constraint.d;
+    Sample sample;
+    if (std::string why = evaluate(y, constraint.fixed_lambda, sample); !why.empty()) {
+      out.failure = std::move(why);
+      return out;
+    }
+    double previous = std::numeric_limits<double>::infinity();
+    double best = std::numeric_limits<double>::infinity();
+    double last_step = std::numeric_limits<double>::infinity();
+    int growths = 0;
+    for (int it = 0;; ++it) {
+      const double tol = options_.residual_tolerance;
+      if (sample.norm <= tol ||
+          (last_step <= options_.step_tolerance && sample.norm <= kSmallStepResidualFactor * tol)) {
+        out.converged = true;
+        out.iterations = it;
+        out.sample = std::move(sample);
+        return out;
+      }
+      best = std::min(best, sample.norm);
+      if (it == max_iterations) {
+        out.failure =
+            fmt::format("no convergence in {} iterations (residual {:.3g}, smallest {:.3g})",
+                        max_iterations, sample.norm, best);
+        return out;
+      }
+      if (safeguard == Safeguard::growth_test && it > 0) {
+        growths = sample.norm > previous ? growths + 1 : 0;
+        if (growths >= 2) {
+          out.failure =
+              fmt::format("residual grew in two consecutive iterations (to {:.3g} at iteration {})",
+                          sample.norm, it);
+          return out;
+        }
+      }
+      previous = sample.norm;
+
+      MatrixXd bordered(n_ + 1, n_ + 1);
+      bordered.topRows(n_) = sample.jacobian;
+      bordered.row(n_) = constraint.c.transpose();
+      VectorXd rhs(n_ + 1);
+      rhs.head(n_) = -sample.residual;
+      rhs(n_) = constraint.d - constraint.c.dot(y);
+      VectorXd step;
+      if (const std::string why = solve(bordered, rhs, step); !why.empty()) {
+        out.failure = fmt::format("{} (residual {:.3g})", why, sample.norm);
+        return out;
+      }
+      ++out.iterations;
+      ++result_.corrector_iterations;
+
+      const double merit = sample.residual.norm();
+      double alpha = 1.0;
+      std::string why;
+      for (int halving = 0;; ++halving) {
+        VectorXd trial = y + alpha * step;
+        if (constraint.fixed_lambda) trial(n_) = constraint.d;
+        Sample next;
+        why = evaluate(trial, constraint.fixed_lambda, next);
+        const bool descent = why.empty() && next.residual.norm() <= (1.0 - 0.25 * alpha) * merit;
+        if (safeguard == Safeguard::growth_test || descent) {
+          if (!why.empty()) break;
+          y = std::move(trial);
+          sample = std::move(next);
+          break;
+        }
+        if (halving == kMaxHalvings) {
+          if (why.empty()) {
+            why = fmt::format(
+                "no decrease of the residual {:.3g} along the Newton step after {} halvings "
+                "(a minimum of |R| without a root, or a Jacobian inconsistent with R)",
+                sample.norm, kMaxHalvings);
+          }
+          break;
+        }
+        alpha *= 0.5;
+      }
+      if (!why.empty()) {
+        out.failure = std::move(why);
+        return out;
+      }
+      last_step = alpha * step.lpNorm<Eigen::Infinity>();
+    }
+  }
+
+  // Unit tangent at `sample`: the null vector of J_y, from the bordered system
+  //   [ J_y ; τ_refᵀ ] τ = [ 0 ; 1 ],   τ ← τ / ‖τ‖,
+  // which orients it with τ · τ_ref > 0. Where that matrix is singular (τ_ref ⟂ null(J_y), e.g. a
+  // start exactly on a fold, or rank J_y < n), τ is the projection of τ_ref onto the numerical
+  // kernel of J_y (FullPivLU), or its first basis vector when the projection vanishes.
+  std::optional<VectorXd> tangent(const Sample& sample, const VectorXd& reference,
+                                  std::string& why) {
+    MatrixXd bordered(n_ + 1, n_ + 1);
+    bordered.topRows(n_) = sample.jacobian;
+    bordered.row(n_) = reference.transpose();
+    const VectorXd rhs = VectorXd::Unit(n_ + 1, n_);
+    VectorXd t;
+    if (solve(bordered, rhs, t).empty() && t.norm() > 0.0 && std::isfinite(t.norm())) {
+      return VectorXd(t / t.norm());
+    }
+    const auto start = Clock::now();
+    const Eigen::FullPivLU<MatrixXd> lu(sample.jacobian);
+    const MatrixXd kernel = lu.kernel();
+    result_.linear_solve_seconds += seconds_since(start);
+    if (kernel.cols() == 0 || !kernel.allFinite()) {
+      why = "tangent: no null vector of the Jacobian";
+      return std::nullopt;
+    }
+    const Eigen::HouseholderQR<MatrixXd> qr(kernel);
+    const MatrixXd basis = qr.householderQ() * MatrixXd::Identity(n_ + 1, kernel.cols());
+    VectorXd projected = basis * (basis.transpose() * reference);
+    if (!(projected.norm() > kEps * reference.norm())) projected = basis.col(0);
+    if (!projected.allFinite() || projected.norm() == 0.0) {
+      why = "tangent: no null vector of the Jacobian";
+      return std::nullopt;
+    }
+    return VectorXd(projected / projected.norm());
+  }
+
+ private:
+  // Evaluates R and its Jacobian at y (λ = fixed_lambda when given); empty string when usable.
+  std::string evaluate(const VectorXd& y, const std::optional<double>& fixed_lambda,
+                       Sample& sample) {
+    sample.y = y;
+    sample.x = y.head(n_).cwiseProduct(state_scale_);
+    sample.lambda = fixed_lambda ? *fixed_lambda : y(n_) * options_.parameter_scale;
+    if (!sample.x.allFinite() || !std::isfinite(sample.lambda)) return "non-finite iterate";
+    // The Jacobian is always requested: the corrector needs it unless converged, and a converged
+    // point needs it for its tangent.
+    const auto start = Clock::now();
+    const Evaluation e = residual_(sample.x, sample.lambda, true);
+    result_.evaluation_seconds += seconds_since(start);
+    ++result_.evaluations;
+    if (!e.ok) {
+      return e.message.empty() ? std::string("evaluation failed")
+                               : "evaluation failed: " + one_line(e.message);
+    }
+    if (e.residual.size() != n_ || e.d_state.rows() != n_ || e.d_state.cols() != n_ ||
+        e.d_parameter.size() != n_) {
+      throw std::logic_error(fmt::format(
+          "continuation: the residual function returned R ({}), ∂R/∂x ({} x {}), ∂R/∂λ ({}); "
+          "expected n = {} (with the Jacobian requested)",
+          e.residual.size(), e.d_state.rows(), e.d_state.cols(), e.d_parameter.size(), n_));
+    }
+    if (!e.residual.allFinite()) return "non-finite residual";
+    if (!e.d_state.allFinite() || !e.d_parameter.allFinite()) return "non-finite Jacobian";
+    const double rs = options_.residual_scale;
+    sample.residual = e.residual / rs;
+    sample.norm = sample.residual.lpNorm<Eigen::Infinity>();
+    sample.jacobian.resize(n_, n_ + 1);
+    sample.jacobian.leftCols(n_) = e.d_state * state_scale_.asDiagonal() / rs;
+    sample.jacobian.col(n_) = e.d_parameter * (options_.parameter_scale / rs);
+    return {};
+  }
+
+  // Dense LU with partial pivoting; numerically singular (reciprocal condition estimate below ε:
+  // the solution would carry no correct digit) or a non-finite solution is a failure.
+  std::string solve(const MatrixXd& a, const VectorXd& b, VectorXd& out) {
+    const auto start = Clock::now();
+    const Eigen::PartialPivLU<MatrixXd> lu(a);
+    const double rcond = lu.rcond();
+    std::string why;
+    if (!(rcond >= kEps)) {
+      why = fmt::format("singular bordered matrix (reciprocal condition {:.2g})", rcond);
+    } else {
+      out = lu.solve(b);
+      if (!out.allFinite()) why = "non-finite solution of the bordered system";
+    }
+    result_.linear_solve_seconds += seconds_since(start);
+    return why;
+  }
+
+  const ResidualFunction& residual_;
+  const Options& options_;
+  Index n_;
+  Result& result_;
+  VectorXd state_scale_;
+};
+
+std::string describe_point(const Point& p, std::size_t count) {
+  return fmt::format("λ = {:.10g} (point {})", p.lambda, count);
+}
+
+}  // namespace
+
+std::string Options::validate(Eigen::Index n) const {
+  auto positive = [](const char* name, double v) -> std::string {
+    if (std::isfinite(v) && v > 0.0) return {};
+    return fmt::format("{}: must be finite and > 0, got {}", name, v);
+  };
+  if (auto m = positive("initial_step", initial_step); !m.empty()) return m;
+  if (!(std::isfinite(min_step) && min_step > 0.0 && min_step <= initial_step)) {
+    return fmt::format("min_step: must lie in (0, initial_step = {}], got {}", initial_step,
+                       min_step);
+  }
+  if (!(std::isfinite(max_step) && max_step >= initial_step)) {
+    return fmt::format("max_step: must be finite and >= initial_step = {}, got {}", initial_step,
+                       max_step);
+  }
+  if (max_points < 1) return fmt::format("max_points: must be >= 1, got {}", max_points);
+  if (!std::isfinite(parameter_start)) {
+    return fmt::format("parameter_start: must be finite, got {}", parameter_start);
+  }
+  if (!std::isfinite(parameter_end) || parameter_end == parameter_start) {
+    return fmt::format("parameter_end: must be finite and differ from parameter_start = {}, got {}",
+                       parameter_start, parameter_end);
+  }
+  const int sign = parameter_end > parameter_start ? 1 : -1;
+  if (direction != sign) {
+    return fmt::format("direction: must be sign(parameter_end - parameter_start) = {}, got {}",
+                       sign, direction);
+  }
+  if (max_corrector_iterations < 1) {
+    return fmt::format("max_corrector_iterations: must be >= 1, got {}", max_corrector_iterations);
+  }
+  if (max_start_iterations < 1) {
+    return fmt::format("max_start_iterations: must be >= 1, got {}", max_start_iterations);
+  }
+  if (target_corrector_iterations < 1 || target_corrector_iterations > max_corrector_iterations) {
+    return fmt::format(
+        "target_corrector_iterations: must lie in [1, max_corrector_iterations = {}], got {}",
+        max_corrector_iterations, target_corrector_iterations);
+  }
+  if (!(std::isfinite(step_growth) && step_growth > 1.0)) {
+    return fmt::format("step_growth: must be finite and > 1, got {}", step_growth);
+  }
+  if (auto m = positive("residual_tolerance", residual_tolerance); !m.empty()) return m;
+  if (auto m = positive("residual_scale", residual_scale); !m.empty()) return m;
+  if (auto m = positive("step_tolerance", step_tolerance); !m.empty()) return m;
+  if (state_scale.size() != 0 && state_scale.size() != n) {
+    return fmt::format("state_scale: must have size n = {} (or be empty), got {}", n,
+                       state_scale.size());
+  }
+  for (Index i = 0; i < state_scale.size(); ++i) {
+    if (!(std::isfinite(state_scale(i)) && state_scale(i) > 0.0)) {
+      return fmt::format("state_scale: entry {} must be finite and > 0, got {}", i, state_scale(i));
+    }
+  }
+  if (auto m = positive("parameter_scale", parameter_scale); !m.empty()) return m;
+  return {};
+}
+
+Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const Options& options,
+             const AcceptCallback& on_accept) {
+  const Index n = x0.size();
+  if (n < 1) throw std::invalid_argument("continuation: x0 must have at least one entry");
+  for (Index i = 0; i < n; ++i) {
+    if (!std::isfinite(x0(i))) {
+      throw std::invalid_argument(
+          fmt::format("continuation: x0 entry {} must be finite, got {}", i, x0(i)));
+    }
+  }
+  if (const std::string m = options.validate(n); !m.empty()) {
+    throw std::invalid_argument("continuation options: " + m);
+  }
+  if (!residual) throw std::invalid_argument("continuation: the residual function is empty");
+
+  Result result;
+  Tracer tracer(residual, options, n, result);
+  const double sigma = options.parameter_end > options.parameter_start ? 1.0 : -1.0;
+  // Beyond the end / behind the start, measured along the direction of travel start → end.
+  auto beyond_end = [&](double lambda) { return sigma * (lambda - options.parameter_end) >= 0.0; };
+  auto behind_start = [&](double lambda) {
+    return sigma * (lambda - options.parameter_start) <= 0.0;
+  };
+
+  // Start: damped Newton at fixed λ = parameter_start from x0 (a poor x0 needs globalisation, and
+  // there is no shorter step to retry with).
+  const Correction start = tracer.correct(
+      tracer.scaled(x0, options.parameter_start), tracer.fixed_lambda(options.parameter_start),
+      options.max_start_iterations, Tracer::Safeguard::line_search);
+  if (!start.converged) {
+    result.reason = StopReason::start_failed;
+    result.message = fmt::format("start: the corrector at fixed λ = {:.10g} failed: {}",
+                                 options.parameter_start, start.failure);
+    return result;
+  }
+  std::string why;
+  const VectorXd e_lambda = options.direction * VectorXd::Unit(n + 1, n);
+  const std::optional<VectorXd> start_tangent = tracer.tangent(start.sample, e_lambda, why);
+  if (!start_tangent) {
+    result.reason = StopReason::start_failed;
+    result.message = fmt::format("start: at λ = {:.10g}: {}", options.parameter_start, why);
+    return result;
+  }
+
+  VectorXd y = start.sample.y;  // y_k, the last accepted point (scaled)
+  VectorXd tau = *start_tangent;
+  // Accepts a point; returns false when the run ends here (reason and message set).
+  auto accept = [&](Point point, bool on_bound, StopReason bound_reason) {
+    result.points.push_back(std::move(point));
+    const Point& p = result.points.back();
+    const bool user_continue = on_accept ? on_accept(p) : true;
+    const std::string where = describe_point(p, result.points.size());
+    if (on_bound) {  // the run is complete whatever the callback says
+      result.reason = bound_reason;
+      result.message =
+          bound_reason == StopReason::reached_end
+              ? fmt::format("reached λ_end = {:.10g} ({} points, {} rejected steps)", p.lambda,
+                            result.points.size(), result.rejected_steps)
+              : fmt::format("the branch turned back across λ_start: last point on it, {}", where);
+      return false;
+    }
+    if (!user_continue) {
+      result.reason = StopReason::stopped_by_user;
+      result.message = "stopped by the accept callback at " + where;
+      return false;
+    }
+    if (static_cast<int>(result.points.size()) >= options.max_points) {
+      result.reason = StopReason::max_points;
+      result.message = fmt::format("max_points = {} reached at {}", options.max_points, where);
+      return false;
+    }
+    return true;
+  };
+
+  {
+    Point p;
+    p.x = start.sample.x;
+    p.lambda = start.sample.lambda;
+    p.tangent = tau;
+    p.iterations = start.iterations;
+    p.residual = start.sample.norm;
+    if (!accept(std::move(p), false, StopReason::reached_end)) return result;
+  }
+
+  double s = options.initial_step;
+  bool rejected_since_accept = false;
+  std::string last_failure;
+  for (;;) {
+    // Predictor y_k + s τ_k, corrector on the hyperplane τ_kᵀ (y - y_k) = s.
+    const VectorXd predicted = y + s * tau;
+    Constraint arclength;
+    arclength.c = tau;
+    arclength.d = tau.dot(y) + s;
+    Correction c = tracer.correct(predicted, arclength, options.max_corrector_iterations,
+                                  Tracer::Safeguard::growth_test);
+    std::string failure = c.converged ? std::string() : c.failure;
+    // A corrector that lands farther from the predictor than the step itself has left the
+    // neighbourhood of the predicted point (step too long for the curvature, or a jump to another
+    // part of the branch).
+    if (failure.empty() && (c.sample.y - predicted).norm() > s) {
+      failure = fmt::format("the corrector moved {:.3g} from the predictor, more than the step",
+                            (c.sample.y - predicted).norm());
+    }
+
+    // A point beyond λ_end (or behind λ_start) is replaced by the corrector at fixed λ on that
+    // bound, started from the linear interpolation between y_k and the crossing point.
+    bool on_bound = false;
+    StopReason bound_reason = StopReason::reached_end;
+    if (failure.empty() && (beyond_end(c.sample.lambda) || behind_start(c.sample.lambda))) {
+      on_bound = true;
+      const bool end = beyond_end(c.sample.lambda);
+      bound_reason = end ? StopReason::reached_end : StopReason::left_range;
+      const double bound = end ? options.parameter_end : options.parameter_start;
+      if (c.sample.lambda != bound) {
+        const double lambda_k = result.points.back().lambda;
+        const double theta = (bound - lambda_k) / (c.sample.lambda - lambda_k);
+        const VectorXd guess = y + theta * (c.sample.y - y);
+        Correction b =
+            tracer.correct(guess, tracer.fixed_lambda(bound), options.max_corrector_iterations,
+                           Tracer::Safeguard::growth_test);
+        if (!b.converged) {
+          failure = fmt::format("corrector at fixed λ = {:.10g} failed: {}", bound, b.failure);
+        } else if ((b.sample.y - guess).norm() > s) {
+          failure = fmt::format("corrector at fixed λ = {:.10g} moved {:.3g} from its guess", bound,
+                                (b.sample.y - guess).norm());
+        } else {
+          c = std::move(b);
+        }
+      }
+    }
+
+    std::optional<VectorXd> next_tau;
+    if (failure.empty()) {
+      next_tau = tracer.tangent(c.sample, tau, why);
+      if (!next_tau) failure = why;
+    }
+
+    if (!failure.empty()) {
+      ++result.rejected_steps;
+      rejected_since_accept = true;
+      last_failure = failure;
+      s *= 0.5;
+      if (s < options.min_step) {
+        result.reason = StopReason::min_step;
+        result.message = fmt::format(
+            "step {:.3g} below min_step {:.3g} after the point at λ = {:.10g} (point {}): {}", s,
+            options.min_step, result.points.back().lambda, result.points.size(), last_failure);
+        return result;
+      }
+      continue;
+    }
+
+    Point p;
+    p.x = c.sample.x;
+    p.lambda = c.sample.lambda;
+    p.tangent = *next_tau;
+    // A point moved onto a bound lies short of the hyperplane: its step is its own projection.
+    p.step = on_bound ? tau.dot(c.sample.y - y) : s;
+    p.iterations = c.iterations;
+    p.residual = c.sample.norm;
+    p.fold = tau(n) * (*next_tau)(n) < 0.0;
+    y = c.sample.y;
+    tau = *next_tau;
+    if (!accept(std::move(p), on_bound, bound_reason)) return result;
+
+    // s ← s · clamp(target / iterations, 1/2, step_growth), no growth right after a rejection.
+    const double ratio = static_cast<double>(options.target_corrector_iterations) /
+                         static_cast<double>(std::max(c.iterations, 1));
+    const double growth = rejected_since_accept ? 1.0 : options.step_growth;
+    s = std::clamp(s * std::clamp(ratio, 0.5, growth), options.min_step, options.max_step);
+    rejected_since_accept = false;
+  }
+}
+
+}  // namespace jointhb::continuation
