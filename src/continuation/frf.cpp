@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include "jointhb/hb/jacobian_check.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -150,6 +152,14 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     f.step = p.step;
     f.fold = p.fold;
     f.coefficients = p.x;
+    if (options.check_jacobian) {
+      const hb::JacobianCheck check = hb::check_jacobian(balance, p.x, p.lambda);
+      const double e = std::max(check.max_error, check.max_error_omega);
+      if (!(e <= curve.jacobian_check_error)) {
+        curve.jacobian_check_error = e;
+        curve.jacobian_check_omega = p.lambda;
+      }
+    }
     curve.points.push_back(f);
     return on_point ? on_point(f) : true;
   };

@@ -26,7 +26,8 @@ struct FrfOptions {
   int output_dof = 0;        ///< DOF reported in the curve
   HarmonicSelection selection = HarmonicSelection::automatic;
   double periodic_tolerance = 1e-14;  ///< contact periodic-state tolerance (relative)
-  Options continuation;               ///< steps, tolerances (start/end/scales set by trace_frf)
+  bool check_jacobian = false;  ///< compare ∂R/∂X, ∂R/∂Ω with central differences at every point
+  Options continuation;         ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
 };
@@ -57,6 +58,10 @@ struct FrfCurve {
   int newton_iterations = 0;
   int rejected_steps = 0;
   std::vector<int> kept_harmonics;  ///< the harmonic orders used
+  /// With check_jacobian: the largest relative discrepancy between the analytic Jacobian and
+  /// central differences over the points (hb/jacobian_check.hpp), and where it occurred.
+  double jacobian_check_error = 0.0;
+  double jacobian_check_omega = 0.0;
   FrfTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
 };

@@ -105,6 +105,22 @@ TEST(FrfContinuation, SlippingJenkinsPointsSolveHarmonicBalanceAndPeakBetweenThe
   EXPECT_GE(curve.timings.total, curve.timings.aft);
 }
 
+TEST(FrfContinuation, JacobianCheckAlongAGaulMayerCurve) {
+  hb::DiscreteSystem s = oscillator(3.0, 0.05, 0.01);
+  s.contacts[0].law = "gaul-mayer";
+  s.contacts[0].exponent = 0.4;
+  FrfOptions o;
+  o.omega_start = 1.0;
+  o.omega_end = 2.2;
+  o.harmonics = 3;
+  o.time_samples = 32;
+  o.check_jacobian = true;
+  const FrfCurve curve = trace_frf(s, force(0.05), o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_GT(curve.jacobian_check_error, 0.0);  // it ran
+  EXPECT_LT(curve.jacobian_check_error, 1e-6) << "at omega " << curve.jacobian_check_omega;
+}
+
 TEST(FrfContinuation, StopByCallbackKeepsThePoints) {
   FrfOptions o;
   o.harmonics = 3;

@@ -2,6 +2,7 @@
 // complex receptance, analytic Jacobians against central differences, and the two shortcuts
 // (odd harmonics, stuck contacts as springs) against the full computation.
 #include "jointhb/hb/harmonic_balance.hpp"
+#include "jointhb/hb/jacobian_check.hpp"
 
 #include <gtest/gtest.h>
 
@@ -257,6 +258,20 @@ TEST(HarmonicBalance, ResidualReportsDissipationOfSlippingContacts) {
   // samples, differs by the truncation of the force (small at H = 5 for this loop).
   EXPECT_NEAR(w_ex, w_visc + ev.fourier_dissipation, 1e-12 * w_ex);
   EXPECT_NEAR(ev.fourier_dissipation, ev.dissipation, 1e-3 * ev.dissipation);
+}
+
+TEST(HarmonicBalance, JacobianCheckFindsAWrongJacobian) {
+  HarmonicBalanceOptions o;
+  o.harmonics = 3;
+  o.time_samples = 32;
+  const HarmonicBalance hb(two_dof(), cosine_force(0, 0.4), o);
+  const Eigen::VectorXd x = solve(hb, 1.2);
+  const JacobianCheck ok = check_jacobian(hb, x, 1.2);
+  EXPECT_LT(ok.max_error, 1e-6);
+  EXPECT_LT(ok.max_error_omega, 1e-6);
+  // The check is not blind: with a step far too large for the nonlinearity the differences
+  // stop matching, and it says so.
+  EXPECT_GT(check_jacobian(hb, x, 1.2, 0.3).max_error, 1e-4);
 }
 
 TEST(HarmonicBalance, RejectsBadInput) {
