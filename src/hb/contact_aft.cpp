@@ -60,9 +60,9 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
 
   // Scalar sensitivity recursion over the m basis functions at once. On a path along x the
   // trial direction stays x, so the x-components of the 2D step derivatives carry it exactly.
-  const Eigen::MatrixXd e = basis.synthesis_matrix();  // δg_i for unit δG_j: E(i, j)
-  Eigen::MatrixXd particular(n, m);                    // zero-start response
-  Eigen::VectorXd propagator(n);                       // Π_{l<i} a_l
+  const Eigen::MatrixXd& e = basis.synthesis_matrix();  // δg_i for unit δG_j: E(i, j)
+  Eigen::MatrixXd particular(n, m);                     // zero-start response
+  Eigen::VectorXd propagator(n);                        // Π_{l<i} a_l
   Eigen::RowVectorXd acc = Eigen::RowVectorXd::Zero(m);
   double pi = 1.0;
   for (int i = 0; i < n; ++i) {

@@ -78,6 +78,23 @@ FourierBasis::FourierBasis(int harmonics, int time_samples, bool odd_only)
   for (int k = 1; k <= harmonics; ++k) {
     if (!odd_only || k % 2 == 1) orders_.push_back(k);
   }
+  if (static_cast<double>(time_samples) * size() > static_cast<double>(1 << 26)) {
+    throw std::invalid_argument(fmt::format(
+        "time_samples x basis size: {} x {} exceeds 2^26 entries", time_samples, size()));
+  }
+  synthesis_.resize(time_samples, size());
+  for (int i = 0; i < time_samples; ++i) {
+    if (has_mean()) synthesis_(i, 0) = 1.0;
+    for (int k : orders_) {
+      const int c = cosine_index(k);
+      // Reduce k·i mod N first: the angle stays in [0, 2π) and exact for every sample.
+      const double theta = 2.0 * std::numbers::pi *
+                           static_cast<double>((static_cast<long long>(k) * i) % time_samples) /
+                           time_samples;
+      synthesis_(i, c) = std::cos(theta);
+      synthesis_(i, c + 1) = std::sin(theta);
+    }
+  }
   plans_ = std::make_shared<Plans>(time_samples);
 }
 
@@ -188,22 +205,6 @@ double FourierBasis::peak_magnitude(const Eigen::VectorXd& c) const {
     theta = next;
   }
   return best;
-}
-
-Eigen::MatrixXd FourierBasis::synthesis_matrix() const {
-  const int n = time_samples_;
-  Eigen::MatrixXd e(n, size());
-  for (int i = 0; i < n; ++i) {
-    if (has_mean()) e(i, 0) = 1.0;
-    for (int k : orders_) {
-      const int c = cosine_index(k);
-      // Reduce k·i mod N first: the angle stays in [0, 2π) and exact for every sample.
-      const double theta = 2.0 * std::numbers::pi * static_cast<double>((k * i) % n) / n;
-      e(i, c) = std::cos(theta);
-      e(i, c + 1) = std::sin(theta);
-    }
-  }
-  return e;
 }
 
 Eigen::MatrixXd FourierBasis::analysis_matrix() const {

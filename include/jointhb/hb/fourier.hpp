@@ -22,7 +22,8 @@ namespace jointhb::hb {
 
 class FourierBasis {
  public:
-  /// Throws std::invalid_argument unless harmonics ≥ 1 and time_samples ≥ 2·harmonics + 2.
+  /// Throws std::invalid_argument unless harmonics ≥ 1, time_samples ≥ 2·harmonics + 2 and the
+  /// synthesis matrix (time_samples × size()) has at most 2^26 entries.
   FourierBasis(int harmonics, int time_samples, bool odd_only = false);
   ~FourierBasis();
   FourierBasis(const FourierBasis&);
@@ -50,8 +51,9 @@ class FourierBasis {
   /// harmonic) and refined by Newton's method on x'(t) = 0 to round-off.
   [[nodiscard]] double peak_magnitude(const Eigen::VectorXd& coefficients) const;
 
-  /// The synthesis matrix E (N × size()): column j is basis function j at the samples.
-  [[nodiscard]] Eigen::MatrixXd synthesis_matrix() const;
+  /// The synthesis matrix E (N × size()): column j is basis function j at the samples
+  /// (computed once at construction).
+  [[nodiscard]] const Eigen::MatrixXd& synthesis_matrix() const { return synthesis_; }
   /// The analysis matrix A (size() × N): to_frequency(x) = A x; A E = I.
   [[nodiscard]] Eigen::MatrixXd analysis_matrix() const;
 
@@ -61,6 +63,7 @@ class FourierBasis {
   int time_samples_;
   bool odd_only_;
   std::vector<int> orders_;
+  Eigen::MatrixXd synthesis_;
   std::shared_ptr<Plans> plans_;  // FFTW plans and buffers, shared by copies (not thread-safe)
 };
 

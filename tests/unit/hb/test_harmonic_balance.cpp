@@ -5,6 +5,7 @@
 #include "jointhb/hb/jacobian_check.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Dense>
 #include <complex>
@@ -272,6 +273,45 @@ TEST(HarmonicBalance, JacobianCheckFindsAWrongJacobian) {
   // The check is not blind: with a step far too large for the nonlinearity the differences
   // stop matching, and it says so.
   EXPECT_GT(check_jacobian(hb, x, 1.2, 0.3).max_error, 1e-4);
+}
+
+TEST(HarmonicBalance, ResultDoesNotDependOnTheThreadCount) {
+  // A chain of 8 DOFs with 8 contacts (above the parallel threshold), evaluated on 1 and 2 threads.
+  DiscreteSystem s;
+  const int n = 8;
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    k(i, i) = 2.0;
+    if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
+  }
+  s.mass = dense(Eigen::MatrixXd::Identity(n, n));
+  s.stiffness = dense(k);
+  s.damping = dense(0.01 * k);
+  for (int i = 0; i < n; ++i) {
+    ContactElement c;
+    c.law = i % 2 ? "gaul-mayer" : "jenkins";
+    c.dof_a = i;
+    c.dof_b = i + 1 < n ? i + 1 : -1;
+    c.stiffness = 0.5 + 0.1 * i;
+    c.normal_force = 0.05;
+    s.contacts.push_back(c);
+  }
+  HarmonicBalanceOptions o;
+  o.harmonics = 5;
+  o.time_samples = 64;
+  const HarmonicBalance hb(s, cosine_force(0, 1.0), o);
+  const Eigen::VectorXd x = hb.stuck_solution(0.7);
+  HarmonicBalanceEvaluation one, two;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  hb.evaluate(x, 0.7, true, one);
+  omp_set_num_threads(2);
+  hb.evaluate(x, 0.7, true, two);
+  omp_set_num_threads(saved);
+  ASSERT_GT(one.dissipation, 0.0);
+  EXPECT_EQ(one.residual, two.residual);
+  EXPECT_EQ(one.d_coefficients, two.d_coefficients);
+  EXPECT_EQ(one.dissipation, two.dissipation);
 }
 
 TEST(HarmonicBalance, RejectsBadInput) {
