@@ -2,17 +2,12 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <functional>
-#include <map>
 #include <set>
-#include <sstream>
 
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "yaml_support.hpp"
 
 namespace jointhb::io {
 
@@ -40,94 +35,9 @@ LoopSweepCase default_loop_sweep_case() { return LoopSweepCase{}; }
 
 namespace {
 
-// Reads one document, reporting every problem at the node it concerns.
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
+using yaml::Reader;
 
-  [[noreturn]] void fail(const YAML::Node& at, const std::string& key,
-                         const std::string& constraint) const {
-    fail(at.Mark(), key, constraint);
-  }
-  [[noreturn]] void fail(const YAML::Mark& mark, const std::string& key,
-                         const std::string& constraint) const {
-    // yaml-cpp marks are 0-based and -1 when there is no position (an empty document).
-    throw InputError(file_, mark.line + 1, mark.column + 1, key, constraint);
-  }
-
-  /// Calls `read(key, value)` for each entry of a mapping, rejecting duplicate and unknown keys.
-  void for_each_entry(const YAML::Node& map, const std::string& path,
-                      const std::set<std::string>& allowed,
-                      const std::function<void(const std::string&, const YAML::Node&)>& read) {
-    if (!map.IsMap()) fail(map, path, "must be a mapping, got " + describe(map));
-    std::set<std::string> seen;
-    for (auto it = map.begin(); it != map.end(); ++it) {
-      // Copies: the iterator's operator-> returns a proxy that dies at the end of the statement.
-      const YAML::Node key_node = it->first;
-      const YAML::Node value = it->second;
-      if (!key_node.IsScalar()) fail(key_node, path, "keys must be plain names");
-      const std::string& key = key_node.Scalar();
-      const std::string key_path = path.empty() ? key : path + '.' + key;
-      if (!allowed.count(key)) fail(key_node, key_path, "unknown key; allowed: " + list(allowed));
-      if (!seen.insert(key).second) fail(key_node, key_path, "duplicate key");
-      read(key_path, value);
-    }
-  }
-
-  [[nodiscard]] double number(const YAML::Node& node, const std::string& path) const {
-    if (!is_plain_scalar(node)) fail(node, path, "must be a number, got " + describe(node));
-    const auto value = parse_number(node.Scalar());
-    if (!value) fail(node, path, "must be a number, got " + describe(node));
-    return *value;
-  }
-
-  [[nodiscard]] long long integer(const YAML::Node& node, const std::string& path) const {
-    if (!is_plain_scalar(node)) fail(node, path, "must be an integer, got " + describe(node));
-    const auto value = parse_integer(node.Scalar());
-    if (!value) fail(node, path, "must be an integer, got " + describe(node));
-    return *value;
-  }
-
-  [[nodiscard]] std::string text(const YAML::Node& node, const std::string& path) const {
-    if (!node.IsScalar()) fail(node, path, "must be a string, got " + describe(node));
-    return node.Scalar();
-  }
-
-  void check(const YAML::Node& node, const std::string& path, const std::string& error) const {
-    if (!error.empty()) fail(node, path, error);
-  }
-
- private:
-  // A quoted "0.3" is a string in YAML: a number is expected unquoted.
-  static bool is_plain_scalar(const YAML::Node& node) {
-    return node.IsScalar() && node.Tag() != "!";
-  }
-
-  static std::string describe(const YAML::Node& node) {
-    switch (node.Type()) {
-      case YAML::NodeType::Null:
-      case YAML::NodeType::Undefined:
-        return "nothing";
-      case YAML::NodeType::Sequence:
-        return "a sequence";
-      case YAML::NodeType::Map:
-        return "a mapping";
-      case YAML::NodeType::Scalar:
-        break;
-    }
-    return (node.Tag() == "!" ? "string '" : "'") + node.Scalar() + "'";
-  }
-
-  static std::string list(const std::set<std::string>& names) {
-    std::string text;
-    for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
-    return text;
-  }
-
-  std::string file_;
-};
-
-void read_loop_sweep(Reader& reader, const YAML::Node& node, const std::string& path,
+void read_loop_sweep(const Reader& reader, const YAML::Node& node, const std::string& path,
                      LoopSweepCase& c) {
   const std::set<std::string> keys = {
       "law", "n", "mu", "normal_force", "kt0", "amplitude_over_gmax", "points", "time_samples"};
@@ -178,12 +88,7 @@ void read_loop_sweep(Reader& reader, const YAML::Node& node, const std::string& 
 }  // namespace
 
 LoopSweepCase parse_loop_sweep_case(const std::string& text, const std::string& file_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(file_name, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
-  }
+  const YAML::Node root = yaml::load(text, file_name);
   Reader reader(file_name);
   LoopSweepCase c = default_loop_sweep_case();
   c.source = file_name;
@@ -204,21 +109,7 @@ LoopSweepCase parse_loop_sweep_case(const std::string& text, const std::string& 
 }
 
 LoopSweepCase read_loop_sweep_case(const std::filesystem::path& file) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(file, ignored)) {
-    throw InputError(file.string(), 0, 0, "", "cannot open case file: it is a directory");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw InputError(file.string(), 0, 0, "",
-                     std::string("cannot open case file: ") + std::strerror(errno));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw InputError(file.string(), 0, 0, "", "cannot read case file");
-  }
-  return parse_loop_sweep_case(text.str(), file.string());
+  return parse_loop_sweep_case(yaml::read_text_file(file), file.string());
 }
 
 }  // namespace jointhb::io

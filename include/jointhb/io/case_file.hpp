@@ -1,0 +1,25 @@
+#pragma once
+// Any case file `jointhb run` accepts: a file with a top-level `model:` is a discrete-model case
+// (io/discrete_case.hpp), any other file a loop-sweep case (io/loop_sweep_case.hpp). Schema and
+// error format: docs/case-files.md.
+
+#include <filesystem>
+#include <string>
+#include <variant>
+
+#include "jointhb/io/discrete_case.hpp"
+#include "jointhb/io/loop_sweep_case.hpp"
+
+namespace jointhb::io {
+
+using CaseFile = std::variant<LoopSweepCase, DiscreteCase>;
+
+/// Reads a case file of either kind. Throws InputError as the two readers do; a file without
+/// `model:` that asks for what only a model can have (analysis.frf, contacts, excitation) is
+/// reported as a missing `model`.
+CaseFile read_case_file(const std::filesystem::path& file);
+
+/// As read_case_file, from text; `file_name` is what the errors call the file.
+CaseFile parse_case_file(const std::string& text, const std::string& file_name);
+
+}  // namespace jointhb::io

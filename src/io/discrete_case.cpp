@@ -1,0 +1,736 @@
+#include "jointhb/io/discrete_case.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+#include "jointhb/io/input_error.hpp"
+#include "jointhb/io/value_checks.hpp"
+#include "yaml_support.hpp"
+
+namespace jointhb::io {
+
+int default_time_samples(int harmonics) {
+  int samples = 128;
+  while (samples < 16 * harmonics) samples *= 2;
+  return samples;
+}
+
+namespace {
+
+using yaml::child_path;
+using yaml::Fields;
+using yaml::item_path;
+
+/// The largest harmonic order a case may ask for (keeps a typo from allocating gigabytes).
+constexpr long long max_harmonics = 256;
+/// Largest periodic-state tolerance (HarmonicBalanceOptions::periodic_tolerance).
+constexpr double max_periodic_tolerance = 1e-3;
+/// Eigenvalues of K or C below -psd_tolerance · max|λ| make the matrix indefinite (round-off of a
+/// singular matrix stays far above it).
+constexpr double psd_tolerance = 1e-10;
+
+const std::set<std::string> known_analyses = {"frf"};
+
+std::string known_analysis_list() { return yaml::Reader::list(known_analyses); }
+
+/// Where a matrix came from, to report problems at its entries.
+struct MatrixSource {
+  YAML::Node node;
+  std::string path;
+};
+
+/// One entry of `excitation`, as written.
+struct ForceInput {
+  std::string path;
+  int dof = 0;
+  bool harmonic_force = false;
+  std::vector<double> amplitudes;  ///< one per level, or one for all
+  YAML::Node amplitude_node;
+  int harmonic = 1;
+  YAML::Node harmonic_node;  ///< null when left at the default
+  bool has_static = false;
+  double static_force = 0.0;
+};
+
+Eigen::VectorXd eigenvalues(const Eigen::MatrixXd& a) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues();
+}
+
+// Reads the sections in the order their checks need, whatever their order in the file: model
+// (sets n), contacts, excitation, analysis, then what the analyses need of the rest.
+class DiscreteCaseReader {
+ public:
+  explicit DiscreteCaseReader(const std::string& file) : reader_(file) {}
+
+  DiscreteCase read(const YAML::Node& root) {
+    DiscreteCase c;
+    c.source = reader_.file();
+    if (root.IsNull()) reader_.fail(root, "model", "required (the file is empty)");
+    const Fields top = reader_.fields(root, "", {"model", "contacts", "excitation", "analysis"});
+    const auto* model = top.find("model");
+    if (!model) reader_.fail(root, "model", "required");
+    read_model(model->value, c);
+    if (const auto* contacts = top.find("contacts")) read_contacts(contacts->value, c);
+    if (const auto* excitation = top.find("excitation")) read_excitation(excitation->value, c);
+
+    const auto* analysis = top.find("analysis");
+    if (!analysis) {
+      reader_.fail(root, "analysis", "required; known analyses: " + known_analysis_list());
+    }
+    const Fields analyses = reader_.fields(analysis->value, "analysis", known_analyses,
+                                           &DiscreteCaseReader::unknown_analysis);
+    if (analyses.entries().empty()) {
+      reader_.fail(analysis->value, "analysis",
+                   "must name at least one analysis; known: " + known_analysis_list());
+    }
+    if (const auto* frf = analyses.find("frf")) {
+      c.frf = read_frf(frf->value, analyses.path_of("frf"), c.system.dofs());
+      check_frf_excitation(*frf, *c.frf, top, c);
+    }
+    return c;
+  }
+
+ private:
+  static std::string unknown_analysis(const std::string& key) {
+    if (key == "loop_sweep") {
+      return "belongs to a case without model (one contact point under a prescribed slip); "
+             "analyses of a model: " +
+             known_analysis_list();
+    }
+    if (key == "nonlinear_modes") {
+      return "not supported yet; known analyses: " + known_analysis_list();
+    }
+    return "unknown key; allowed: " + known_analysis_list();
+  }
+
+  // ---- model -----------------------------------------------------------------------------------
+
+  void read_model(const YAML::Node& node, DiscreteCase& c) {
+    const Fields model = reader_.fields(node, "model", {"type", "mass", "stiffness", "damping"});
+    const auto* type = model.find("type");
+    if (!type) reader_.fail(node, "model.type", "required (discrete)");
+    const std::string type_name = reader_.text(type->value, "model.type");
+    if (type_name != "discrete") {
+      reader_.fail(type->value, "model.type",
+                   "must be discrete (finite-element models are not supported yet), got '" +
+                       type_name + "'");
+    }
+    if (!model.has("mass")) reader_.fail(node, "model.mass", "required");
+    mass_ = {model.find("mass")->value, "model.mass"};
+    const Eigen::MatrixXd m = read_matrix(mass_, -1);
+    const int n = static_cast<int>(m.rows());
+    if (!model.has("stiffness")) reader_.fail(node, "model.stiffness", "required");
+    stiffness_ = {model.find("stiffness")->value, "model.stiffness"};
+    const Eigen::MatrixXd k = read_matrix(stiffness_, n);
+
+    c.system.mass = m.sparseView();
+    c.system.stiffness = k.sparseView();
+    check_system(c.system);
+    check_semi_definite(k, stiffness_);
+
+    if (const auto* damping = model.find("damping")) read_damping(damping->value, m, k, c);
+  }
+
+  /// A square matrix: a list of n rows of n numbers, or a plain number for n = 1. With `n` < 0 it
+  /// sets the size (the mass matrix); otherwise it must have n rows.
+  Eigen::MatrixXd read_matrix(const MatrixSource& source, int n) const {
+    const YAML::Node& node = source.node;
+    const std::string& path = source.path;
+    if (yaml::Reader::is_plain_scalar(node)) {
+      const double value = reader_.finite_number(node, path);
+      if (n > 1) {
+        reader_.fail(node, path,
+                     fmt::format("must be a {} x {} matrix like model.mass, got a number", n, n));
+      }
+      return Eigen::MatrixXd::Constant(1, 1, value);
+    }
+    if (!node.IsSequence()) {
+      reader_.fail(node, path,
+                   "must be a square matrix (a list of rows, or a number for one DOF), got " +
+                       yaml::Reader::describe(node));
+    }
+    const auto rows = static_cast<int>(node.size());
+    if (rows == 0) reader_.fail(node, path, "must be a non-empty square matrix, got no rows");
+    if (n >= 0 && rows != n) {
+      reader_.fail(node, path, fmt::format("must have {} rows like model.mass, got {}", n, rows));
+    }
+    Eigen::MatrixXd a(rows, rows);
+    for (int i = 0; i < rows; ++i) {
+      const YAML::Node row = node[static_cast<std::size_t>(i)];
+      const std::string row_path = item_path(path, static_cast<std::size_t>(i));
+      if (!row.IsSequence()) {
+        reader_.fail(row, row_path,
+                     "must be a row (a list of numbers), got " + yaml::Reader::describe(row));
+      }
+      const auto columns = static_cast<int>(row.size());
+      if (columns != rows) {
+        reader_.fail(row, row_path,
+                     n >= 0
+                         ? fmt::format("must have {} entries like model.mass, got {}", n, columns)
+                         : fmt::format("must have {} entries (a square matrix of {} rows), got {}",
+                                       rows, rows, columns));
+      }
+      for (int j = 0; j < rows; ++j) {
+        const auto jj = static_cast<std::size_t>(j);
+        a(i, j) = reader_.finite_number(row[jj], item_path(row_path, jj));
+      }
+    }
+    return a;
+  }
+
+  void read_damping(const YAML::Node& node, const Eigen::MatrixXd& m, const Eigen::MatrixXd& k,
+                    DiscreteCase& c) {
+    const std::string path = "model.damping";
+    const Fields damping = reader_.fields(node, path, {"rayleigh", "matrix", "modal"});
+    if (damping.entries().empty()) {
+      reader_.fail(node, path, "must give one of matrix, modal, rayleigh");
+    }
+    if (damping.entries().size() > 1) {
+      const auto& second = damping.entries()[1];
+      reader_.fail(second.key, damping.path_of(second.name),
+                   "only one damping model is allowed; '" + damping.entries()[0].name +
+                       "' is already given");
+    }
+    const auto& model = damping.entries().front();
+    const std::string model_path = damping.path_of(model.name);
+    c.damping_model = model.name;
+    const int n = static_cast<int>(m.rows());
+    damping_ = {model.value, model_path};
+    if (model.name == "rayleigh") {
+      const Fields rayleigh = reader_.fields(model.value, model_path, {"alpha", "beta"});
+      for (const auto& entry : rayleigh.entries()) {
+        const std::string key = rayleigh.path_of(entry.name);
+        const double value = reader_.number(entry.value, key);
+        reader_.check(entry.value, key, check_non_negative(value));
+        (entry.name == "alpha" ? c.rayleigh_alpha : c.rayleigh_beta) = value;
+      }
+      const Eigen::MatrixXd damping_matrix = c.rayleigh_alpha * m + c.rayleigh_beta * k;
+      c.system.damping = damping_matrix.sparseView();
+      check_system(c.system);
+    } else if (model.name == "matrix") {
+      const Eigen::MatrixXd damping_matrix = read_matrix(damping_, n);
+      c.system.damping = damping_matrix.sparseView();
+      check_system(c.system);
+      check_semi_definite(damping_matrix, damping_);
+    } else {
+      const YAML::Node& ratios = model.value;
+      if (!ratios.IsSequence()) {
+        reader_.fail(ratios, model_path,
+                     "must be a list of damping ratios (one per mode, lowest first), got " +
+                         yaml::Reader::describe(ratios));
+      }
+      if (ratios.size() == 0 || ratios.size() > static_cast<std::size_t>(n)) {
+        reader_.fail(ratios, model_path,
+                     fmt::format("must have 1 to {} entries (one per mode, lowest first), got {}",
+                                 n, ratios.size()));
+      }
+      for (std::size_t i = 0; i < ratios.size(); ++i) {
+        const std::string key = item_path(model_path, i);
+        const double zeta = reader_.number(ratios[i], key);
+        reader_.check(ratios[i], key, check_non_negative(zeta));
+        c.modal_damping_ratios.push_back(zeta);
+      }
+      try {
+        c.system.damping =
+            hb::modal_damping_matrix(c.system.mass, c.system.stiffness, c.modal_damping_ratios);
+      } catch (const std::invalid_argument& e) {
+        reader_.fail(ratios, model_path, e.what());  // not expected: M and the count are checked
+      }
+      check_system(c.system);
+    }
+  }
+
+  /// Positive semi-definite up to round-off (K, C).
+  void check_semi_definite(const Eigen::MatrixXd& a, const MatrixSource& source) const {
+    const Eigen::VectorXd lambda = eigenvalues(a);
+    const double smallest = lambda.minCoeff();
+    if (smallest < -psd_tolerance * lambda.cwiseAbs().maxCoeff()) {
+      reader_.fail(
+          source.node, source.path,
+          "must be positive semi-definite, got smallest eigenvalue " + format_number(smallest));
+    }
+  }
+
+  /// Runs DiscreteSystem::validate() and reports its first complaint at the key it concerns.
+  void check_system(const hb::DiscreteSystem& system) const {
+    const std::string message = system.validate();
+    if (message.empty()) return;
+    const auto colon = message.find(": ");
+    const std::string field = colon == std::string::npos ? "" : message.substr(0, colon);
+    const std::string constraint = colon == std::string::npos ? message : message.substr(colon + 2);
+    const MatrixSource* matrix = field == "mass"        ? &mass_
+                                 : field == "stiffness" ? &stiffness_
+                                 : field == "damping"   ? &damping_
+                                                        : nullptr;
+    if (matrix && matrix->node.IsDefined()) {
+      const Eigen::MatrixXd a(field == "mass"        ? system.mass
+                              : field == "stiffness" ? system.stiffness
+                                                     : system.damping);
+      if (constraint.rfind("must be symmetric", 0) == 0) fail_asymmetric(a, *matrix);
+      if (constraint.rfind("must be positive definite", 0) == 0) {
+        reader_.fail(matrix->node, matrix->path,
+                     "must be positive definite, got smallest eigenvalue " +
+                         format_number(eigenvalues(a).minCoeff()));
+      }
+      reader_.fail(matrix->node, matrix->path, constraint);
+    }
+    // "contacts[i].field": at the field when the entry has it, else at the entry.
+    if (field.rfind("contacts[", 0) == 0) {
+      const auto close = field.find(']');
+      const std::size_t index = std::stoul(field.substr(9, close - 9));
+      const std::string name = close + 2 <= field.size() ? field.substr(close + 2) : "";
+      if (index < contact_nodes_.size()) {
+        const YAML::Node& entry = contact_nodes_[index];
+        const YAML::Node value = entry.IsMap() && !name.empty() ? entry[name] : YAML::Node();
+        reader_.fail(value.IsDefined() && !value.IsNull() ? value : entry, field, constraint);
+      }
+    }
+    reader_.fail(mass_.node, "model", message);
+  }
+
+  /// Reports the entry below the diagonal that differs most from its mirror.
+  [[noreturn]] void fail_asymmetric(const Eigen::MatrixXd& a, const MatrixSource& source) const {
+    if (!source.node.IsSequence()) {
+      reader_.fail(source.node, source.path, "must be symmetric");  // computed (rayleigh, modal)
+    }
+    Eigen::Index row = 1;
+    Eigen::Index column = 0;
+    double worst = -1.0;
+    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+      for (Eigen::Index j = 0; j < i; ++j) {
+        const double difference = std::abs(a(i, j) - a(j, i));
+        if (difference > worst) {
+          worst = difference;
+          row = i;
+          column = j;
+        }
+      }
+    }
+    const auto i = static_cast<std::size_t>(row);
+    const auto j = static_cast<std::size_t>(column);
+    reader_.fail(source.node[i][j], item_path(item_path(source.path, i), j),
+                 fmt::format("must equal {}[{}][{}] = {} (the matrix must be symmetric), got {}",
+                             source.path, j, i, a(column, row), a(row, column)));
+  }
+
+  // ---- contacts --------------------------------------------------------------------------------
+
+  void read_contacts(const YAML::Node& node, DiscreteCase& c) {
+    if (!node.IsSequence()) {
+      reader_.fail(node, "contacts",
+                   "must be a list of contact elements, got " + yaml::Reader::describe(node));
+    }
+    const int n = c.system.dofs();
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      contact_nodes_.push_back(node[i]);
+      c.system.contacts.push_back(read_contact(node[i], item_path("contacts", i), n));
+    }
+    check_system(c.system);
+  }
+
+  hb::ContactElement read_contact(const YAML::Node& node, const std::string& path, int n) const {
+    const Fields f = reader_.fields(
+        node, path,
+        {"law", "dofs", "kt0", "mu", "normal_force", "n", "reference_force", "reference_slip"});
+    for (const char* name : {"law", "dofs", "kt0", "mu", "normal_force"}) {
+      if (!f.has(name)) reader_.fail(node, f.path_of(name), "required");
+    }
+    hb::ContactElement e;
+    const YAML::Node law = f.find("law")->value;
+    e.law = reader_.text(law, f.path_of("law"));
+    reader_.check(law, f.path_of("law"), check_one_of(e.law, {"gaul-mayer", "jenkins"}));
+    if (const auto* exponent = f.find("n")) {
+      if (e.law == "jenkins") {
+        reader_.fail(exponent->key, f.path_of("n"),
+                     "not a parameter of the jenkins law (only gaul-mayer has an exponent)");
+      }
+      e.exponent = reader_.number(exponent->value, f.path_of("n"));
+      reader_.check(exponent->value, f.path_of("n"), check_open_unit(e.exponent));
+    } else if (e.law == "gaul-mayer") {
+      reader_.fail(node, f.path_of("n"), "required for law gaul-mayer (in (0, 1))");
+    }
+
+    const YAML::Node dofs = f.find("dofs")->value;
+    const std::string dofs_path = f.path_of("dofs");
+    if (!dofs.IsSequence() || dofs.size() < 1 || dofs.size() > 2) {
+      reader_.fail(dofs, dofs_path,
+                   "must be [a] (to ground) or [a, b] (between two DOFs), got " +
+                       (dofs.IsSequence() ? fmt::format("{} entries", dofs.size())
+                                          : yaml::Reader::describe(dofs)));
+    }
+    int indices[2] = {0, -1};
+    for (std::size_t k = 0; k < dofs.size(); ++k) {
+      const std::string key = item_path(dofs_path, k);
+      const long long dof = reader_.integer(dofs[k], key);
+      reader_.check(dofs[k], key, check_in_range(dof, 0, n - 1));
+      indices[k] = static_cast<int>(dof);
+    }
+    if (indices[1] == indices[0]) {
+      reader_.fail(dofs[1], item_path(dofs_path, 1),
+                   fmt::format("must differ from {}[0] = {} (a contact joins two different DOFs)",
+                               dofs_path, indices[0]));
+    }
+    e.dof_a = indices[0];
+    e.dof_b = indices[1];
+
+    const auto positive = [&](const char* name) {
+      const YAML::Node value = f.find(name)->value;
+      const double x = reader_.number(value, f.path_of(name));
+      reader_.check(value, f.path_of(name), check_positive(x));
+      return x;
+    };
+    e.stiffness = positive("kt0");
+    e.friction_coefficient = positive("mu");
+    e.normal_force = positive("normal_force");
+    if (const auto* force = f.find("reference_force")) {
+      const std::string key = f.path_of("reference_force");
+      e.reference_force = reader_.finite_number(force->value, key);
+      if (std::abs(e.reference_force) > e.slip_limit()) {
+        reader_.fail(
+            force->value, key,
+            fmt::format("must be in [-mu normal_force, mu normal_force] = [{}, {}], got {}",
+                        -e.slip_limit(), e.slip_limit(), e.reference_force));
+      }
+    }
+    if (const auto* slip = f.find("reference_slip")) {
+      e.reference_slip = reader_.finite_number(slip->value, f.path_of("reference_slip"));
+    }
+    return e;
+  }
+
+  // ---- excitation ------------------------------------------------------------------------------
+
+  void read_excitation(const YAML::Node& node, DiscreteCase& c) {
+    if (!node.IsSequence() || node.size() == 0) {
+      reader_.fail(
+          node, "excitation",
+          "must be a non-empty list of forces, got " +
+              (node.IsSequence() ? std::string("an empty list") : yaml::Reader::describe(node)));
+    }
+    const int n = c.system.dofs();
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      forces_.push_back(read_force(node[i], item_path("excitation", i), n));
+    }
+
+    // Levels: the longest amplitude list; shorter lists must have one entry (used at every level).
+    std::size_t levels = 1;
+    const ForceInput* longest = nullptr;
+    for (const auto& force : forces_) {
+      if (force.amplitudes.size() > levels) {
+        levels = force.amplitudes.size();
+        longest = &force;
+      }
+    }
+    for (const auto& force : forces_) {
+      const std::size_t count = force.amplitudes.size();
+      if (force.harmonic_force && count != 1 && count != levels) {
+        reader_.fail(force.amplitude_node, child_path(force.path, "amplitude"),
+                     fmt::format("must have {} entries (one per level, like {}.amplitude) or 1, "
+                                 "got {}",
+                                 levels, longest->path, count));
+      }
+    }
+
+    Eigen::VectorXd static_force;
+    for (const auto& force : forces_) {
+      if (!force.has_static) continue;
+      if (static_force.size() == 0) static_force = Eigen::VectorXd::Zero(n);
+      static_force[force.dof] += force.static_force;
+    }
+    for (std::size_t level = 0; level < levels; ++level) {
+      hb::Excitation excitation;
+      excitation.static_force = static_force;
+      double label = 0.0;
+      for (const auto& force : forces_) {
+        if (!force.harmonic_force) continue;
+        const double amplitude = force.amplitudes[force.amplitudes.size() == 1 ? 0 : level];
+        excitation.forces.push_back({force.dof, amplitude, force.harmonic});
+        label = std::max(label, std::abs(amplitude));
+      }
+      c.levels.push_back(std::move(excitation));
+      c.level_amplitudes.push_back(label);
+    }
+  }
+
+  ForceInput read_force(const YAML::Node& node, const std::string& path, int n) const {
+    const Fields f = reader_.fields(node, path, {"dof", "amplitude", "harmonic", "static"});
+    ForceInput force;
+    force.path = path;
+    const auto* dof = f.find("dof");
+    if (!dof) reader_.fail(node, f.path_of("dof"), "required");
+    const long long index = reader_.integer(dof->value, f.path_of("dof"));
+    reader_.check(dof->value, f.path_of("dof"), check_in_range(index, 0, n - 1));
+    force.dof = static_cast<int>(index);
+
+    const auto* amplitude = f.find("amplitude");
+    const auto* stat = f.find("static");
+    if (!amplitude && !stat) {
+      reader_.fail(node, path,
+                   "must give amplitude (a harmonic force) or static (a constant force)");
+    }
+    if (amplitude) {
+      force.harmonic_force = true;
+      force.amplitude_node = amplitude->value;
+      const std::string key = f.path_of("amplitude");
+      if (amplitude->value.IsSequence()) {
+        if (amplitude->value.size() == 0) {
+          reader_.fail(amplitude->value, key, "must be a number or a non-empty list of numbers");
+        }
+        for (std::size_t i = 0; i < amplitude->value.size(); ++i) {
+          force.amplitudes.push_back(reader_.finite_number(amplitude->value[i], item_path(key, i)));
+        }
+      } else {
+        force.amplitudes.push_back(reader_.finite_number(amplitude->value, key));
+      }
+    }
+    if (const auto* harmonic = f.find("harmonic")) {
+      const std::string key = f.path_of("harmonic");
+      if (!amplitude) reader_.fail(harmonic->key, key, "only with amplitude (a harmonic force)");
+      const long long order = reader_.integer(harmonic->value, key);
+      reader_.check(harmonic->value, key, check_in_range(order, 1, max_harmonics));
+      force.harmonic = static_cast<int>(order);
+      force.harmonic_node = harmonic->value;
+    }
+    if (stat) {
+      force.has_static = true;
+      force.static_force = reader_.finite_number(stat->value, f.path_of("static"));
+    }
+    return force;
+  }
+
+  // ---- analysis.frf ----------------------------------------------------------------------------
+
+  /// A range [start, end] of two distinct positive numbers.
+  std::pair<double, double> read_range(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsSequence() || node.size() != 2) {
+      reader_.fail(node, path, "must be a range [start, end] of two numbers");
+    }
+    const double start = reader_.number(node[0], item_path(path, 0));
+    reader_.check(node[0], item_path(path, 0), check_positive(start));
+    const double end = reader_.number(node[1], item_path(path, 1));
+    reader_.check(node[1], item_path(path, 1), check_positive(end));
+    if (end == start) {
+      reader_.fail(node[1], item_path(path, 1),
+                   fmt::format("must differ from start {}, got {}", start, end));
+    }
+    return {start, end};
+  }
+
+  continuation::FrfOptions read_frf(const YAML::Node& node, const std::string& path, int n) {
+    const Fields f = reader_.fields(
+        node, path,
+        {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
+         "periodic_tolerance", "check_jacobian", "continuation"});
+    continuation::FrfOptions o;
+
+    const auto* omega = f.find("omega");
+    const auto* hz = f.find("frequency_hz");
+    if (omega && hz) {
+      const auto& later = f.entries()[std::max(index_of(f, "omega"), index_of(f, "frequency_hz"))];
+      reader_.fail(later.key, f.path_of(later.name),
+                   "give either omega [rad/s] or frequency_hz [Hz], not both");
+    }
+    if (!omega && !hz) {
+      reader_.fail(node, f.path_of("omega"),
+                   "required: the range [start, end] in rad/s (or frequency_hz in Hz)");
+    }
+    if (omega) {
+      std::tie(o.omega_start, o.omega_end) = read_range(omega->value, f.path_of("omega"));
+    } else {
+      const auto [f0, f1] = read_range(hz->value, f.path_of("frequency_hz"));
+      o.omega_start = 2.0 * std::numbers::pi * f0;
+      o.omega_end = 2.0 * std::numbers::pi * f1;
+    }
+
+    if (const auto* harmonics = f.find("harmonics")) {
+      const long long h = reader_.integer(harmonics->value, f.path_of("harmonics"));
+      reader_.check(harmonics->value, f.path_of("harmonics"), check_in_range(h, 1, max_harmonics));
+      o.harmonics = static_cast<int>(h);
+    }
+    o.time_samples = default_time_samples(o.harmonics);
+    if (const auto* samples = f.find("time_samples")) {
+      const std::string key = f.path_of("time_samples");
+      const long long count = reader_.integer(samples->value, key);
+      const long long min = 2LL * o.harmonics + 2;
+      if (count < min || count > max_time_samples) {
+        reader_.fail(samples->value, key,
+                     fmt::format("must be in [2 harmonics + 2 = {}, {}], got {}", min,
+                                 max_time_samples, count));
+      }
+      o.time_samples = static_cast<int>(count);
+    }
+    if (const auto* output = f.find("output_dof")) {
+      const long long dof = reader_.integer(output->value, f.path_of("output_dof"));
+      reader_.check(output->value, f.path_of("output_dof"), check_in_range(dof, 0, n - 1));
+      o.output_dof = static_cast<int>(dof);
+    }
+    if (const auto* selection = f.find("harmonic_selection")) {
+      const std::string key = f.path_of("harmonic_selection");
+      selection_node_ = selection->value;
+      const std::string name = reader_.text(selection->value, key);
+      reader_.check(selection->value, key, check_one_of(name, {"auto", "all", "odd"}));
+      o.selection = name == "all"   ? hb::HarmonicSelection::all
+                    : name == "odd" ? hb::HarmonicSelection::odd
+                                    : hb::HarmonicSelection::automatic;
+    }
+    if (const auto* tolerance = f.find("periodic_tolerance")) {
+      const std::string key = f.path_of("periodic_tolerance");
+      o.periodic_tolerance = reader_.number(tolerance->value, key);
+      reader_.check(tolerance->value, key, check_positive(o.periodic_tolerance));
+      if (o.periodic_tolerance > max_periodic_tolerance) {
+        reader_.fail(tolerance->value, key,
+                     fmt::format("must be in (0, {}], got {}", max_periodic_tolerance,
+                                 o.periodic_tolerance));
+      }
+    }
+    if (const auto* check = f.find("check_jacobian")) {
+      const std::string key = f.path_of("check_jacobian");
+      const std::string value = reader_.text(check->value, key);
+      reader_.check(check->value, key, check_one_of(value, {"true", "false"}));
+      o.check_jacobian = value == "true";
+    }
+    if (const auto* steps = f.find("continuation")) {
+      read_continuation(steps->value, f.path_of("continuation"), o.continuation);
+    }
+    return o;
+  }
+
+  static std::size_t index_of(const Fields& f, const std::string& name) {
+    for (std::size_t i = 0; i < f.entries().size(); ++i) {
+      if (f.entries()[i].name == name) return i;
+    }
+    return 0;
+  }
+
+  void read_continuation(const YAML::Node& node, const std::string& path,
+                         continuation::Options& o) const {
+    const Fields f = reader_.fields(
+        node, path, {"initial_step", "min_step", "max_step", "max_points", "residual_tolerance"});
+    const auto positive = [&](const char* name, double& target) {
+      if (const auto* entry = f.find(name)) {
+        target = reader_.number(entry->value, f.path_of(name));
+        reader_.check(entry->value, f.path_of(name), check_positive(target));
+      }
+    };
+    positive("initial_step", o.initial_step);
+    positive("min_step", o.min_step);
+    positive("max_step", o.max_step);
+    if (const auto* points = f.find("max_points")) {
+      const long long count = reader_.integer(points->value, f.path_of("max_points"));
+      reader_.check(points->value, f.path_of("max_points"),
+                    check_in_range(count, 1, max_sweep_points));
+      o.max_points = static_cast<int>(count);
+    }
+    if (const auto* tolerance = f.find("residual_tolerance")) {
+      o.residual_tolerance = reader_.number(tolerance->value, f.path_of("residual_tolerance"));
+      reader_.check(tolerance->value, f.path_of("residual_tolerance"),
+                    check_open_unit(o.residual_tolerance));
+    }
+
+    // min_step <= initial_step <= max_step, blaming a value the file gives (initial_step first).
+    const auto value_of = [&](const char* name, double value) {
+      return fmt::format("{} = {}{}", name, value, f.has(name) ? "" : " (the default)");
+    };
+    const auto* initial = f.find("initial_step");
+    if (o.min_step > o.initial_step) {
+      if (initial) {
+        reader_.fail(
+            initial->value, f.path_of("initial_step"),
+            fmt::format("must be >= {}, got {}", value_of("min_step", o.min_step), o.initial_step));
+      }
+      reader_.fail(f.find("min_step")->value, f.path_of("min_step"),
+                   fmt::format("must be <= {}, got {}", value_of("initial_step", o.initial_step),
+                               o.min_step));
+    }
+    if (o.initial_step > o.max_step) {
+      if (initial) {
+        reader_.fail(
+            initial->value, f.path_of("initial_step"),
+            fmt::format("must be <= {}, got {}", value_of("max_step", o.max_step), o.initial_step));
+      }
+      reader_.fail(f.find("max_step")->value, f.path_of("max_step"),
+                   fmt::format("must be >= {}, got {}", value_of("initial_step", o.initial_step),
+                               o.max_step));
+    }
+  }
+
+  /// What an FRF needs of the excitation: a harmonic force at every level, harmonics within H,
+  /// and a symmetric case for harmonic_selection odd.
+  void check_frf_excitation(const Fields::Entry& frf, const continuation::FrfOptions& options,
+                            const Fields& top, const DiscreteCase& c) const {
+    const auto* excitation = top.find("excitation");
+    if (!excitation) {
+      reader_.fail(frf.key, "excitation", "required by analysis.frf (a list of forces)");
+    }
+    const bool any_harmonic = std::any_of(forces_.begin(), forces_.end(),
+                                          [](const ForceInput& f) { return f.harmonic_force; });
+    if (!any_harmonic) {
+      reader_.fail(excitation->value, "excitation",
+                   "analysis.frf needs a harmonic force (an entry with amplitude)");
+    }
+    for (std::size_t level = 0; level < c.level_amplitudes.size(); ++level) {
+      if (c.level_amplitudes[level] == 0.0) {
+        reader_.fail(excitation->value, "excitation",
+                     fmt::format("level {} has only zero amplitudes (analysis.frf needs a force "
+                                 "at every level)",
+                                 level));
+      }
+    }
+    for (const auto& force : forces_) {
+      if (force.harmonic > options.harmonics) {
+        reader_.fail(force.harmonic_node, child_path(force.path, "harmonic"),
+                     fmt::format("must be <= analysis.frf.harmonics = {}, got {}",
+                                 options.harmonics, force.harmonic));
+      }
+    }
+    if (options.selection != hb::HarmonicSelection::odd) return;
+    // The conditions of hb::is_symmetric, each reported with the entry that breaks it.
+    std::string reason;
+    for (const auto& force : forces_) {
+      if (!reason.empty()) break;
+      if (force.has_static && force.static_force != 0.0) {
+        reason = force.path + " is a static force";
+      } else if (force.harmonic_force && force.harmonic % 2 == 0) {
+        reason = fmt::format("{} forces the even harmonic {}", force.path, force.harmonic);
+      }
+    }
+    for (std::size_t i = 0; i < c.system.contacts.size() && reason.empty(); ++i) {
+      const auto& contact = c.system.contacts[i];
+      if (contact.reference_force != 0.0 || contact.reference_slip != 0.0) {
+        reason = fmt::format("contacts[{}] has a reference force or slip", i);
+      }
+    }
+    if (!reason.empty()) {
+      reader_.fail(selection_node_, "analysis.frf.harmonic_selection",
+                   "odd needs a symmetric case, but " + reason + " (use auto or all)");
+    }
+  }
+
+  yaml::Reader reader_;
+  MatrixSource mass_;
+  MatrixSource stiffness_;
+  MatrixSource damping_;
+  std::vector<YAML::Node> contact_nodes_;
+  std::vector<ForceInput> forces_;
+  YAML::Node selection_node_;  ///< analysis.frf.harmonic_selection, when given
+};
+
+}  // namespace
+
+DiscreteCase parse_discrete_case(const std::string& text, const std::string& file_name) {
+  return DiscreteCaseReader(file_name).read(yaml::load(text, file_name));
+}
+
+DiscreteCase read_discrete_case(const std::filesystem::path& file) {
+  return parse_discrete_case(yaml::read_text_file(file), file.string());
+}
+
+}  // namespace jointhb::io

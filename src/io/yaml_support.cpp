@@ -1,0 +1,160 @@
+#include "yaml_support.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "jointhb/io/input_error.hpp"
+#include "jointhb/io/value_checks.hpp"
+
+namespace jointhb::io::yaml {
+
+std::string read_text_file(const std::filesystem::path& file) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(file, ignored)) {
+    throw InputError(file.string(), 0, 0, "", "cannot open case file: it is a directory");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw InputError(file.string(), 0, 0, "",
+                     std::string("cannot open case file: ") + std::strerror(errno));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    throw InputError(file.string(), 0, 0, "", "cannot read case file");
+  }
+  return text.str();
+}
+
+YAML::Node load(const std::string& text, const std::string& file_name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(file_name, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
+  }
+}
+
+std::string child_path(const std::string& path, const std::string& name) {
+  return path.empty() ? name : path + '.' + name;
+}
+
+std::string item_path(const std::string& path, std::size_t index) {
+  return path + '[' + std::to_string(index) + ']';
+}
+
+const Fields::Entry* Fields::find(const std::string& name) const {
+  for (const Entry& entry : entries_) {
+    if (entry.name == name) return &entry;
+  }
+  return nullptr;
+}
+
+void Reader::fail(const YAML::Node& at, const std::string& key,
+                  const std::string& constraint) const {
+  fail(at.Mark(), key, constraint);
+}
+
+void Reader::fail(const YAML::Mark& mark, const std::string& key,
+                  const std::string& constraint) const {
+  // yaml-cpp marks are 0-based and -1 when there is no position (an empty document).
+  throw InputError(file_, mark.line + 1, mark.column + 1, key, constraint);
+}
+
+Fields Reader::fields(const YAML::Node& map, const std::string& path,
+                      const std::set<std::string>& allowed,
+                      const std::function<std::string(const std::string&)>& unknown) const {
+  if (!map.IsMap()) fail(map, path, "must be a mapping, got " + describe(map));
+  Fields fields;
+  fields.path_ = path;
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    // Copies: the iterator's operator-> returns a proxy that dies at the end of the statement.
+    const YAML::Node key_node = it->first;
+    const YAML::Node value = it->second;
+    if (!key_node.IsScalar()) fail(key_node, path, "keys must be plain names");
+    const std::string& key = key_node.Scalar();
+    const std::string key_path = child_path(path, key);
+    if (!allowed.count(key)) {
+      fail(key_node, key_path, unknown ? unknown(key) : "unknown key; allowed: " + list(allowed));
+    }
+    if (fields.has(key)) fail(key_node, key_path, "duplicate key");
+    fields.entries_.push_back({key, key_node, value});
+  }
+  return fields;
+}
+
+void Reader::for_each_entry(
+    const YAML::Node& map, const std::string& path, const std::set<std::string>& allowed,
+    const std::function<void(const std::string&, const YAML::Node&)>& read) const {
+  // Reads each value as soon as its key is accepted, so that problems are reported in file order.
+  if (!map.IsMap()) fail(map, path, "must be a mapping, got " + describe(map));
+  std::set<std::string> seen;
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    const YAML::Node key_node = it->first;
+    const YAML::Node value = it->second;
+    if (!key_node.IsScalar()) fail(key_node, path, "keys must be plain names");
+    const std::string& key = key_node.Scalar();
+    const std::string key_path = child_path(path, key);
+    if (!allowed.count(key)) fail(key_node, key_path, "unknown key; allowed: " + list(allowed));
+    if (!seen.insert(key).second) fail(key_node, key_path, "duplicate key");
+    read(key_path, value);
+  }
+}
+
+double Reader::number(const YAML::Node& node, const std::string& path) const {
+  if (!is_plain_scalar(node)) fail(node, path, "must be a number, got " + describe(node));
+  const auto value = parse_number(node.Scalar());
+  if (!value) fail(node, path, "must be a number, got " + describe(node));
+  return *value;
+}
+
+double Reader::finite_number(const YAML::Node& node, const std::string& path) const {
+  const double value = number(node, path);
+  check(node, path, check_finite(value));
+  return value;
+}
+
+long long Reader::integer(const YAML::Node& node, const std::string& path) const {
+  if (!is_plain_scalar(node)) fail(node, path, "must be an integer, got " + describe(node));
+  const auto value = parse_integer(node.Scalar());
+  if (!value) fail(node, path, "must be an integer, got " + describe(node));
+  return *value;
+}
+
+std::string Reader::text(const YAML::Node& node, const std::string& path) const {
+  if (!node.IsScalar()) fail(node, path, "must be a string, got " + describe(node));
+  return node.Scalar();
+}
+
+void Reader::check(const YAML::Node& node, const std::string& path,
+                   const std::string& error) const {
+  if (!error.empty()) fail(node, path, error);
+}
+
+bool Reader::is_plain_scalar(const YAML::Node& node) {
+  return node.IsScalar() && node.Tag() != "!";
+}
+
+std::string Reader::describe(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Null:
+    case YAML::NodeType::Undefined:
+      return "nothing";
+    case YAML::NodeType::Sequence:
+      return "a sequence";
+    case YAML::NodeType::Map:
+      return "a mapping";
+    case YAML::NodeType::Scalar:
+      break;
+  }
+  return (node.Tag() == "!" ? "string '" : "'") + node.Scalar() + "'";
+}
+
+std::string Reader::list(const std::set<std::string>& names) {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+}  // namespace jointhb::io::yaml

@@ -1,0 +1,67 @@
+# jointhb run on a discrete-model case: cases/02-two-dof-frf/case.yaml (three FRF curves), a
+# variant whose curves stop early (exit 1, rows kept), and set-up errors (exit 2, nothing written).
+source "$(dirname "$0")/common.inc" "$@"
+PYTHON=/usr/bin/python3
+CASE="$SOURCE_DIR/cases/02-two-dof-frf/case.yaml"
+
+run_capture run "$CASE" -o "$WORK/out"
+[ "$STATUS" -eq 0 ] || fail "run $CASE exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/out/frf.csv" "$WORK/out/summary.json" <<'PY' || fail "frf outputs"
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+need = ["level", "omega", "frequency_hz", "amplitude_h1", "amplitude_max"]
+assert all(c in rows[0] for c in need), rows[0].keys()
+assert s["status"] == "ok" and s["analysis"] == "frf", s["status"]
+curves = s["curves"]
+assert len(curves) == 3 and all(c["status"] == "ok" for c in curves), curves
+lo, hi = s["inputs"]["frf"]["omega"]
+for c in curves:
+    mine = [r for r in rows if int(float(r["level"])) == c["level"]]
+    assert len(mine) == c["points"] > 5, (len(mine), c["points"])
+    assert float(mine[0]["omega"]) == lo and float(mine[-1]["omega"]) == hi
+    for r in mine:
+        om = float(r["omega"])
+        assert abs(float(r["frequency_hz"]) - om / (2 * math.pi)) <= 1e-12 * om
+        assert float(r["amplitude_max"]) > 0 and float(r["amplitude_h1"]) > 0
+    assert lo < c["peak"]["omega"] < hi and c["newton_iterations"] > 0
+    assert set(c["seconds"]) >= {"aft", "assembly", "linear_solve", "total"}
+# Friction softens the joint: the resonance moves down as the force grows.
+peaks = [c["peak"]["omega"] for c in curves]
+assert peaks[0] > peaks[1] > peaks[2], peaks
+print(f"ok: {len(rows)} points, peaks at {[round(p, 3) for p in peaks]} rad/s")
+PY
+
+# Curves cut short by max_points: exit 1, every accepted point kept, status failed.
+sed 's/output_dof: 1/output_dof: 1\n    continuation: {max_points: 4}/' "$CASE" >"$WORK/short.yaml"
+run_capture run "$WORK/short.yaml" -o "$WORK/short"
+[ "$STATUS" -eq 1 ] || fail "short run exited $STATUS, expected 1: $(cat "$ERR")"
+"$PYTHON" - "$WORK/short/frf.csv" "$WORK/short/summary.json" <<'PY' || fail "short outputs"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+assert s["status"] == "failed" and len(rows) == 12, (s["status"], len(rows))
+assert all(c["stop_reason"] == "max_points" for c in s["curves"]), s["curves"]
+print("ok: stopped curves keep their points")
+PY
+
+# check_jacobian: the analytic Jacobian agrees with central differences along every curve.
+sed 's/output_dof: 1/output_dof: 1\n    check_jacobian: true/' "$CASE" >"$WORK/check.yaml"
+run_capture run "$WORK/check.yaml" -o "$WORK/check"
+[ "$STATUS" -eq 0 ] || fail "check_jacobian run exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/check/summary.json" <<'PY' || fail "jacobian check"
+import json, sys
+s = json.load(open(sys.argv[1]))
+worst = max(c["jacobian_check_error"] for c in s["curves"])
+assert 0 < worst < 1e-6, worst
+print(f"ok: Jacobian vs central differences, worst {worst:.1e}")
+PY
+
+# Set-up errors: one line, exit 2, no output directory.
+sed 's/amplitude: \[0.05, 0.5, 1.5\]/amplitude: [0.05, 0.5, 1.5], harmonic: 9/' "$CASE" >"$WORK/h9.yaml"
+expect_bad_input run "$WORK/h9.yaml" -o "$WORK/none"
+[ ! -e "$WORK/none" ] || fail "a set-up error left $WORK/none behind"
+sed 's/kt0: 5.0e3/kt0: -5.0e3/' "$CASE" >"$WORK/neg.yaml"
+expect_bad_input run "$WORK/neg.yaml" -o "$WORK/none"
+grep -q "neg.yaml:[0-9]*:[0-9]*: key 'contacts\[0\].kt0'" "$ERR" || fail "kt0 error: $(cat "$ERR")"
+finish
