@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace jointhb::continuation {
@@ -75,6 +76,119 @@ double response_scale(const DiscreteSystem& system, const Excitation& excitation
     }
   }
   return std::isfinite(scale) && scale > 0.0 ? scale : 1.0;
+}
+
+// The coefficients of `x` (DOF-major over basis `from`) in basis `to`: shared orders copied,
+// the others zero.
+Eigen::VectorXd pad(const hb::FourierBasis& from, const hb::FourierBasis& to,
+                    const Eigen::VectorXd& x, int dofs) {
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs) * to.size());
+  for (int i = 0; i < dofs; ++i) {
+    const Eigen::Index fi = static_cast<Eigen::Index>(i) * from.size();
+    const Eigen::Index ti = static_cast<Eigen::Index>(i) * to.size();
+    if (from.has_mean() && to.has_mean()) y[ti] = x[fi];
+    for (int k : from.orders()) {
+      const int b = to.cosine_index(k);
+      if (b < 0) continue;
+      const int a = from.cosine_index(k);
+      y[ti + b] = x[fi + a];
+      y[ti + b + 1] = x[fi + a + 1];
+    }
+  }
+  return y;
+}
+
+ResidualFunction residual_of(const hb::HarmonicBalance& b) {
+  return [&b](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    hb::HarmonicBalanceEvaluation ev;
+    b.evaluate(x, omega, jacobian, ev);
+    Evaluation e;
+    e.ok = ev.ok;
+    e.message = ev.message;
+    e.residual = std::move(ev.residual);
+    e.d_state = std::move(ev.d_coefficients);
+    e.d_parameter = std::move(ev.d_omega);
+    return e;
+  };
+}
+
+// The solution at Ω_start by continuation in the force scale s ∈ [0, 1] from the reference state
+// (s = 0: exact), R_s = R(X, Ω_start) − (s − 1) F_ex.
+std::optional<Eigen::VectorXd> force_ramp(const hb::HarmonicBalance& b, double omega,
+                                          const Options& base, int& iterations, std::string& why) {
+  const ResidualFunction r = residual_of(b);
+  const Eigen::VectorXd& f_ex = b.forcing();
+  const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
+    Evaluation e = r(x, omega, jacobian);
+    e.residual -= (s - 1.0) * f_ex;
+    if (jacobian) e.d_parameter = -f_ex;
+    return e;
+  };
+  Options h = base;
+  h.parameter_start = 0.0;
+  h.parameter_end = 1.0;
+  h.direction = 1;
+  h.parameter_scale = 1.0;
+  h.state_scale = Eigen::VectorXd::Constant(
+      b.unknowns(), base.state_scale.size() > 0 ? base.state_scale[0] : 1.0);
+  h.max_points = Options{}.max_points;  // not limited by the curve's point budget
+  const Result ramp = trace(scaled, b.stuck_solution(omega, 0.0), h);
+  iterations += ramp.corrector_iterations;
+  if (ramp.completed()) return ramp.points.back().x;
+  why = "force ramp: " + ramp.message;
+  return std::nullopt;
+}
+
+// Damped Newton at fixed Ω from x0 (the continuation's start corrector).
+std::optional<Eigen::VectorXd> newton_at(const hb::HarmonicBalance& b, double omega,
+                                         const Eigen::VectorXd& x0, const Options& base,
+                                         int& iterations, std::string& why) {
+  Options o = base;
+  o.parameter_start = omega;
+  o.max_points = 1;
+  o.state_scale = Eigen::VectorXd::Constant(
+      b.unknowns(), base.state_scale.size() > 0 ? base.state_scale[0] : 1.0);
+  const Result r = trace(residual_of(b), x0, o);
+  iterations += r.corrector_iterations;
+  if (!r.points.empty()) return r.points.front().x;
+  why = r.message;
+  return std::nullopt;
+}
+
+// The start on a harmonic ladder H_l = 1, 3, 7, 15, ... < H, then H: level 1 (few unknowns, 32
+// samples: few kinks) by the force ramp, every next level by Newton from the previous level's
+// solution padded with zeros (or, failing that, by its own force ramp).
+std::optional<Eigen::VectorXd> start_by_ladder(
+    const DiscreteSystem& system, const Excitation& excitation, const FrfOptions& options,
+    const hb::HarmonicBalance& target, const Options& base, int& iterations, std::string& why) {
+  std::vector<int> levels;
+  for (int h = 1; h < options.harmonics; h = 2 * h + 1) levels.push_back(h);
+  std::optional<Eigen::VectorXd> x;
+  std::optional<hb::FourierBasis> previous;
+  for (std::size_t l = 0; l <= levels.size(); ++l) {
+    const bool last = l == levels.size();
+    std::optional<hb::HarmonicBalance> level;
+    if (!last) {
+      hb::HarmonicBalanceOptions o = balance_options(options);
+      o.harmonics = levels[l];
+      o.time_samples = std::min(options.time_samples, std::max(32, 16 * levels[l]));
+      level.emplace(system, excitation, o);
+    }
+    const hb::HarmonicBalance& b = last ? target : *level;
+    std::string reason;
+    std::optional<Eigen::VectorXd> next;
+    if (x)
+      next = newton_at(b, options.omega_start, pad(*previous, b.basis(), *x, system.dofs()), base,
+                       iterations, reason);
+    if (!next) next = force_ramp(b, options.omega_start, base, iterations, reason);
+    if (!next) {
+      why = fmt::format("the harmonic ladder failed at H = {}: {}", b.basis().harmonics(), reason);
+      return std::nullopt;
+    }
+    x = std::move(next);
+    previous = b.basis();
+  }
+  return x;
 }
 
 }  // namespace
@@ -166,29 +280,18 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
 
   Result r = trace(residual, x0, c, accept);
   if (r.reason == StopReason::start_failed) {
-    // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start. Reach
-    // the start instead by continuation in the force scale s ∈ [0, 1] at fixed Ω_start, from the
-    // reference state (s = 0, exact), with R_s = R(X, Ω_start) − (s − 1) F_ex.
-    const Eigen::VectorXd& f_ex = balance.forcing();
-    const double omega0 = options.omega_start;
-    const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
-      Evaluation e = residual(x, omega0, jacobian);
-      e.residual -= (s - 1.0) * f_ex;
-      if (jacobian) e.d_parameter = -f_ex;
-      return e;
-    };
-    Options h = c;
-    h.parameter_start = 0.0;
-    h.parameter_end = 1.0;
-    h.direction = 1;
-    h.parameter_scale = 1.0;
-    const Result ramp = trace(scaled, balance.stuck_solution(omega0, 0.0), h);
-    curve.newton_iterations += ramp.corrector_iterations;
-    if (ramp.completed()) {
-      curve.newton_iterations += r.corrector_iterations;  // the failed first start
-      r = trace(residual, ramp.points.back().x, c, accept);
+    // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start (stiff
+    // Jenkins contacts make R piecewise linear with kinks wherever a sample switches between
+    // stick and slip). Find the start on a harmonic ladder instead (start_by_ladder).
+    std::string why;
+    int iterations = 0;
+    const std::optional<Eigen::VectorXd> start =
+        start_by_ladder(system, excitation, options, balance, c, iterations, why);
+    curve.newton_iterations += r.corrector_iterations + iterations;
+    if (start) {
+      r = trace(residual, *start, c, accept);
     } else {
-      r.message += fmt::format("; the force ramp at Ω_start failed too: {}", ramp.message);
+      r.message += "; " + why;
     }
   }
   curve.reason = r.reason;

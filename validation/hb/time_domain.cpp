@@ -151,6 +151,7 @@ struct TiPoint {
   double amplitude_max = 0.0;
   double dissipation = 0.0;
   double input_work = 0.0;
+  double mean = 0.0;  // x0 of the output DOF
   int periods = 0;
   double seconds = 0.0;
   std::string message;
@@ -171,6 +172,7 @@ TiPoint time_integration(const System& s, const hb::Excitation& e, double omega,
   if (r.status != timeint::SteadyStatus::converged) return p;
   p.x1 = {r.coefficients(s.output_dof, 1), -r.coefficients(s.output_dof, 2)};
   p.amplitude_max = r.amplitude_max[s.output_dof];
+  p.mean = r.coefficients(s.output_dof, 0);
   for (double w : r.contact_dissipation) p.dissipation += w;
   p.input_work = r.external_work;
   p.ok = true;
@@ -200,7 +202,7 @@ int main(int argc, char** argv) {
   auto out = fmt::output_file(prefix + "_table.csv");
   out.print(
       "system,level,force,omega,x1_hb,x1_ti,err_x1,ti_error_estimate,amax_hb,amax_ti,err_amax,"
-      "W_hb,W_ti,err_W,periods,seconds_hb,seconds_ti\n");
+      "W_hb,W_ti,err_W,x0_ti,periods,seconds_hb,seconds_ti\n");
   int failures = 0;
   double worst_x1 = 0.0, worst_w = 0.0, worst_amax = 0.0;
   int points = 0;
@@ -227,10 +229,11 @@ int main(int argc, char** argv) {
         const bool dissipates = w_ti > 1e-6 * t2.input_work;
         const double err_w = dissipates ? std::abs(h.dissipation - w_ti) / w_ti : 0.0;
         const double err_amax = std::abs(h.amplitude_max - t2.amplitude_max) / t2.amplitude_max;
-        out.print("{},{},{},{},{},{},{:.3e},{:.3e},{},{},{:.3e},{},{},{:.3e},{},{:.4f},{:.4f}\n",
-                  s.name, l, s.levels[l], omega, std::abs(h.x1), std::abs(ti), err_x1, ti_error,
-                  h.amplitude_max, t2.amplitude_max, err_amax, h.dissipation, w_ti, err_w,
-                  t2.periods, h.seconds, t1.seconds + t2.seconds);
+        out.print(
+            "{},{},{},{},{},{},{:.3e},{:.3e},{},{},{:.3e},{},{},{:.3e},{:.3e},{},{:.4f},{:.4f}\n",
+            s.name, l, s.levels[l], omega, std::abs(h.x1), std::abs(ti), err_x1, ti_error,
+            h.amplitude_max, t2.amplitude_max, err_amax, h.dissipation, w_ti, err_w, t2.mean,
+            t2.periods, h.seconds, t1.seconds + t2.seconds);
         worst_x1 = std::max(worst_x1, err_x1);
         worst_w = std::max(worst_w, err_w);
         worst_amax = std::max(worst_amax, err_amax);
