@@ -30,11 +30,35 @@ hb::HarmonicBalanceOptions balance_options(const FrfOptions& o) {
   return b;
 }
 
+ResidualFunction residual_of(const hb::HarmonicBalance& b) {
+  return [&b](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    hb::HarmonicBalanceEvaluation ev;
+    b.evaluate(x, omega, jacobian, ev);
+    Evaluation e;
+    e.ok = ev.ok;
+    e.message = ev.message;
+    e.residual = std::move(ev.residual);
+    e.d_state = std::move(ev.d_coefficients);
+    e.d_parameter = std::move(ev.d_omega);
+    return e;
+  };
+}
+
 // The scale of the unknowns in the arclength, so that a step weighs the response against Ω evenly:
 // the largest |coefficient| along a cheap probe of the same curve at one harmonic (a friction-
 // limited peak can be far below the stuck system's), else along the stuck linear response.
 double response_scale(const DiscreteSystem& system, const Excitation& excitation,
                       const FrfOptions& options, const hb::HarmonicBalance& balance) {
+  // The stuck linear response over the range: an upper estimate (a friction-limited peak can be
+  // orders of magnitude lower), used to scale the probe itself so that it finishes in few points.
+  double stuck = 0.0;
+  constexpr int kSweep = 64;
+  for (int i = 0; i <= kSweep; ++i) {
+    const double omega =
+        options.omega_start + (options.omega_end - options.omega_start) * i / kSweep;
+    stuck = std::max(stuck, balance.stuck_solution(omega).lpNorm<Eigen::Infinity>());
+  }
+  if (!std::isfinite(stuck) || !(stuck > 0.0)) stuck = 1.0;
   double scale = 0.0;
   try {
     hb::HarmonicBalanceOptions ho;
@@ -48,34 +72,18 @@ double response_scale(const DiscreteSystem& system, const Excitation& excitation
     c.direction = options.omega_end > options.omega_start ? 1 : -1;
     c.parameter_scale = std::abs(options.omega_end - options.omega_start);
     c.max_step = std::max(c.max_step, 0.1);
+    c.max_points = std::max(c.max_points, 5000);
     const Eigen::VectorXd x0 = probe.stuck_solution(options.omega_start);
-    c.state_scale = Eigen::VectorXd::Constant(
-        x0.size(), x0.lpNorm<Eigen::Infinity>() > 0.0 ? x0.lpNorm<Eigen::Infinity>() : 1.0);
-    hb::HarmonicBalanceEvaluation ev;
-    const Result r = trace(
-        [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
-          probe.evaluate(x, omega, jacobian, ev);
-          Evaluation e;
-          e.ok = ev.ok;
-          e.residual = ev.residual;
-          e.d_state = ev.d_coefficients;
-          e.d_parameter = ev.d_omega;
-          return e;
-        },
-        x0, c);
-    for (const auto& p : r.points) scale = std::max(scale, p.x.lpNorm<Eigen::Infinity>());
+    c.state_scale = Eigen::VectorXd::Constant(x0.size(), stuck);
+    const Result r = trace(residual_of(probe), x0, c);
+    // Only a probe that covered the range knows the peak.
+    if (r.completed()) {
+      for (const auto& p : r.points) scale = std::max(scale, p.x.lpNorm<Eigen::Infinity>());
+    }
   } catch (const std::exception&) {
     scale = 0.0;  // the probe is a heuristic: fall back below
   }
-  if (!(scale > 0.0) || !std::isfinite(scale)) {
-    constexpr int kProbe = 64;
-    for (int i = 0; i <= kProbe; ++i) {
-      const double omega =
-          options.omega_start + (options.omega_end - options.omega_start) * i / kProbe;
-      scale = std::max(scale, balance.stuck_solution(omega).lpNorm<Eigen::Infinity>());
-    }
-  }
-  return std::isfinite(scale) && scale > 0.0 ? scale : 1.0;
+  return std::isfinite(scale) && scale > 0.0 ? scale : stuck;
 }
 
 // The coefficients of `x` (DOF-major over basis `from`) in basis `to`: shared orders copied,
@@ -98,20 +106,6 @@ Eigen::VectorXd pad(const hb::FourierBasis& from, const hb::FourierBasis& to,
   return y;
 }
 
-ResidualFunction residual_of(const hb::HarmonicBalance& b) {
-  return [&b](const Eigen::VectorXd& x, double omega, bool jacobian) {
-    hb::HarmonicBalanceEvaluation ev;
-    b.evaluate(x, omega, jacobian, ev);
-    Evaluation e;
-    e.ok = ev.ok;
-    e.message = ev.message;
-    e.residual = std::move(ev.residual);
-    e.d_state = std::move(ev.d_coefficients);
-    e.d_parameter = std::move(ev.d_omega);
-    return e;
-  };
-}
-
 // The solution at Ω_start by continuation in the force scale s ∈ [0, 1] from the reference state
 // (s = 0: exact), R_s = R(X, Ω_start) − (s − 1) F_ex.
 std::optional<Eigen::VectorXd> force_ramp(const hb::HarmonicBalance& b, double omega,
@@ -131,7 +125,7 @@ std::optional<Eigen::VectorXd> force_ramp(const hb::HarmonicBalance& b, double o
   h.parameter_scale = 1.0;
   h.state_scale = Eigen::VectorXd::Constant(
       b.unknowns(), base.state_scale.size() > 0 ? base.state_scale[0] : 1.0);
-  h.max_points = Options{}.max_points;  // not limited by the curve's point budget
+  h.max_points = 20 * Options{}.max_points;  // not limited by the curve's point budget
   const Result ramp = trace(scaled, b.stuck_solution(omega, 0.0), h);
   iterations += ramp.corrector_iterations;
   if (ramp.completed()) return ramp.points.back().x;

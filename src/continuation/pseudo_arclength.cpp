@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -39,7 +40,11 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kSmallStepResidualFactor = 1.0e3;
 
 // Halvings of the damped Newton step at the start point before giving up (α ≥ 2⁻¹⁰).
-constexpr int kMaxHalvings = 10;
+constexpr int kMaxHalvings = 20;
+// Largest turn of the unit tangent accepted in one step (cos 60°), and the step (relative to
+// max_step) below which a larger turn is taken as a corner of the branch and accepted.
+constexpr double kMaxTurnCosine = 0.5;
+constexpr double kCornerStepFactor = 0.05;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -490,6 +495,16 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (failure.empty()) {
       next_tau = tracer.tangent(c.sample, tau, why);
       if (!next_tau) failure = why;
+    }
+    // A tangent that turned by more than 60° over one step means the step jumped over a sharp
+    // feature (e.g. a jagged peak); its orientation by continuity is then a guess and can send
+    // the run back along the branch. Retry shorter, except at a genuine corner of the branch
+    // (stick–slip onset), where the turn persists however short the step.
+    if (failure.empty() && tau.dot(*next_tau) < kMaxTurnCosine &&
+        s > kCornerStepFactor * options.max_step) {
+      failure = fmt::format(
+          "the tangent turned by {:.0f}° in one step",
+          std::acos(std::clamp(tau.dot(*next_tau), -1.0, 1.0)) * 180.0 / std::numbers::pi);
     }
 
     if (!failure.empty()) {

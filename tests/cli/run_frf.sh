@@ -53,7 +53,8 @@ run_capture run "$WORK/check.yaml" -o "$WORK/check"
 import json, sys
 s = json.load(open(sys.argv[1]))
 worst = max(c["jacobian_check_error"] for c in s["curves"])
-assert 0 < worst < 1e-6, worst
+# A wrong Jacobian shows as O(1); partial kinks of the Jenkins damper within ±h leave < 1e-4.
+assert 0 < worst < 1e-4, worst
 print(f"ok: Jacobian vs central differences, worst {worst:.1e}")
 PY
 

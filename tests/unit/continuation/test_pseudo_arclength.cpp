@@ -341,7 +341,9 @@ TEST(ContinuationArclength, StartWithoutRootFails) {
   EXPECT_TRUE(r.points.empty());
   EXPECT_NE(r.message.find("residual"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("start"), std::string::npos) << r.message;
-  EXPECT_LE(r.evaluations, o.max_start_iterations + 1);
+  // Newton iterations plus the damping of its line searches (up to 20 halvings): bounded, and the
+  // failure is reported rather than iterated forever.
+  EXPECT_LE(r.evaluations, 2 * (o.max_start_iterations + 1));
 }
 
 TEST(ContinuationArclength, StartNewtonIsDampedFromAPoorGuess) {
