@@ -45,6 +45,10 @@ constexpr int kMaxHalvings = 20;
 // max_step) below which a larger turn is taken as a corner of the branch and accepted.
 constexpr double kMaxTurnCosine = 0.5;
 constexpr double kCornerStepFactor = 0.05;
+// Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
+// max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
+constexpr double kNaturalStepFactor = 1e-3;
+constexpr double kNaturalMinSlope = 1e-3;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -505,6 +509,30 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       failure = fmt::format(
           "the tangent turned by {:.0f}° in one step",
           std::acos(std::clamp(tau.dot(*next_tau), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+    }
+
+    // Natural-parameter fallback at a corner of the branch (e.g. the onset of slip of a Jenkins
+    // contact): where short arclength steps keep failing although the branch advances in λ, a
+    // corrector at fixed λ_k + Δλ from the last point crosses the corner.
+    if (!failure.empty() && s <= kNaturalStepFactor * options.max_step &&
+        std::abs(tau(n)) > kNaturalMinSlope) {
+      const double lambda_k = result.points.back().lambda;
+      const double dl = (tau(n) > 0.0 ? 1.0 : -1.0) * 4.0 * s * options.parameter_scale;
+      double target = lambda_k + dl;
+      if (beyond_end(target)) target = options.parameter_end;
+      Correction b =
+          tracer.correct(y, tracer.fixed_lambda(target), options.max_corrector_iterations,
+                         Tracer::Safeguard::growth_test);
+      if (b.converged && (b.sample.y - y).norm() <= 1e3 * s + std::abs(dl)) {
+        std::string tangent_failure;
+        next_tau = tracer.tangent(b.sample, tau, tangent_failure);
+        if (next_tau) {
+          c = std::move(b);
+          failure.clear();
+          on_bound = c.sample.lambda == options.parameter_end;
+          bound_reason = StopReason::reached_end;
+        }
+      }
     }
 
     if (!failure.empty()) {

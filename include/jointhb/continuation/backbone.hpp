@@ -1,0 +1,47 @@
+#pragma once
+// Damping curves: the nonlinear mode (EPMC, hb/nonlinear_mode.hpp) traced over λ = log10 q by
+// pseudo-arclength continuation, from the linear limit through microslip to gross slip.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/hb/nonlinear_mode.hpp"
+
+namespace jointhb::continuation {
+
+struct BackboneOptions {
+  hb::NonlinearModeOptions mode;        ///< mode number, H, N_t
+  double log10_amplitude_start = -7.0;  ///< λ of the first point (should be in the linear range)
+  double log10_amplitude_end = -3.0;    ///< λ of the last point, ≠ start
+  Options continuation;                 ///< steps, tolerances (range and scales set here)
+  [[nodiscard]] std::string validate(int dofs) const;
+};
+
+/// One accepted point: hb::NonlinearModeState plus the continuation's record.
+struct BackbonePoint {
+  hb::NonlinearModeState state;
+  int iterations = 0;
+  double step = 0.0;
+  Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ)
+};
+
+struct BackboneCurve {
+  std::vector<BackbonePoint> points;
+  StopReason reason = StopReason::start_failed;
+  std::string message;
+  int newton_iterations = 0;
+  int rejected_steps = 0;
+  double linear_omega = 0.0;          ///< ω of the followed linear mode (contacts stuck)
+  double linear_damping_ratio = 0.0;  ///< φᵀCφ / (2ω)
+  double seconds = 0.0;
+  [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+};
+
+/// Throws std::invalid_argument on invalid options or system; numerical failures end the curve
+/// with a message, keeping every accepted point.
+BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOptions& options,
+                             const std::function<bool(const BackbonePoint&)>& on_point = {});
+
+}  // namespace jointhb::continuation

@@ -1,0 +1,90 @@
+#pragma once
+// The extended periodic motion concept (EPMC; M. Krack, "Nonlinear modal analysis of
+// nonconservative systems: extension of the periodic motion concept", Computers & Structures 154
+// (2015) 59–71): the free, damped system is made periodic by a negative mass-proportional damping
+// term,
+//   M ẍ + (C − ξ M) ẋ + K x + f_nl(x) = 0,    ξ = 2 ζ Ω,
+// and its periodic solutions, normalised in amplitude and phase, are the nonlinear mode.
+//
+// Unknowns Y = (X̂, Ω, ξ) with X̂ = X / q the harmonic coefficients divided by the modal amplitude
+// q (so that Y stays O(1) over decades of q); parameter λ = log10 q. Equations (docs/theory.md §9):
+//   R̂ = [S(Ω) − ξ S_M(Ω)] X̂ + F_nl(q X̂)/q = 0          (harmonic balance, scaled by 1/q)
+//   a₁ᵀ M a₁ + b₁ᵀ M b₁ − 1 = 0                          (amplitude: fundamental q (Φc cos + Φs
+//   sin)
+//                                                         with Φcᵀ M Φc + Φsᵀ M Φs = 1)
+//   b₁ᵀ M φ = 0                                          (phase: no sine part along the linear mode
+//   φ)
+// where S_M(Ω) holds the velocity blocks of M: [0, kΩ M; −kΩ M, 0] per harmonic k.
+// The case must be symmetric about the origin (no static force, zero contact reference states):
+// the scaling by q would blow up a constant offset at small amplitude.
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "jointhb/hb/discrete_system.hpp"
+#include "jointhb/hb/harmonic_balance.hpp"
+
+namespace jointhb::hb {
+
+struct NonlinearModeOptions {
+  int mode = 1;            ///< ≥ 1: linear mode (of the system with contacts stuck) followed
+  int harmonics = 7;       ///< H ≥ 1
+  int time_samples = 128;  ///< N_t ≥ 2H + 2
+  HarmonicSelection selection = HarmonicSelection::automatic;
+  double periodic_tolerance = 1e-14;
+  [[nodiscard]] std::string validate(int dofs) const;
+};
+
+/// Diagnostics of one point of the nonlinear mode.
+struct NonlinearModeState {
+  double amplitude = 0.0;             ///< q
+  double omega = 0.0;                 ///< Ω [rad/s]
+  double damping_ratio = 0.0;         ///< ζ = ξ / (2Ω)
+  double dissipation = 0.0;           ///< Σ contact W_D from the Fourier coefficients [J]
+  double viscous_dissipation = 0.0;   ///< work of C over the period [J]
+  double injected_energy = 0.0;       ///< work of the EPMC term ξ M ẋ over the period [J]
+  double damping_ratio_energy = 0.0;  ///< W_D / (4π E), E = ½ Ω² q² (kinetic energy amplitude)
+  double slip_fraction = 0.0;         ///< share of contacts that slip during the period
+};
+
+class NonlinearModeResidual {
+ public:
+  /// Throws std::invalid_argument for an invalid system or options, a case that is not symmetric,
+  /// or a mode number beyond the system's.
+  NonlinearModeResidual(DiscreteSystem system, NonlinearModeOptions options);
+
+  [[nodiscard]] Eigen::Index unknowns() const;  ///< n·m + 2
+  [[nodiscard]] const HarmonicBalance& balance() const { return balance_; }
+  /// Y of the linear mode (contacts stuck): X̂ = φ in a₁, Ω = ω, ξ = φᵀ C φ.
+  [[nodiscard]] Eigen::VectorXd linear_start() const;
+  [[nodiscard]] double linear_omega() const { return omega_; }
+  [[nodiscard]] double linear_damping_ratio() const;
+
+  /// Residual (n·m + 2) at (Y, λ = log10 q), with ∂/∂Y and ∂/∂λ when `jacobian`.
+  struct Evaluation {
+    Eigen::VectorXd residual;
+    Eigen::MatrixXd d_state;
+    Eigen::VectorXd d_parameter;
+    bool ok = true;
+    std::string message;
+  };
+  void evaluate(const Eigen::VectorXd& y, double lambda, bool jacobian, Evaluation& out) const;
+
+  /// Physical diagnostics of a converged point.
+  [[nodiscard]] NonlinearModeState state(const Eigen::VectorXd& y, double lambda) const;
+
+ private:
+  // The velocity blocks of a symmetric matrix A times the coefficients: Σ_k k [A b_k; −A a_k].
+  [[nodiscard]] Eigen::VectorXd velocity_product(const SparseMatrix& a,
+                                                 const Eigen::VectorXd& x) const;
+  DiscreteSystem system_;
+  NonlinearModeOptions options_;
+  HarmonicBalance balance_;
+  Eigen::VectorXd phi_;    // linear mode, mass-normalised
+  Eigen::VectorXd m_phi_;  // M φ
+  double omega_ = 0.0;
+};
+
+}  // namespace jointhb::hb

@@ -1,0 +1,118 @@
+// EPMC (hb/nonlinear_mode.hpp, continuation/backbone.hpp): analytic Jacobian against central
+// differences, the linear limit, and the energy balance at every point of a damping curve.
+#include "jointhb/hb/nonlinear_mode.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "jointhb/continuation/backbone.hpp"
+
+namespace jointhb::hb {
+namespace {
+
+DiscreteSystem two_dof(bool gaul_mayer) {
+  DiscreteSystem s;
+  Eigen::MatrixXd k(2, 2);
+  k << 2.0, -1.0, -1.0, 2.0;
+  s.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
+  s.stiffness = k.sparseView();
+  s.damping = (0.01 * k).sparseView();
+  ContactElement c;
+  c.law = gaul_mayer ? "gaul-mayer" : "jenkins";
+  c.exponent = 0.4;
+  c.dof_a = 0;
+  c.dof_b = 1;
+  c.stiffness = 1.0;
+  c.friction_coefficient = 1.0;
+  c.normal_force = 0.01;
+  s.contacts.push_back(c);
+  ContactElement g = c;
+  g.dof_a = 1;
+  g.dof_b = -1;
+  g.stiffness = 0.5;
+  s.contacts.push_back(g);
+  return s;
+}
+
+TEST(NonlinearMode, JacobianMatchesCentralDifferences) {
+  NonlinearModeOptions o;
+  o.mode = 1;
+  o.harmonics = 3;
+  o.time_samples = 32;
+  const NonlinearModeResidual epmc(two_dof(true), o);
+  Eigen::VectorXd y = epmc.linear_start();
+  // Off the solution, with every harmonic non-zero.
+  y.head(y.size() - 2) += 0.05 * Eigen::VectorXd::LinSpaced(y.size() - 2, -1.0, 1.0);
+  y[y.size() - 1] += 0.01;
+  const double lambda = -2.0;  // q = 0.01: microslip
+  NonlinearModeResidual::Evaluation ev, plus, minus;
+  epmc.evaluate(y, lambda, true, ev);
+  ASSERT_TRUE(ev.ok) << ev.message;
+  const double h = 1e-7;
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < y.size(); ++j) {
+    Eigen::VectorXd yp = y, ym = y;
+    yp[j] += h;
+    ym[j] -= h;
+    epmc.evaluate(yp, lambda, false, plus);
+    epmc.evaluate(ym, lambda, false, minus);
+    const Eigen::VectorXd fd = (plus.residual - minus.residual) / (2.0 * h);
+    worst = std::max(worst, (fd - ev.d_state.col(j)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-6 * ev.d_state.cwiseAbs().maxCoeff());
+  epmc.evaluate(y, lambda + h, false, plus);
+  epmc.evaluate(y, lambda - h, false, minus);
+  const Eigen::VectorXd fd = (plus.residual - minus.residual) / (2.0 * h);
+  EXPECT_LT((fd - ev.d_parameter).cwiseAbs().maxCoeff(),
+            1e-6 * (1.0 + ev.d_parameter.cwiseAbs().maxCoeff()));
+}
+
+TEST(NonlinearMode, StuckLimitIsTheLinearModeAndEnergyBalances) {
+  continuation::BackboneOptions o;
+  o.mode.mode = 1;
+  o.mode.harmonics = 5;
+  o.mode.time_samples = 64;
+  o.log10_amplitude_start = -6.0;
+  o.log10_amplitude_end = 0.0;
+  // Mass-proportional damping stays modal for the stuck stiffness (K + k_T0 terms): the linear
+  // limit is then exact (with C ∝ K alone the stuck modes are complex and φᵀCφ/2ω approximate).
+  DiscreteSystem system = two_dof(false);
+  system.damping = (0.02 * Eigen::MatrixXd::Identity(2, 2)).sparseView();
+  const continuation::BackboneCurve curve = continuation::trace_backbone(system, o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  ASSERT_GT(curve.points.size(), 5u);
+  // Jenkins contacts stick at small amplitude: exactly the linear mode with its viscous damping.
+  const NonlinearModeState& first = curve.points.front().state;
+  EXPECT_NEAR(first.omega, curve.linear_omega, 1e-12 * curve.linear_omega);
+  EXPECT_NEAR(first.damping_ratio, curve.linear_damping_ratio, 1e-10);
+  EXPECT_NEAR(first.dissipation, 0.0, 1e-25);
+  double previous_omega = first.omega;
+  for (const auto& p : curve.points) {
+    const NonlinearModeState& s = p.state;
+    // The EPMC term injects what viscous damping and the contacts dissipate.
+    EXPECT_NEAR(s.injected_energy, s.viscous_dissipation + s.dissipation, 1e-8 * s.injected_energy);
+    EXPECT_LE(s.omega, previous_omega * (1.0 + 1e-12));  // friction only softens
+    previous_omega = s.omega;
+  }
+  // In gross slip the joints have let go: the frequency approaches the free system's (ω = 1 for
+  // K alone); the contact between the two in-phase masses barely moves and keeps sticking.
+  const NonlinearModeState& last = curve.points.back().state;
+  EXPECT_LT(last.omega, 1.01);
+  EXPECT_GT(last.omega, 1.0);
+  EXPECT_EQ(last.slip_fraction, 0.5);
+  EXPECT_GT(last.damping_ratio_energy, 0.0);
+}
+
+TEST(NonlinearMode, RejectsAsymmetricCasesAndBadModes) {
+  DiscreteSystem s = two_dof(true);
+  NonlinearModeOptions o;
+  o.mode = 3;
+  EXPECT_THROW(NonlinearModeResidual(s, o), std::invalid_argument);
+  o.mode = 1;
+  s.contacts[0].reference_force = 0.001;
+  EXPECT_THROW(NonlinearModeResidual(s, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace jointhb::hb
