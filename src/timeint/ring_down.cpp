@@ -1,6 +1,6 @@
 // Ring-downs: free decays from a linear mode shape, cut into cycles between maxima of the modal
 // coordinate, each giving amplitude, frequency and damping (ring_down.hpp, docs/time-integration.md
-// §6).
+// §7).
 #include "jointhb/timeint/ring_down.hpp"
 
 #include <fmt/format.h>
@@ -25,9 +25,9 @@ struct Extremum {
   double energy = 0.0;
 };
 
-// The extremum of the samples y[j-2..j+2] near the discrete extremum j, by the cubic through the
-// four samples that bracket it (j-1..j+2 when the extremum lies right of j, else j-2..j+1); the
-// parabola through j-1, j, j+1 when only three are available or the cubic misbehaves. Returns the
+// The extremum of the samples near the discrete extremum j, by the quartic through y[j-2..j+2]
+// (symmetric, so no one-sided error); the parabola through j-1, j, j+1 when fewer samples are
+// available or the quartic's stationary point leaves [-1, 1]. Returns the
 // offset s ∈ [-1, 1] (in steps) and the value there.
 std::pair<double, double> refine_extremum(const std::vector<double>& y, std::size_t j) {
   const double ym = y[j - 1], y0 = y[j], yp = y[j + 1];
@@ -36,32 +36,25 @@ std::pair<double, double> refine_extremum(const std::vector<double>& y, std::siz
   s_parabola = std::clamp(s_parabola, -1.0, 1.0);
   const double v_parabola = y0 + 0.25 * (yp - ym) * s_parabola;
 
-  const bool right = s_parabola >= 0.0;
-  if ((right && j + 2 >= y.size()) || (!right && j < 2)) return {s_parabola, v_parabola};
-  const int first = right ? -1 : -2;
-  Eigen::Matrix4d v;
-  Eigen::Vector4d rhs;
-  for (int r = 0; r < 4; ++r) {
-    const double s = first + r;
-    v.row(r) << 1.0, s, s * s, s * s * s;
-    rhs[r] = y[static_cast<std::size_t>(static_cast<long>(j) + first + r)];
+  if (j < 2 || j + 2 >= y.size()) return {s_parabola, v_parabola};
+  Eigen::Matrix<double, 5, 5> v;
+  Eigen::Matrix<double, 5, 1> rhs;
+  for (int r = 0; r < 5; ++r) {
+    const double t = r - 2;
+    v.row(r) << 1.0, t, t * t, t * t * t, t * t * t * t;
+    rhs[r] = y[j + static_cast<std::size_t>(r) - 2];
   }
-  const Eigen::Vector4d p = v.partialPivLu().solve(rhs);  // p0 + p1 s + p2 s² + p3 s³
-  // p'(s) = p1 + 2 p2 s + 3 p3 s² = 0: the root nearest the parabola's vertex.
-  const double a = 3.0 * p[3], b = 2.0 * p[2], c = p[1];
+  const Eigen::Matrix<double, 5, 1> p = v.partialPivLu().solve(rhs);  // Σ p_i s^i
+  // p'(s) = 0 by Newton from the parabola's vertex (p'' ≠ 0 near an extremum).
   double s = s_parabola;
-  if (std::abs(a) * 4.0 < std::abs(b) * 1e-12) {
-    s = -c / b;
-  } else {
-    const double disc = b * b - 4.0 * a * c;
-    if (disc >= 0.0) {
-      const double qq = -0.5 * (b + std::copysign(std::sqrt(disc), b));
-      const double r1 = qq / a, r2 = qq != 0.0 ? c / qq : r1;
-      s = std::abs(r1 - s_parabola) < std::abs(r2 - s_parabola) ? r1 : r2;
-    }
+  for (int it = 0; it < 8; ++it) {
+    const double d1 = p[1] + s * (2.0 * p[2] + s * (3.0 * p[3] + s * 4.0 * p[4]));
+    const double d2 = 2.0 * p[2] + s * (6.0 * p[3] + s * 12.0 * p[4]);
+    if (d2 == 0.0) break;
+    s -= d1 / d2;
   }
   if (!std::isfinite(s) || std::abs(s) > 1.0) return {s_parabola, v_parabola};
-  return {s, p[0] + s * (p[1] + s * (p[2] + s * p[3]))};
+  return {s, p[0] + s * (p[1] + s * (p[2] + s * (p[3] + s * p[4])))};
 }
 
 // Sample records of the ring-down and the extrema found in them so far.
@@ -82,8 +75,8 @@ class CycleTracker {
       const bool is_max = q_[j] > q_[j - 1] && q_[j] >= q_[j + 1];
       const bool is_min = q_[j] < q_[j - 1] && q_[j] <= q_[j + 1];
       if (!(want_max_ ? is_max : is_min)) continue;
-      // A cubic needs j+2 when the extremum lies right of j: wait for the next chunk's samples.
-      if (j + 2 >= q_.size() && (q_[j + 1] - q_[j - 1]) * (want_max_ ? 1.0 : -1.0) > 0.0) break;
+      // The quartic needs j+2: wait for the next chunk's samples.
+      if (j + 2 >= q_.size()) break;
       const auto [s, value] = refine_extremum(q_, j);
       Extremum e;
       e.time = (static_cast<double>(j) + s) * dt_;

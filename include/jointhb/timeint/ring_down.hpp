@@ -3,8 +3,8 @@
 // read off them, the time-domain route to nonlinear modes / damping curves:
 //   x(0) = q0 Φ_m,  ẋ(0) = 0,  M ẍ + C ẋ + K x + f_nl = 0   (Newmark, newmark.hpp)
 //   q(t) = Φ_mᵀ M x(t)                                        (modal coordinate, Φ mass-normalised)
-// For each cycle between successive maxima q̂_k, q̂_{k+1} of q (located between samples by a cubic
-// through 4 samples) with the minimum q̌_k between them, the oscillation centre c solves
+// For each cycle between successive maxima q̂_k, q̂_{k+1} of q (located between samples by the
+// quartic through 5 samples) with the minimum q̌_k between them, the oscillation centre c solves
 // (q̂_k - c)(q̂_{k+1} - c) = (c - q̌_k)² (exact for a geometric decay about any offset), and
 //   amplitude  a_k = √((q̂_k - c)(q̂_{k+1} - c)),
 //   ω_k        = 2π / (t_{k+1} - t_k),
