@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "cli_support.hpp"
+#include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/io/csv_writer.hpp"
 
@@ -124,6 +125,22 @@ Json inputs_json(const io::DiscreteCase& c) {
                        {"max_points", f.continuation.max_points},
                        {"residual_tolerance", f.continuation.residual_tolerance}}}};
   }
+  if (c.nonlinear_modes) {
+    const auto& b = *c.nonlinear_modes;
+    inputs["nonlinear_modes"] = {
+        {"mode", b.mode.mode},
+        {"log10_amplitude", {b.log10_amplitude_start, b.log10_amplitude_end}},
+        {"harmonics", b.mode.harmonics},
+        {"time_samples", b.mode.time_samples},
+        {"harmonic_selection", selection_name(b.mode.selection)},
+        {"periodic_tolerance", b.mode.periodic_tolerance},
+        {"continuation",
+         {{"initial_step", b.continuation.initial_step},
+          {"min_step", b.continuation.min_step},
+          {"max_step", b.continuation.max_step},
+          {"max_points", b.continuation.max_points},
+          {"residual_tolerance", b.continuation.residual_tolerance}}}};
+  }
   return inputs;
 }
 
@@ -162,37 +179,50 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   return j;
 }
 
-}  // namespace
+const std::vector<std::string> kBackboneColumns = {"amplitude",
+                                                   "omega",
+                                                   "frequency_hz",
+                                                   "damping_ratio",
+                                                   "W_D",
+                                                   "damping_ratio_energy",
+                                                   "slip_fraction",
+                                                   "viscous_dissipation",
+                                                   "newton_iterations",
+                                                   "step"};
 
-int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::time_point start) {
-  if (!c.frf) throw UsageError(c.source + ": the case asks for no analysis jointhb can run");
-  const continuation::FrfOptions& options = *c.frf;
-  const double read_seconds = seconds_since(start);
-  // Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: report them before
-  // any output exists.
-  for (const auto& level : c.levels) {
-    try {
-      const hb::HarmonicBalance check(c.system, level,
-                                      {options.harmonics, options.time_samples, options.selection,
-                                       options.periodic_tolerance, true});
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(c.source + ": " + e.what());
+// Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: reported before any
+// output exists.
+void check_setup(const io::DiscreteCase& c) {
+  try {
+    if (c.frf) {
+      for (const auto& level : c.levels) {
+        const hb::HarmonicBalance check(c.system, level,
+                                        {c.frf->harmonics, c.frf->time_samples, c.frf->selection,
+                                         c.frf->periodic_tolerance, true});
+      }
     }
+    if (c.nonlinear_modes) {
+      const hb::NonlinearModeResidual check(c.system, c.nonlinear_modes->mode);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(c.source + ": " + e.what());
   }
+}
 
-  Json summary = {{"jointhb_version", JOINTHB_VERSION},
-                  {"status", "ok"},
-                  {"message", ""},
-                  {"case", c.source},
-                  {"analysis", "frf"},
-                  {"inputs", inputs_json(c)},
-                  {"outputs", {{"frf", "frf.csv"}}},
-                  {"columns", kFrfColumns},
-                  {"curves", Json::array()}};
-  io::CsvWriter csv(dir / "frf.csv", kFrfColumns);
-  const bool progress = stderr_is_terminal();
+struct AnalysisOutcome {
   int failed = 0;
   std::size_t rows = 0;
+  std::string what;  // for the final line
+};
+
+AnalysisOutcome run_frf(const io::DiscreteCase& c, const fs::path& dir, Json& summary) {
+  const continuation::FrfOptions& options = *c.frf;
+  summary["outputs"]["frf"] = "frf.csv";
+  summary["columns"]["frf"] = kFrfColumns;
+  summary["curves"] = Json::array();
+  io::CsvWriter csv(dir / "frf.csv", kFrfColumns);
+  const bool progress = stderr_is_terminal();
+  AnalysisOutcome outcome;
   const auto frf_start = Clock::now();
   for (std::size_t l = 0; l < c.levels.size(); ++l) {
     const double force = c.level_amplitudes[l];
@@ -204,7 +234,7 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
       csv.write_row({static_cast<double>(l), force, p.omega, p.omega / (2.0 * std::numbers::pi),
                      p.amplitude_h1, p.amplitude_max, p.dissipation,
                      static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0});
-      ++rows;
+      ++outcome.rows;
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: level {}/{}  Ω = {:.6g} rad/s  |x| = {:.4g}  ",
                                  l + 1, c.levels.size(), p.omega, p.amplitude_h1)
@@ -218,7 +248,7 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
       curve.reason = continuation::StopReason::start_failed;
       curve.message = e.what();
     }
-    if (!curve.completed()) ++failed;
+    if (!curve.completed()) ++outcome.failed;
     summary["curves"].push_back(curve_json(l, force, curve, options.check_jacobian));
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
     if (!curve.completed()) {
@@ -227,19 +257,110 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
           curve.points.size(), curve.message);
     }
   }
-  const double frf_seconds = seconds_since(frf_start);
+  summary["seconds"]["frf"] = seconds_since(frf_start);
+  outcome.what = fmt::format("{} FRF curve(s) with {} points", c.levels.size(), outcome.rows);
+  return outcome;
+}
+
+AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Json& summary) {
+  const continuation::BackboneOptions& options = *c.nonlinear_modes;
+  summary["outputs"]["backbone"] = "backbone.csv";
+  summary["columns"]["backbone"] = kBackboneColumns;
+  io::CsvWriter csv(dir / "backbone.csv", kBackboneColumns);
+  const bool progress = stderr_is_terminal();
+  AnalysisOutcome outcome;
+  Json points = Json::array();
+  const auto on_point = [&](const continuation::BackbonePoint& p) {
+    const hb::NonlinearModeState& s = p.state;
+    for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
+      require_finite_result("backbone point", v);
+    }
+    csv.write_row({s.amplitude, s.omega, s.omega / (2.0 * std::numbers::pi), s.damping_ratio,
+                   s.dissipation, s.damping_ratio_energy, s.slip_fraction, s.viscous_dissipation,
+                   static_cast<double>(p.iterations), p.step});
+    points.push_back({{"amplitude", s.amplitude},
+                      {"omega", s.omega},
+                      {"frequency_hz", s.omega / (2.0 * std::numbers::pi)},
+                      {"damping_ratio", s.damping_ratio},
+                      {"W_D", s.dissipation},
+                      {"damping_ratio_energy", s.damping_ratio_energy},
+                      {"slip_fraction", s.slip_fraction}});
+    ++outcome.rows;
+    if (progress) {
+      std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",
+                               options.mode.mode, s.amplitude, s.omega / (2.0 * std::numbers::pi),
+                               s.damping_ratio)
+                << std::flush;
+    }
+    return true;
+  };
+  continuation::BackboneCurve curve;
+  try {
+    curve = continuation::trace_backbone(c.system, options, on_point);
+  } catch (const std::exception& e) {
+    curve.reason = continuation::StopReason::start_failed;
+    curve.message = e.what();
+  }
+  if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
+  outcome.failed = curve.completed() ? 0 : 1;
+  summary["backbone"] = {{"mode", options.mode.mode},
+                         {"status", curve.completed() ? "ok" : "failed"},
+                         {"stop_reason", reason_name(curve.reason)},
+                         {"message", curve.message},
+                         {"linear_omega", curve.linear_omega},
+                         {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},
+                         {"linear_damping_ratio", curve.linear_damping_ratio},
+                         {"points", curve.points.size()},
+                         {"newton_iterations", curve.newton_iterations},
+                         {"rejected_steps", curve.rejected_steps},
+                         {"curve", points}};
+  summary["seconds"]["nonlinear_modes"] = curve.seconds;
+  if (!curve.completed()) {
+    std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
+                             options.mode.mode, curve.points.size(), curve.message);
+  }
+  outcome.what =
+      fmt::format("a damping curve of mode {} with {} points", options.mode.mode, outcome.rows);
+  return outcome;
+}
+
+}  // namespace
+
+int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::time_point start) {
+  if (!c.frf && !c.nonlinear_modes) {
+    throw UsageError(c.source + ": the case asks for no analysis jointhb can run");
+  }
+  const double read_seconds = seconds_since(start);
+  check_setup(c);
+  Json analyses = Json::array();
+  if (c.frf) analyses.push_back("frf");
+  if (c.nonlinear_modes) analyses.push_back("nonlinear_modes");
+  Json summary = {{"jointhb_version", JOINTHB_VERSION},
+                  {"status", "ok"},
+                  {"message", ""},
+                  {"case", c.source},
+                  {"analyses", analyses},
+                  {"inputs", inputs_json(c)},
+                  {"outputs", Json::object()},
+                  {"columns", Json::object()},
+                  {"seconds", {{"read", read_seconds}}}};
+  std::vector<AnalysisOutcome> outcomes;
+  if (c.frf) outcomes.push_back(run_frf(c, dir, summary));
+  if (c.nonlinear_modes) outcomes.push_back(run_backbone(c, dir, summary));
+  int failed = 0;
+  std::string what;
+  for (const auto& o : outcomes) {
+    failed += o.failed;
+    what += (what.empty() ? "" : " and ") + o.what;
+  }
   if (failed > 0) {
     summary["status"] = "failed";
-    summary["message"] =
-        fmt::format("{} of {} curves stopped before the end of the range", failed, c.levels.size());
+    summary["message"] = fmt::format("{} curve(s) stopped before the end of the range", failed);
   }
-  summary["seconds"] = {
-      {"read", read_seconds}, {"frf", frf_seconds}, {"total", seconds_since(start)}};
+  summary["seconds"]["total"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
-  std::cerr << fmt::format(
-      "jointhb run: {}: {} FRF curve(s), {} points in {:.3g} s; wrote {} and {}\n", c.source,
-      c.levels.size(), rows, seconds_since(start), (dir / "frf.csv").string(),
-      (dir / "summary.json").string());
+  std::cerr << fmt::format("jointhb run: {}: {} in {:.3g} s; wrote {}\n", c.source, what,
+                           seconds_since(start), dir.string());
   return failed > 0 ? exit_failure : exit_ok;
 }
 

@@ -37,7 +37,7 @@ constexpr double max_periodic_tolerance = 1e-3;
 /// singular matrix stays far above it).
 constexpr double psd_tolerance = 1e-10;
 
-const std::set<std::string> known_analyses = {"frf"};
+const std::set<std::string> known_analyses = {"frf", "nonlinear_modes"};
 
 std::string known_analysis_list() { return yaml::Reader::list(known_analyses); }
 
@@ -95,6 +95,25 @@ class DiscreteCaseReader {
       c.frf = read_frf(frf->value, analyses.path_of("frf"), c.system.dofs());
       check_frf_excitation(*frf, *c.frf, top, c);
     }
+    if (const auto* modes = analyses.find("nonlinear_modes")) {
+      c.nonlinear_modes =
+          read_nonlinear_modes(modes->value, analyses.path_of("nonlinear_modes"), c.system.dofs());
+      // EPMC scales the unknowns by the modal amplitude: no static offset is admitted.
+      for (const auto& level : c.levels) {
+        if (level.has_static_part()) {
+          reader_.fail(modes->key, analyses.path_of("nonlinear_modes"),
+                       "needs a case without static force (the free vibration about x = 0)");
+        }
+      }
+      for (std::size_t i = 0; i < c.system.contacts.size(); ++i) {
+        const auto& k = c.system.contacts[i];
+        if (k.reference_force != 0.0 || k.reference_slip != 0.0) {
+          reader_.fail(
+              modes->key, analyses.path_of("nonlinear_modes"),
+              fmt::format("needs contacts without reference state; contacts[{}] has one", i));
+        }
+      }
+    }
     return c;
   }
 
@@ -104,9 +123,6 @@ class DiscreteCaseReader {
       return "belongs to a case without model (one contact point under a prescribed slip); "
              "analyses of a model: " +
              known_analysis_list();
-    }
-    if (key == "nonlinear_modes") {
-      return "not supported yet; known analyses: " + known_analysis_list();
     }
     return "unknown key; allowed: " + known_analysis_list();
   }
@@ -596,6 +612,76 @@ class DiscreteCaseReader {
       const std::string value = reader_.text(check->value, key);
       reader_.check(check->value, key, check_one_of(value, {"true", "false"}));
       o.check_jacobian = value == "true";
+    }
+    if (const auto* steps = f.find("continuation")) {
+      read_continuation(steps->value, f.path_of("continuation"), o.continuation);
+    }
+    return o;
+  }
+
+  continuation::BackboneOptions read_nonlinear_modes(const YAML::Node& node,
+                                                     const std::string& path, int n) {
+    const Fields f = reader_.fields(node, path,
+                                    {"mode", "log10_amplitude", "harmonics", "time_samples",
+                                     "harmonic_selection", "periodic_tolerance", "continuation"});
+    continuation::BackboneOptions o;
+    if (const auto* mode = f.find("mode")) {
+      const long long k = reader_.integer(mode->value, f.path_of("mode"));
+      reader_.check(mode->value, f.path_of("mode"), check_in_range(k, 1, n));
+      o.mode.mode = static_cast<int>(k);
+    }
+    const auto* range = f.find("log10_amplitude");
+    if (!range) {
+      reader_.fail(node, f.path_of("log10_amplitude"),
+                   "required: [start, end] of log10 of the modal amplitude");
+    }
+    {
+      const std::string key = f.path_of("log10_amplitude");
+      if (!range->value.IsSequence() || range->value.size() != 2) {
+        reader_.fail(range->value, key, "must be a list [start, end]");
+      }
+      o.log10_amplitude_start = reader_.number(range->value[0], item_path(key, 0));
+      reader_.check(range->value[0], item_path(key, 0), check_finite(o.log10_amplitude_start));
+      o.log10_amplitude_end = reader_.number(range->value[1], item_path(key, 1));
+      reader_.check(range->value[1], item_path(key, 1), check_finite(o.log10_amplitude_end));
+      if (o.log10_amplitude_end == o.log10_amplitude_start) {
+        reader_.fail(range->value[1], item_path(key, 1), "must differ from start");
+      }
+    }
+    if (const auto* harmonics = f.find("harmonics")) {
+      const long long h = reader_.integer(harmonics->value, f.path_of("harmonics"));
+      reader_.check(harmonics->value, f.path_of("harmonics"), check_in_range(h, 1, max_harmonics));
+      o.mode.harmonics = static_cast<int>(h);
+    }
+    o.mode.time_samples = default_time_samples(o.mode.harmonics);
+    if (const auto* samples = f.find("time_samples")) {
+      const std::string key = f.path_of("time_samples");
+      const long long count = reader_.integer(samples->value, key);
+      const long long min = 2LL * o.mode.harmonics + 2;
+      if (count < min || count > max_time_samples) {
+        reader_.fail(samples->value, key,
+                     fmt::format("must be in [2 harmonics + 2 = {}, {}], got {}", min,
+                                 max_time_samples, count));
+      }
+      o.mode.time_samples = static_cast<int>(count);
+    }
+    if (const auto* selection = f.find("harmonic_selection")) {
+      const std::string key = f.path_of("harmonic_selection");
+      const std::string name = reader_.text(selection->value, key);
+      reader_.check(selection->value, key, check_one_of(name, {"auto", "all", "odd"}));
+      o.mode.selection = name == "all"   ? hb::HarmonicSelection::all
+                         : name == "odd" ? hb::HarmonicSelection::odd
+                                         : hb::HarmonicSelection::automatic;
+    }
+    if (const auto* tolerance = f.find("periodic_tolerance")) {
+      const std::string key = f.path_of("periodic_tolerance");
+      o.mode.periodic_tolerance = reader_.number(tolerance->value, key);
+      reader_.check(tolerance->value, key, check_positive(o.mode.periodic_tolerance));
+      if (o.mode.periodic_tolerance > max_periodic_tolerance) {
+        reader_.fail(tolerance->value, key,
+                     fmt::format("must be in (0, {}], got {}", max_periodic_tolerance,
+                                 o.mode.periodic_tolerance));
+      }
     }
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);

@@ -12,7 +12,7 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 s = json.load(open(sys.argv[2]))
 need = ["level", "omega", "frequency_hz", "amplitude_h1", "amplitude_max"]
 assert all(c in rows[0] for c in need), rows[0].keys()
-assert s["status"] == "ok" and s["analysis"] == "frf", s["status"]
+assert s["status"] == "ok" and s["analyses"] == ["frf"], (s["status"], s["analyses"])
 curves = s["curves"]
 assert len(curves) == 3 and all(c["status"] == "ok" for c in curves), curves
 lo, hi = s["inputs"]["frf"]["omega"]

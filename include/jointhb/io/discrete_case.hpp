@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 
@@ -31,7 +32,9 @@ struct DiscreteCase {
   std::vector<hb::Excitation> levels;    ///< one per excitation level (none without excitation)
   std::vector<double> level_amplitudes;  ///< label of each level: its largest |amplitude| [N]
   std::optional<continuation::FrfOptions> frf;  ///< analysis.frf, when asked for
-  std::string damping_model = "none";           ///< "none", "rayleigh", "matrix" or "modal" (echo)
+  /// analysis.nonlinear_modes, when asked for (EPMC damping curve of one mode)
+  std::optional<continuation::BackboneOptions> nonlinear_modes;
+  std::string damping_model = "none";        ///< "none", "rayleigh", "matrix" or "modal" (echo)
   double rayleigh_alpha = 0.0;               ///< α of C = αM + βK [1/s] (damping_model rayleigh)
   double rayleigh_beta = 0.0;                ///< β of C = αM + βK [s] (damping_model rayleigh)
   std::vector<double> modal_damping_ratios;  ///< ζ_i of the lowest modes (damping_model modal)

@@ -325,10 +325,11 @@ TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
   expect_error(with("", "excitation:\n  - {dof: 0, amp: 0.1}\n"), 6, "amp", "excitation[0].amp",
                "unknown key; allowed: amplitude, dof, harmonic, static");
   expect_error(with("", excitation, "analysis:\n  frd: {}\n"), 8, "frd", "analysis.frd",
-               "unknown key; allowed: frf");
+               "unknown key; allowed: frf, nonlinear_modes");
   expect_error(with("", excitation, "analysis:\n  frf: {omega: [1, 2], harmonic: 3}\n"), 8,
                "harmonic", "analysis.frf.harmonic",
-               "unknown key; allowed: check_jacobian, continuation, frequency_hz, harmonic_selection, harmonics, "
+               "unknown key; allowed: check_jacobian, continuation, frequency_hz, "
+               "harmonic_selection, harmonics, "
                "omega, output_dof, periodic_tolerance, time_samples");
   expect_error(with("", excitation, "analysis:\n  frf: {omega: [1, 2], continuation: {step: 1}}\n"),
                8, "step", "analysis.frf.continuation.step",
@@ -336,10 +337,36 @@ TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
                "residual_tolerance");
 }
 
+TEST(io_DiscreteCase, NonlinearModesAreRead) {
+  const DiscreteCase c = parse_discrete_case(
+      "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
+      "contacts:\n  - {law: jenkins, dofs: [0], kt0: 1.0, mu: 0.5, normal_force: 2.0}\n"
+      "analysis:\n  nonlinear_modes: {log10_amplitude: [-6, -1], harmonics: 5,\n"
+      "                    continuation: {max_points: 77}}\n",
+      "case.yaml");
+  ASSERT_TRUE(c.nonlinear_modes.has_value());
+  EXPECT_FALSE(c.frf.has_value());
+  EXPECT_EQ(c.nonlinear_modes->mode.mode, 1);
+  EXPECT_EQ(c.nonlinear_modes->log10_amplitude_start, -6.0);
+  EXPECT_EQ(c.nonlinear_modes->log10_amplitude_end, -1.0);
+  EXPECT_EQ(c.nonlinear_modes->mode.harmonics, 5);
+  EXPECT_EQ(c.nonlinear_modes->mode.time_samples, 128);
+  EXPECT_EQ(c.nonlinear_modes->continuation.max_points, 77);
+  try {
+    (void)parse_discrete_case(
+        "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
+        "analysis:\n  nonlinear_modes: {mode: 2, log10_amplitude: [-6, -1]}\n",
+        "case.yaml");
+    ADD_FAILURE() << "mode 2 of a 1-DOF model accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "analysis.nonlinear_modes.mode");
+  }
+}
+
 TEST(io_DiscreteCase, AnalysesOfOtherKindsAreNamed) {
   const InputError modes = error_of(with("", excitation, "analysis:\n  nonlinear_modes: {}\n"));
-  EXPECT_EQ(modes.key(), "analysis.nonlinear_modes");
-  EXPECT_EQ(modes.constraint(), "not supported yet; known analyses: frf");
+  EXPECT_EQ(modes.key(), "analysis.nonlinear_modes.log10_amplitude");
+  EXPECT_EQ(modes.constraint(), "required: [start, end] of log10 of the modal amplitude");
   const InputError sweep = error_of(with("", excitation, "analysis:\n  loop_sweep: {}\n"));
   EXPECT_EQ(sweep.key(), "analysis.loop_sweep");
   EXPECT_EQ(sweep.line(), 8);
@@ -570,9 +597,9 @@ TEST(io_DiscreteCase, FrfConstraintsAreChecked) {
 TEST(io_DiscreteCase, AnAnalysisIsRequired) {
   const InputError none = error_of(model + excitation);
   EXPECT_EQ(std::string(none.what()),
-            "case.yaml:1:1: key 'analysis': required; known analyses: frf");
+            "case.yaml:1:1: key 'analysis': required; known analyses: frf, nonlinear_modes");
   expect_error(with("", excitation, "analysis: {}\n"), 7, "{", "analysis",
-               "must name at least one analysis; known: frf");
+               "must name at least one analysis; known: frf, nonlinear_modes");
   const InputError empty = error_of("");
   EXPECT_EQ(empty.key(), "model");
   EXPECT_EQ(empty.constraint(), "required (the file is empty)");

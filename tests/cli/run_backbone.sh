@@ -1,0 +1,49 @@
+# jointhb run on cases/03-one-dof-gaul-mayer: a damping curve (EPMC, backbone.csv) and FRFs in one
+# case. Checks the linear limit, the trends, and that the FRF peaks lie on the backbone.
+source "$(dirname "$0")/common.inc" "$@"
+PYTHON=/usr/bin/python3
+CASE="$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml"
+
+run_capture run "$CASE" -o "$WORK/out"
+[ "$STATUS" -eq 0 ] || fail "run $CASE exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/out/backbone.csv" "$WORK/out/summary.json" "$WORK/out/frf.csv" <<'PY' || fail "outputs"
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+assert s["status"] == "ok" and s["analyses"] == ["frf", "nonlinear_modes"], s["analyses"]
+b = s["backbone"]
+need = ["amplitude", "omega", "frequency_hz", "damping_ratio", "W_D", "damping_ratio_energy",
+        "slip_fraction"]
+assert all(c in rows[0] for c in need), rows[0].keys()
+assert len(rows) == b["points"] == len(b["curve"]) > 10
+q = [float(r["amplitude"]) for r in rows]
+om = [float(r["omega"]) for r in rows]
+zeta = [float(r["damping_ratio"]) for r in rows]
+# Linear limit: the stuck mode (200 rad/s) with its 0.2 % modal damping, to the microslip that
+# q = 1e-8 already has (W_D ∝ q³: ~1e-5 relative).
+assert abs(om[0] - b["linear_omega"]) < 1e-4 * b["linear_omega"], (om[0], b["linear_omega"])
+assert abs(zeta[0] - b["linear_damping_ratio"]) < 0.02 * b["linear_damping_ratio"], zeta[0]
+assert abs(q[0] - 1e-8) < 1e-20 and abs(q[-1] - 10 ** -3.5) < 1e-12 * q[-1]
+# Softening all the way towards the slipped system (100 rad/s); damping rises then falls.
+assert all(b2 <= a2 * (1 + 1e-9) for a2, b2 in zip(om, om[1:])), "frequency must not rise"
+assert om[-1] < 0.6 * om[0] and om[-1] > 100.0
+peak = max(zeta)
+assert 0.1 < peak < 0.4 and zeta[-1] < peak and zeta[0] < 0.01 * peak * 10
+# FRF peaks lie on the backbone (interpolated in log q; m = 1 kg so q = amplitude).
+for c in s["curves"]:
+    a, w = c["peak"]["amplitude_h1"], c["peak"]["omega"]
+    i = max(k for k in range(len(q) - 1) if q[k] <= a)
+    t = (math.log(a) - math.log(q[i])) / (math.log(q[i + 1]) - math.log(q[i]))
+    wb = om[i] + t * (om[i + 1] - om[i])
+    assert abs(w - wb) < 0.01 * wb, (a, w, wb)
+    print(f"ok: FRF peak at {w:.3f} rad/s, backbone {wb:.3f} rad/s ({(w - wb) / wb:+.1e})")
+print(f"ok: {len(rows)} backbone points, f {om[0] / 2 / math.pi:.3f} -> "
+      f"{om[-1] / 2 / math.pi:.3f} Hz, peak damping {peak:.3f}")
+PY
+
+# nonlinear_modes with a static force is refused at the key, before anything is written.
+sed 's/- {dof: 0, amplitude: \[0.02, 0.1, 0.4\]}.*/- {dof: 0, amplitude: [0.02, 0.1, 0.4]}\n  - {dof: 0, static: 1.0}/' "$CASE" >"$WORK/static.yaml"
+expect_bad_input run "$WORK/static.yaml" -o "$WORK/none"
+grep -q "key 'analysis.nonlinear_modes'" "$ERR" || fail "static force: $(cat "$ERR")"
+[ ! -e "$WORK/none" ] || fail "an input error left output behind"
+finish
