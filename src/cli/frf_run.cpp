@@ -128,7 +128,7 @@ Json inputs_json(const io::DiscreteCase& c) {
   if (c.nonlinear_modes) {
     const auto& b = *c.nonlinear_modes;
     inputs["nonlinear_modes"] = {
-        {"mode", b.mode.mode},
+        {"mode", c.modes},
         {"log10_amplitude", {b.log10_amplitude_start, b.log10_amplitude_end}},
         {"harmonics", b.mode.harmonics},
         {"time_samples", b.mode.time_samples},
@@ -179,7 +179,8 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   return j;
 }
 
-const std::vector<std::string> kBackboneColumns = {"amplitude",
+const std::vector<std::string> kBackboneColumns = {"mode",
+                                                   "amplitude",
                                                    "omega",
                                                    "frequency_hz",
                                                    "damping_ratio",
@@ -263,64 +264,71 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, const fs::path& dir, Json& su
 }
 
 AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Json& summary) {
-  const continuation::BackboneOptions& options = *c.nonlinear_modes;
   summary["outputs"]["backbone"] = "backbone.csv";
   summary["columns"]["backbone"] = kBackboneColumns;
+  summary["backbones"] = Json::array();
   io::CsvWriter csv(dir / "backbone.csv", kBackboneColumns);
   const bool progress = stderr_is_terminal();
   AnalysisOutcome outcome;
-  Json points = Json::array();
-  const auto on_point = [&](const continuation::BackbonePoint& p) {
-    const hb::NonlinearModeState& s = p.state;
-    for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
-      require_finite_result("backbone point", v);
+  const auto start = Clock::now();
+  for (int mode : c.modes) {
+    continuation::BackboneOptions options = *c.nonlinear_modes;
+    options.mode.mode = mode;
+    Json points = Json::array();
+    const auto on_point = [&](const continuation::BackbonePoint& p) {
+      const hb::NonlinearModeState& s = p.state;
+      for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
+        require_finite_result("backbone point", v);
+      }
+      csv.write_row({static_cast<double>(mode), s.amplitude, s.omega,
+                     s.omega / (2.0 * std::numbers::pi), s.damping_ratio, s.dissipation,
+                     s.damping_ratio_energy, s.slip_fraction, s.viscous_dissipation,
+                     static_cast<double>(p.iterations), p.step});
+      points.push_back({{"amplitude", s.amplitude},
+                        {"omega", s.omega},
+                        {"frequency_hz", s.omega / (2.0 * std::numbers::pi)},
+                        {"damping_ratio", s.damping_ratio},
+                        {"W_D", s.dissipation},
+                        {"damping_ratio_energy", s.damping_ratio_energy},
+                        {"slip_fraction", s.slip_fraction}});
+      ++outcome.rows;
+      if (progress) {
+        std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",
+                                 mode, s.amplitude, s.omega / (2.0 * std::numbers::pi),
+                                 s.damping_ratio)
+                  << std::flush;
+      }
+      return true;
+    };
+    continuation::BackboneCurve curve;
+    try {
+      curve = continuation::trace_backbone(c.system, options, on_point);
+    } catch (const std::exception& e) {
+      curve.reason = continuation::StopReason::start_failed;
+      curve.message = e.what();
     }
-    csv.write_row({s.amplitude, s.omega, s.omega / (2.0 * std::numbers::pi), s.damping_ratio,
-                   s.dissipation, s.damping_ratio_energy, s.slip_fraction, s.viscous_dissipation,
-                   static_cast<double>(p.iterations), p.step});
-    points.push_back({{"amplitude", s.amplitude},
-                      {"omega", s.omega},
-                      {"frequency_hz", s.omega / (2.0 * std::numbers::pi)},
-                      {"damping_ratio", s.damping_ratio},
-                      {"W_D", s.dissipation},
-                      {"damping_ratio_energy", s.damping_ratio_energy},
-                      {"slip_fraction", s.slip_fraction}});
-    ++outcome.rows;
-    if (progress) {
-      std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",
-                               options.mode.mode, s.amplitude, s.omega / (2.0 * std::numbers::pi),
-                               s.damping_ratio)
-                << std::flush;
+    if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
+    outcome.failed += curve.completed() ? 0 : 1;
+    summary["backbones"].push_back(
+        {{"mode", mode},
+         {"status", curve.completed() ? "ok" : "failed"},
+         {"stop_reason", reason_name(curve.reason)},
+         {"message", curve.message},
+         {"linear_omega", curve.linear_omega},
+         {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},
+         {"linear_damping_ratio", curve.linear_damping_ratio},
+         {"points", curve.points.size()},
+         {"newton_iterations", curve.newton_iterations},
+         {"rejected_steps", curve.rejected_steps},
+         {"seconds", curve.seconds},
+         {"curve", points}});
+    if (!curve.completed()) {
+      std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
+                               mode, curve.points.size(), curve.message);
     }
-    return true;
-  };
-  continuation::BackboneCurve curve;
-  try {
-    curve = continuation::trace_backbone(c.system, options, on_point);
-  } catch (const std::exception& e) {
-    curve.reason = continuation::StopReason::start_failed;
-    curve.message = e.what();
   }
-  if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
-  outcome.failed = curve.completed() ? 0 : 1;
-  summary["backbone"] = {{"mode", options.mode.mode},
-                         {"status", curve.completed() ? "ok" : "failed"},
-                         {"stop_reason", reason_name(curve.reason)},
-                         {"message", curve.message},
-                         {"linear_omega", curve.linear_omega},
-                         {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},
-                         {"linear_damping_ratio", curve.linear_damping_ratio},
-                         {"points", curve.points.size()},
-                         {"newton_iterations", curve.newton_iterations},
-                         {"rejected_steps", curve.rejected_steps},
-                         {"curve", points}};
-  summary["seconds"]["nonlinear_modes"] = curve.seconds;
-  if (!curve.completed()) {
-    std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
-                             options.mode.mode, curve.points.size(), curve.message);
-  }
-  outcome.what =
-      fmt::format("a damping curve of mode {} with {} points", options.mode.mode, outcome.rows);
+  summary["seconds"]["nonlinear_modes"] = seconds_since(start);
+  outcome.what = fmt::format("{} damping curve(s) with {} points", c.modes.size(), outcome.rows);
   return outcome;
 }
 

@@ -98,6 +98,7 @@ class DiscreteCaseReader {
     if (const auto* modes = analyses.find("nonlinear_modes")) {
       c.nonlinear_modes =
           read_nonlinear_modes(modes->value, analyses.path_of("nonlinear_modes"), c.system.dofs());
+      c.modes = modes_;
       // EPMC scales the unknowns by the modal amplitude: no static offset is admitted.
       for (const auto& level : c.levels) {
         if (level.has_static_part()) {
@@ -625,10 +626,29 @@ class DiscreteCaseReader {
                                     {"mode", "log10_amplitude", "harmonics", "time_samples",
                                      "harmonic_selection", "periodic_tolerance", "continuation"});
     continuation::BackboneOptions o;
+    modes_.clear();
     if (const auto* mode = f.find("mode")) {
-      const long long k = reader_.integer(mode->value, f.path_of("mode"));
-      reader_.check(mode->value, f.path_of("mode"), check_in_range(k, 1, n));
-      o.mode.mode = static_cast<int>(k);
+      // One mode number, or a list of them (one damping curve each).
+      const std::string key = f.path_of("mode");
+      const auto read_one = [&](const YAML::Node& value, const std::string& where) {
+        const long long k = reader_.integer(value, where);
+        reader_.check(value, where, check_in_range(k, 1, n));
+        for (int seen : modes_) {
+          if (seen == k) reader_.fail(value, where, fmt::format("mode {} is listed twice", k));
+        }
+        modes_.push_back(static_cast<int>(k));
+      };
+      if (mode->value.IsSequence()) {
+        if (mode->value.size() == 0) reader_.fail(mode->value, key, "must list at least one mode");
+        for (std::size_t i = 0; i < mode->value.size(); ++i) {
+          read_one(mode->value[i], item_path(key, i));
+        }
+      } else {
+        read_one(mode->value, key);
+      }
+      o.mode.mode = modes_.front();
+    } else {
+      modes_.push_back(1);
     }
     const auto* range = f.find("log10_amplitude");
     if (!range) {
@@ -688,6 +708,8 @@ class DiscreteCaseReader {
     }
     return o;
   }
+
+  std::vector<int> modes_;  // analysis.nonlinear_modes.mode, as listed
 
   static std::size_t index_of(const Fields& f, const std::string& name) {
     for (std::size_t i = 0; i < f.entries().size(); ++i) {

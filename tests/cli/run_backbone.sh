@@ -11,8 +11,9 @@ import csv, json, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 s = json.load(open(sys.argv[2]))
 assert s["status"] == "ok" and s["analyses"] == ["frf", "nonlinear_modes"], s["analyses"]
-b = s["backbone"]
-need = ["amplitude", "omega", "frequency_hz", "damping_ratio", "W_D", "damping_ratio_energy",
+assert len(s["backbones"]) == 1 and s["backbones"][0]["mode"] == 1
+b = s["backbones"][0]
+need = ["mode", "amplitude", "omega", "frequency_hz", "damping_ratio", "W_D", "damping_ratio_energy",
         "slip_fraction"]
 assert all(c in rows[0] for c in need), rows[0].keys()
 assert len(rows) == b["points"] == len(b["curve"]) > 10

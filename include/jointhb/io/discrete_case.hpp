@@ -34,6 +34,9 @@ struct DiscreteCase {
   std::optional<continuation::FrfOptions> frf;  ///< analysis.frf, when asked for
   /// analysis.nonlinear_modes, when asked for (EPMC damping curve of one mode)
   std::optional<continuation::BackboneOptions> nonlinear_modes;
+  /// The modes whose damping curves are asked for (nonlinear_modes.mode: one number or a list);
+  /// nonlinear_modes->mode.mode is the first.
+  std::vector<int> modes;
   std::string damping_model = "none";        ///< "none", "rayleigh", "matrix" or "modal" (echo)
   double rayleigh_alpha = 0.0;               ///< α of C = αM + βK [1/s] (damping_model rayleigh)
   double rayleigh_beta = 0.0;                ///< β of C = αM + βK [s] (damping_model rayleigh)

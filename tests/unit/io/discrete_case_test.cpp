@@ -352,6 +352,7 @@ TEST(io_DiscreteCase, NonlinearModesAreRead) {
   EXPECT_EQ(c.nonlinear_modes->mode.harmonics, 5);
   EXPECT_EQ(c.nonlinear_modes->mode.time_samples, 128);
   EXPECT_EQ(c.nonlinear_modes->continuation.max_points, 77);
+  EXPECT_EQ(c.modes, std::vector<int>{1});
   try {
     (void)parse_discrete_case(
         "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
