@@ -8,6 +8,7 @@
 #include "frf_run.hpp"
 #include "jointhb/io/case_file.hpp"
 #include "loop_sweep_run.hpp"
+#include "plot_results.hpp"
 #include "run_support.hpp"
 
 namespace jointhb::cli {
@@ -29,6 +30,10 @@ RunCommand::RunCommand(CLI::App& parent) {
   app_->add_option("-o,--output", output_dir_, "output directory, created if needed")
       ->type_name("DIR")
       ->capture_default_str();
+  app_->add_flag(
+      "--plot", plot_,
+      "after the run, draw DIR/frf.png and DIR/backbone.png (needs /usr/bin/python3 with "
+      "matplotlib; a missing one is reported, not an error)");
   app_->footer(
       "Exit codes: 0 ok, 1 a point or curve failed (rows so far kept, summary.json status\n"
       "\"failed\"), 2 invalid case file or options.\n"
@@ -47,7 +52,9 @@ int RunCommand::run() const {
   if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
     return run_loop_sweep(*sweep, dir, start);
   }
-  return run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
+  const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
+  if (plot_) plot_results(dir);
+  return code;
 }
 
 }  // namespace jointhb::cli

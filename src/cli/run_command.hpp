@@ -22,6 +22,7 @@ class RunCommand {
   CLI::App* app_;
   std::string case_path_;
   std::string output_dir_ = "jointhb-out";
+  bool plot_ = false;
 };
 
 }  // namespace jointhb::cli

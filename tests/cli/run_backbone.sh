@@ -42,6 +42,23 @@ print(f"ok: {len(rows)} backbone points, f {om[0] / 2 / math.pi:.3f} -> "
       f"{om[-1] / 2 / math.pi:.3f} Hz, peak damping {peak:.3f}")
 PY
 
+# Two modes in one case, with --plot: one curve per mode, and the PNGs when matplotlib exists.
+run_capture run "$SOURCE_DIR/cases/04-two-dof-two-joints/case.yaml" -o "$WORK/two" --plot
+[ "$STATUS" -eq 0 ] || fail "case 04 exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/two/summary.json" <<'PY' || fail "case 04 outputs"
+import json, sys
+s = json.load(open(sys.argv[1]))
+b = s["backbones"]
+assert [x["mode"] for x in b] == [1, 2] and all(x["status"] == "ok" for x in b), b
+f1, f2 = (x["linear_frequency_hz"] for x in b)
+assert f2 > f1 and all(p["frequency_hz"] <= x["linear_frequency_hz"] * (1 + 1e-9)
+                       for x in b for p in x["curve"])
+print(f"ok: modes at {f1:.2f} and {f2:.2f} Hz")
+PY
+if "$PYTHON" -c 'import matplotlib' 2>/dev/null; then
+  [ -s "$WORK/two/backbone.png" ] && [ -s "$WORK/two/frf.png" ] || fail "--plot drew nothing"
+fi
+
 # nonlinear_modes with a static force is refused at the key, before anything is written.
 sed 's/- {dof: 0, amplitude: \[0.02, 0.1, 0.4\]}.*/- {dof: 0, amplitude: [0.02, 0.1, 0.4]}\n  - {dof: 0, static: 1.0}/' "$CASE" >"$WORK/static.yaml"
 expect_bad_input run "$WORK/static.yaml" -o "$WORK/none"
