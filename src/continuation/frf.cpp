@@ -232,7 +232,15 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   double last_omega = std::numeric_limits<double>::quiet_NaN();
   const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
     Evaluation e;
-    balance.evaluate(x, omega, jacobian, last);
+    try {
+      balance.evaluate(x, omega, jacobian, last);
+    } catch (const std::exception& error) {  // rejects the step instead of ending the run
+      e.ok = false;
+      e.message = error.what();
+      e.residual = Eigen::VectorXd::Constant(x.size(), std::numeric_limits<double>::quiet_NaN());
+      last_x.resize(0);
+      return e;
+    }
     last_x = x;
     last_omega = omega;
     e.ok = last.ok;
