@@ -541,6 +541,53 @@ class DiscreteCaseReader {
     return {start, end};
   }
 
+  // `harmonics` and `time_samples` (default: default_time_samples(H)), shared by the analyses.
+  void read_harmonics(const Fields& f, int& harmonics, int& time_samples) const {
+    if (const auto* entry = f.find("harmonics")) {
+      const long long h = reader_.integer(entry->value, f.path_of("harmonics"));
+      reader_.check(entry->value, f.path_of("harmonics"), check_in_range(h, 1, max_harmonics));
+      harmonics = static_cast<int>(h);
+    }
+    time_samples = default_time_samples(harmonics);
+    if (const auto* samples = f.find("time_samples")) {
+      const std::string key = f.path_of("time_samples");
+      const long long count = reader_.integer(samples->value, key);
+      const long long min = 2LL * harmonics + 2;
+      if (count < min || count > max_time_samples) {
+        reader_.fail(samples->value, key,
+                     fmt::format("must be in [2 harmonics + 2 = {}, {}], got {}", min,
+                                 max_time_samples, count));
+      }
+      time_samples = static_cast<int>(count);
+    }
+  }
+
+  // `harmonic_selection` and `periodic_tolerance`; returns the selection's node when given.
+  const YAML::Node* read_selection(const Fields& f, hb::HarmonicSelection& selection,
+                                   double& periodic_tolerance) const {
+    const YAML::Node* given = nullptr;
+    if (const auto* entry = f.find("harmonic_selection")) {
+      const std::string key = f.path_of("harmonic_selection");
+      given = &entry->value;
+      const std::string name = reader_.text(entry->value, key);
+      reader_.check(entry->value, key, check_one_of(name, {"auto", "all", "odd"}));
+      selection = name == "all"   ? hb::HarmonicSelection::all
+                  : name == "odd" ? hb::HarmonicSelection::odd
+                                  : hb::HarmonicSelection::automatic;
+    }
+    if (const auto* tolerance = f.find("periodic_tolerance")) {
+      const std::string key = f.path_of("periodic_tolerance");
+      periodic_tolerance = reader_.number(tolerance->value, key);
+      reader_.check(tolerance->value, key, check_positive(periodic_tolerance));
+      if (periodic_tolerance > max_periodic_tolerance) {
+        reader_.fail(
+            tolerance->value, key,
+            fmt::format("must be in (0, {}], got {}", max_periodic_tolerance, periodic_tolerance));
+      }
+    }
+    return given;
+  }
+
   continuation::FrfOptions read_frf(const YAML::Node& node, const std::string& path, int n) {
     const Fields f = reader_.fields(
         node, path,
@@ -567,46 +614,14 @@ class DiscreteCaseReader {
       o.omega_end = 2.0 * std::numbers::pi * f1;
     }
 
-    if (const auto* harmonics = f.find("harmonics")) {
-      const long long h = reader_.integer(harmonics->value, f.path_of("harmonics"));
-      reader_.check(harmonics->value, f.path_of("harmonics"), check_in_range(h, 1, max_harmonics));
-      o.harmonics = static_cast<int>(h);
-    }
-    o.time_samples = default_time_samples(o.harmonics);
-    if (const auto* samples = f.find("time_samples")) {
-      const std::string key = f.path_of("time_samples");
-      const long long count = reader_.integer(samples->value, key);
-      const long long min = 2LL * o.harmonics + 2;
-      if (count < min || count > max_time_samples) {
-        reader_.fail(samples->value, key,
-                     fmt::format("must be in [2 harmonics + 2 = {}, {}], got {}", min,
-                                 max_time_samples, count));
-      }
-      o.time_samples = static_cast<int>(count);
-    }
+    read_harmonics(f, o.harmonics, o.time_samples);
     if (const auto* output = f.find("output_dof")) {
       const long long dof = reader_.integer(output->value, f.path_of("output_dof"));
       reader_.check(output->value, f.path_of("output_dof"), check_in_range(dof, 0, n - 1));
       o.output_dof = static_cast<int>(dof);
     }
-    if (const auto* selection = f.find("harmonic_selection")) {
-      const std::string key = f.path_of("harmonic_selection");
-      selection_node_ = selection->value;
-      const std::string name = reader_.text(selection->value, key);
-      reader_.check(selection->value, key, check_one_of(name, {"auto", "all", "odd"}));
-      o.selection = name == "all"   ? hb::HarmonicSelection::all
-                    : name == "odd" ? hb::HarmonicSelection::odd
-                                    : hb::HarmonicSelection::automatic;
-    }
-    if (const auto* tolerance = f.find("periodic_tolerance")) {
-      const std::string key = f.path_of("periodic_tolerance");
-      o.periodic_tolerance = reader_.number(tolerance->value, key);
-      reader_.check(tolerance->value, key, check_positive(o.periodic_tolerance));
-      if (o.periodic_tolerance > max_periodic_tolerance) {
-        reader_.fail(tolerance->value, key,
-                     fmt::format("must be in (0, {}], got {}", max_periodic_tolerance,
-                                 o.periodic_tolerance));
-      }
+    if (const auto* selection = read_selection(f, o.selection, o.periodic_tolerance)) {
+      selection_node_ = *selection;
     }
     if (const auto* check = f.find("check_jacobian")) {
       const std::string key = f.path_of("check_jacobian");
@@ -668,41 +683,8 @@ class DiscreteCaseReader {
         reader_.fail(range->value[1], item_path(key, 1), "must differ from start");
       }
     }
-    if (const auto* harmonics = f.find("harmonics")) {
-      const long long h = reader_.integer(harmonics->value, f.path_of("harmonics"));
-      reader_.check(harmonics->value, f.path_of("harmonics"), check_in_range(h, 1, max_harmonics));
-      o.mode.harmonics = static_cast<int>(h);
-    }
-    o.mode.time_samples = default_time_samples(o.mode.harmonics);
-    if (const auto* samples = f.find("time_samples")) {
-      const std::string key = f.path_of("time_samples");
-      const long long count = reader_.integer(samples->value, key);
-      const long long min = 2LL * o.mode.harmonics + 2;
-      if (count < min || count > max_time_samples) {
-        reader_.fail(samples->value, key,
-                     fmt::format("must be in [2 harmonics + 2 = {}, {}], got {}", min,
-                                 max_time_samples, count));
-      }
-      o.mode.time_samples = static_cast<int>(count);
-    }
-    if (const auto* selection = f.find("harmonic_selection")) {
-      const std::string key = f.path_of("harmonic_selection");
-      const std::string name = reader_.text(selection->value, key);
-      reader_.check(selection->value, key, check_one_of(name, {"auto", "all", "odd"}));
-      o.mode.selection = name == "all"   ? hb::HarmonicSelection::all
-                         : name == "odd" ? hb::HarmonicSelection::odd
-                                         : hb::HarmonicSelection::automatic;
-    }
-    if (const auto* tolerance = f.find("periodic_tolerance")) {
-      const std::string key = f.path_of("periodic_tolerance");
-      o.mode.periodic_tolerance = reader_.number(tolerance->value, key);
-      reader_.check(tolerance->value, key, check_positive(o.mode.periodic_tolerance));
-      if (o.mode.periodic_tolerance > max_periodic_tolerance) {
-        reader_.fail(tolerance->value, key,
-                     fmt::format("must be in (0, {}], got {}", max_periodic_tolerance,
-                                 o.mode.periodic_tolerance));
-      }
-    }
+    read_harmonics(f, o.mode.harmonics, o.mode.time_samples);
+    read_selection(f, o.mode.selection, o.mode.periodic_tolerance);
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }
