@@ -46,24 +46,6 @@ std::string selection_name(hb::HarmonicSelection s) {
   return "?";
 }
 
-std::string reason_name(continuation::StopReason r) {
-  switch (r) {
-    case continuation::StopReason::reached_end:
-      return "reached_end";
-    case continuation::StopReason::max_points:
-      return "max_points";
-    case continuation::StopReason::min_step:
-      return "min_step";
-    case continuation::StopReason::start_failed:
-      return "start_failed";
-    case continuation::StopReason::stopped_by_user:
-      return "stopped_by_user";
-    case continuation::StopReason::left_range:
-      return "left_range";
-  }
-  return "?";
-}
-
 Json inputs_json(const io::DiscreteCase& c) {
   const auto& s = c.system;
   Json damping = {{"model", c.damping_model}};
@@ -149,7 +131,7 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   Json j = {{"level", level},
             {"force_amplitude", force},
             {"status", curve.completed() ? "ok" : "failed"},
-            {"stop_reason", reason_name(curve.reason)},
+            {"stop_reason", std::string(continuation::to_string(curve.reason))},
             {"message", curve.message},
             {"points", curve.points.size()},
             {"newton_iterations", curve.newton_iterations},
@@ -312,7 +294,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Jso
     summary["backbones"].push_back(
         {{"mode", mode},
          {"status", curve.completed() ? "ok" : "failed"},
-         {"stop_reason", reason_name(curve.reason)},
+         {"stop_reason", std::string(continuation::to_string(curve.reason))},
          {"message", curve.message},
          {"linear_omega", curve.linear_omega},
          {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},

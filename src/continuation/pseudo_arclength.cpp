@@ -364,6 +364,24 @@ std::string Options::validate(Eigen::Index n) const {
   return {};
 }
 
+std::string_view to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::reached_end:
+      return "reached_end";
+    case StopReason::max_points:
+      return "max_points";
+    case StopReason::min_step:
+      return "min_step";
+    case StopReason::start_failed:
+      return "start_failed";
+    case StopReason::stopped_by_user:
+      return "stopped_by_user";
+    case StopReason::left_range:
+      return "left_range";
+  }
+  return "unknown";
+}
+
 Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const Options& options,
              const AcceptCallback& on_accept) {
   const Index n = x0.size();

@@ -41,24 +41,6 @@ struct Scenario {
   bool expect_complete = true;
 };
 
-std::string reason_name(cont::StopReason r) {
-  switch (r) {
-    case cont::StopReason::reached_end:
-      return "reached_end";
-    case cont::StopReason::max_points:
-      return "max_points";
-    case cont::StopReason::min_step:
-      return "min_step";
-    case cont::StopReason::start_failed:
-      return "start_failed";
-    case cont::StopReason::stopped_by_user:
-      return "stopped_by_user";
-    case cont::StopReason::left_range:
-      return "left_range";
-  }
-  return "unknown";
-}
-
 hb::DiscreteSystem one_dof(const std::string& law, double exponent, double slip_limit) {
   ContactSpec spec;
   spec.law = law;
@@ -161,18 +143,19 @@ int main(int argc, char** argv) {
         c.points.empty() ? hb::NonlinearModeState{} : c.points.back().state;
     table.row({s.name, std::to_string(s.mode), std::to_string(s.harmonics),
                std::to_string(s.samples), csv_number(s.lambda_start), csv_number(s.lambda_end),
-               c.completed() ? "yes" : "no", threw ? "exception" : reason_name(c.reason),
-               csv_text(c.message), std::to_string(c.points.size()),
-               std::to_string(c.newton_iterations), std::to_string(c.rejected_steps),
-               csv_number(c.seconds), csv_number(lambda_last), csv_number(c.linear_omega),
-               csv_number(last.omega), csv_number(last.damping_ratio), csv_number(energy),
-               csv_number(excess)});
+               c.completed() ? "yes" : "no",
+               threw ? "exception" : std::string(cont::to_string(c.reason)), csv_text(c.message),
+               std::to_string(c.points.size()), std::to_string(c.newton_iterations),
+               std::to_string(c.rejected_steps), csv_number(c.seconds), csv_number(lambda_last),
+               csv_number(c.linear_omega), csv_number(last.omega), csv_number(last.damping_ratio),
+               csv_number(energy), csv_number(excess)});
     fmt::print(
         "{:22s} {:3s} {:12s} {:5d} pts {:6d} it {:7.3f} s  λ_last {:6.2f}  Ω {:.4g}/{:.4g}  "
         "ζ {:.3g}  energy {:.1e}  Ω excess {:.1e}  | {}\n",
-        s.name, c.completed() ? "yes" : "NO", threw ? "exception" : reason_name(c.reason),
-        c.points.size(), c.newton_iterations, c.seconds, lambda_last, last.omega, c.linear_omega,
-        last.damping_ratio, energy, excess, c.message);
+        s.name, c.completed() ? "yes" : "NO",
+        threw ? "exception" : std::string(cont::to_string(c.reason)), c.points.size(),
+        c.newton_iterations, c.seconds, lambda_last, last.omega, c.linear_omega, last.damping_ratio,
+        energy, excess, c.message);
   }
   fmt::print("total {:.2f} s\n", seconds_since(start));
   return score.finish();

@@ -56,24 +56,6 @@ struct Scenario {
   bool expect_complete = true;  // false: a known stop, investigated in README_convergence.md
 };
 
-std::string reason_name(cont::StopReason r) {
-  switch (r) {
-    case cont::StopReason::reached_end:
-      return "reached_end";
-    case cont::StopReason::max_points:
-      return "max_points";
-    case cont::StopReason::min_step:
-      return "min_step";
-    case cont::StopReason::start_failed:
-      return "start_failed";
-    case cont::StopReason::stopped_by_user:
-      return "stopped_by_user";
-    case cont::StopReason::left_range:
-      return "left_range";
-  }
-  return "unknown";
-}
-
 Scenario one_dof(const std::string& name, const std::string& group, const ContactSpec& spec,
                  double zeta, double force) {
   Scenario s;
@@ -355,15 +337,17 @@ int main(int argc, char** argv) {
     const auto& c = o.curve;
     const std::string where = fmt::format("[{}]", s.name);
     score.check(c.completed() || !c.message.empty(),
-                fmt::format("{} stopped ({}) without a message", where, reason_name(c.reason)));
+                fmt::format("{} stopped ({}) without a message", where,
+                            std::string(cont::to_string(c.reason))));
     score.check(o.finite, fmt::format("{} non-finite values in an accepted point", where));
     score.check(o.max_residual <= tol,
                 fmt::format("{} re-evaluated residual {:.2e} above the tolerance {:.0e} ({} "
                             "points)",
                             where, o.max_residual, tol, o.relaxed));
     if (s.expect_complete) {
-      score.check(c.completed(), fmt::format("{} did not complete: {} ({} points): {}", where,
-                                             reason_name(c.reason), c.points.size(), c.message));
+      score.check(c.completed(),
+                  fmt::format("{} did not complete: {} ({} points): {}", where,
+                              std::string(cont::to_string(c.reason)), c.points.size(), c.message));
     }
     table.row({csv_text(s.name),
                csv_text(s.group),
@@ -373,7 +357,7 @@ int main(int argc, char** argv) {
                csv_number(s.omega_start),
                csv_number(s.omega_end),
                c.completed() ? "1" : "0",
-               reason_name(c.reason),
+               std::string(cont::to_string(c.reason)),
                csv_text(c.message),
                fmt::format("{}", c.points.size()),
                fmt::format("{}", o.folds),
@@ -406,7 +390,7 @@ int main(int argc, char** argv) {
     fmt::print(
         "{:<28} {:>4} {:>12} {:>6} {:>5} {:>4} {:>6} {:>10.3e} {:>8.4g} {:>8.2g} {:>5} "
         "{:>7.3f}\n",
-        s.name, o.curve.completed() ? "yes" : "NO", reason_name(o.curve.reason),
+        s.name, o.curve.completed() ? "yes" : "NO", std::string(cont::to_string(o.curve.reason)),
         o.curve.points.size(), o.folds, o.curve.rejected_steps, o.curve.newton_iterations, o.max_x,
         o.peak_omega, o.max_residual / tol, o.relaxed, o.seconds);
     if (!o.curve.completed()) {

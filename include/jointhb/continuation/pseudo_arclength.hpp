@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace jointhb::continuation {
@@ -76,6 +77,9 @@ enum class StopReason {
   stopped_by_user,  ///< the accept callback returned false
   left_range,       ///< the branch turned back across parameter_start (last point on it)
 };
+
+/// The enumerator's name ("reached_end", "min_step", ...), as written to summary files.
+[[nodiscard]] std::string_view to_string(StopReason reason);
 
 struct Result {
   std::vector<Point> points;
