@@ -32,6 +32,7 @@
 
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/timeint/den_hartog.hpp"
+#include "study_arguments.hpp"
 
 namespace {
 
@@ -105,20 +106,10 @@ Solution solve(double kappa, double r, double omega, int harmonics, int samples,
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool ci = false;
-  std::string prefix;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--ci") {
-      ci = true;
-    } else {
-      prefix = a;
-    }
-  }
-  if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-    return 2;
-  }
+  const study::Arguments args = study::parse_arguments(argc, argv);
+  if (!args.ok) return 2;
+  const bool ci = args.ci;
+  const std::string& prefix = args.prefix;
   const double r = 0.3;
   const int harmonics = 31;
   const int samples = 1024;

@@ -43,6 +43,7 @@
 
 #include "jointhb/contact/closed_forms.hpp"
 #include "jointhb/continuation/backbone.hpp"
+#include "study_arguments.hpp"
 
 namespace {
 
@@ -247,20 +248,10 @@ double worst_over(const Run& r, const std::vector<double> Run::*errors, double f
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool ci = false;
-  std::string prefix;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--ci") {
-      ci = true;
-    } else {
-      prefix = a;
-    }
-  }
-  if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-    return 2;
-  }
+  const study::Arguments args = study::parse_arguments(argc, argv);
+  if (!args.ok) return 2;
+  const bool ci = args.ci;
+  const std::string& prefix = args.prefix;
   const std::vector<double> exponents = {1.0 / 3.0, 0.1, 0.6, 0.9};
   const std::vector<int> sample_counts =
       ci ? std::vector<int>{1024, 4096} : std::vector<int>{256, 1024, 4096, 16384};

@@ -64,6 +64,7 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/hb/nonlinear_mode.hpp"
 #include "jointhb/timeint/ring_down.hpp"
+#include "study_arguments.hpp"
 
 namespace {
 
@@ -215,23 +216,10 @@ struct Stats {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool ci = false;
-  std::string prefix;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--ci") {
-      ci = true;
-    } else if (prefix.empty() && !arg.empty() && arg[0] != '-') {
-      prefix = arg;
-    } else {
-      prefix.clear();
-      break;
-    }
-  }
-  if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-    return 2;
-  }
+  const study::Arguments args = study::parse_arguments(argc, argv);
+  if (!args.ok) return 2;
+  const bool ci = args.ci;
+  const std::string& prefix = args.prefix;
   const int harmonics = ci ? 5 : 7;
   const int samples = ci ? 64 : 128;
   const int steps = ci ? 128 : 256;

@@ -29,6 +29,7 @@
 
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
+#include "study_arguments.hpp"
 
 namespace {
 
@@ -95,20 +96,10 @@ double interpolate_log(const std::vector<double>& q, const std::vector<double>& 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool ci = false;
-  std::string prefix;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--ci") {
-      ci = true;
-    } else {
-      prefix = a;
-    }
-  }
-  if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-    return 2;
-  }
+  const study::Arguments args = study::parse_arguments(argc, argv);
+  if (!args.ok) return 2;
+  const bool ci = args.ci;
+  const std::string& prefix = args.prefix;
   auto out = fmt::output_file(prefix + "_table.csv");
   out.print("case,force,q_peak,omega_peak,omega_backbone,zeta_backbone,rel_distance,bound\n");
   int failures = 0;

@@ -29,6 +29,7 @@
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/fourier.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
+#include "study_arguments.hpp"
 
 namespace study {
 
@@ -44,33 +45,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 inline double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// ---------------------------------------------------------------------------------------------
-// Command line: PROGRAM [--ci] OUTPUT_PREFIX
-// ---------------------------------------------------------------------------------------------
-
-struct Arguments {
-  bool ci = false;     // reduced, still scored sweep (ctest)
-  std::string prefix;  // tables are written to prefix + "_<table>.csv"
-  bool ok = false;
-};
-
-inline Arguments parse_arguments(int argc, char** argv) {
-  Arguments a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--ci") {
-      a.ci = true;
-    } else if (a.prefix.empty() && !arg.empty() && arg[0] != '-') {
-      a.prefix = arg;
-    } else {
-      return a;
-    }
-  }
-  a.ok = !a.prefix.empty();
-  if (!a.ok) std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-  return a;
 }
 
 // ---------------------------------------------------------------------------------------------

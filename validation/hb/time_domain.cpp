@@ -41,6 +41,7 @@
 
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/timeint/newmark.hpp"
+#include "study_arguments.hpp"
 
 namespace {
 
@@ -182,20 +183,10 @@ TiPoint time_integration(const System& s, const hb::Excitation& e, double omega,
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool ci = false;
-  std::string prefix;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--ci") {
-      ci = true;
-    } else {
-      prefix = a;
-    }
-  }
-  if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
-    return 2;
-  }
+  const study::Arguments args = study::parse_arguments(argc, argv);
+  if (!args.ok) return 2;
+  const bool ci = args.ci;
+  const std::string& prefix = args.prefix;
   const int frequencies = ci ? 8 : 10;
   const int n_coarse = ci ? 512 : 2048;
   const int n_fine = 2 * n_coarse;
