@@ -77,6 +77,19 @@ Eigen::VectorXd NonlinearModeResidual::linear_start() const {
   return y;
 }
 
+std::pair<Eigen::VectorXd, Eigen::VectorXd> NonlinearModeResidual::harmonic(
+    const Eigen::VectorXd& x, int order) const {
+  const int n = system_.dofs();
+  const int m = balance_.basis().size();
+  const int c = balance_.basis().cosine_index(order);
+  Eigen::VectorXd a(n), b(n);
+  for (int i = 0; i < n; ++i) {
+    a[i] = x[static_cast<Eigen::Index>(i) * m + c];
+    b[i] = x[static_cast<Eigen::Index>(i) * m + c + 1];
+  }
+  return {a, b};
+}
+
 Eigen::VectorXd NonlinearModeResidual::velocity_product(const SparseMatrix& a,
                                                         const Eigen::VectorXd& x) const {
   const FourierBasis& basis = balance_.basis();
@@ -85,11 +98,7 @@ Eigen::VectorXd NonlinearModeResidual::velocity_product(const SparseMatrix& a,
   Eigen::VectorXd out = Eigen::VectorXd::Zero(x.size());
   for (int k : basis.orders()) {
     const int c = basis.cosine_index(k);
-    Eigen::VectorXd ak(n), bk(n);
-    for (int i = 0; i < n; ++i) {
-      ak[i] = x[static_cast<Eigen::Index>(i) * m + c];
-      bk[i] = x[static_cast<Eigen::Index>(i) * m + c + 1];
-    }
+    const auto [ak, bk] = harmonic(x, k);
     const Eigen::VectorXd abk = a * bk;
     const Eigen::VectorXd aak = a * ak;
     for (int i = 0; i < n; ++i) {
@@ -126,11 +135,7 @@ void NonlinearModeResidual::evaluate(const Eigen::VectorXd& y, double lambda, bo
   const int n = system_.dofs();
   const int m = basis.size();
   const int c1 = basis.cosine_index(1);
-  Eigen::VectorXd a1(n), b1(n);
-  for (int i = 0; i < n; ++i) {
-    a1[i] = xh[static_cast<Eigen::Index>(i) * m + c1];
-    b1[i] = xh[static_cast<Eigen::Index>(i) * m + c1 + 1];
-  }
+  const auto [a1, b1] = harmonic(xh, 1);
   const Eigen::VectorXd ma1 = system_.mass * a1;
   const Eigen::VectorXd mb1 = system_.mass * b1;
   out.residual[nx] = a1.dot(ma1) + b1.dot(mb1) - 1.0;
@@ -186,17 +191,9 @@ NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double
                         ? 0.0
                         : static_cast<double>(slipping) / static_cast<double>(hb.contacts.size());
   // Works over one period: ∮ ẋᵀ A ẋ dt = π Ω Σ_k k² (a_kᵀ A a_k + b_kᵀ A b_k).
-  const FourierBasis& basis = balance_.basis();
-  const int n = system_.dofs();
-  const int m = basis.size();
   double em = 0.0, ec = 0.0;
-  for (int k : basis.orders()) {
-    const int c = basis.cosine_index(k);
-    Eigen::VectorXd ak(n), bk(n);
-    for (int i = 0; i < n; ++i) {
-      ak[i] = x[static_cast<Eigen::Index>(i) * m + c];
-      bk[i] = x[static_cast<Eigen::Index>(i) * m + c + 1];
-    }
+  for (int k : balance_.basis().orders()) {
+    const auto [ak, bk] = harmonic(x, k);
     em += k * k * (ak.dot(system_.mass * ak) + bk.dot(system_.mass * bk));
     if (system_.damping.nonZeros()) {
       ec += k * k * (ak.dot(system_.damping * ak) + bk.dot(system_.damping * bk));

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jointhb/hb/discrete_system.hpp"
@@ -76,6 +77,9 @@ class NonlinearModeResidual {
   [[nodiscard]] NonlinearModeState state(const Eigen::VectorXd& y, double lambda) const;
 
  private:
+  // (a_k, b_k): the DOF vectors of harmonic `order` in DOF-major coefficients x.
+  [[nodiscard]] std::pair<Eigen::VectorXd, Eigen::VectorXd> harmonic(const Eigen::VectorXd& x,
+                                                                     int order) const;
   // The velocity blocks of a symmetric matrix A times the coefficients: Σ_k k [A b_k; −A a_k].
   [[nodiscard]] Eigen::VectorXd velocity_product(const SparseMatrix& a,
                                                  const Eigen::VectorXd& x) const;
