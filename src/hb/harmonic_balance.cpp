@@ -91,24 +91,22 @@ struct HarmonicBalance::Impl {
     }
   }
 
-  // S(Ω) (and S'(Ω) when `derivative`) into j.
-  void assemble_linear(double omega, bool derivative, Eigen::MatrixXd& j) const {
+  // S(Ω) into j (∂R/∂Ω = S'(Ω) X is formed directly as a vector in evaluate).
+  void assemble_linear(double omega, Eigen::MatrixXd& j) const {
     const SparseMatrix& k = system.stiffness;
     const SparseMatrix& mass = system.mass;
     const SparseMatrix& c = system.damping;
-    if (basis.has_mean() && !derivative) scatter(k, 1.0, 0, 0, j);
+    if (basis.has_mean()) scatter(k, 1.0, 0, 0, j);
     for (int h : basis.orders()) {
       const int a = basis.cosine_index(h);
       const double w = h * omega;
-      // S_k: [K − w² M, w C; −w C, K − w² M];  dS_k/dΩ: [−2 h w M, h C; −h C, −2 h w M]
-      const double mass_factor = derivative ? -2.0 * h * w : -w * w;
-      const double damping_factor = derivative ? h : w;
+      // S_k: [K − w² M, w C; −w C, K − w² M]
       for (int p = 0; p < 2; ++p) {
-        if (!derivative) scatter(k, 1.0, a + p, a + p, j);
-        scatter(mass, mass_factor, a + p, a + p, j);
+        scatter(k, 1.0, a + p, a + p, j);
+        scatter(mass, -w * w, a + p, a + p, j);
       }
-      scatter(c, damping_factor, a, a + 1, j);
-      scatter(c, -damping_factor, a + 1, a, j);
+      scatter(c, w, a, a + 1, j);
+      scatter(c, -w, a + 1, a, j);
     }
   }
 
@@ -226,7 +224,7 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, bool jaco
   if (jacobian) {
     out.d_omega = Eigen::Map<const Eigen::VectorXd>(dr.data(), size);
     out.d_coefficients.setZero(size, size);
-    p.assemble_linear(omega, false, out.d_coefficients);
+    p.assemble_linear(omega, out.d_coefficients);
   }
   p.timings.assembly += seconds_since(start);
 
@@ -292,7 +290,7 @@ Eigen::VectorXd HarmonicBalance::stuck_solution(double omega, double forcing_sca
   const Impl& p = *impl_;
   const Eigen::Index size = unknowns();
   Eigen::MatrixXd j = Eigen::MatrixXd::Zero(size, size);
-  p.assemble_linear(omega, false, j);
+  p.assemble_linear(omega, j);
   Eigen::VectorXd rhs = forcing_scale * p.forcing;
   const int m = p.m();
   for (const auto& c : p.system.contacts) {
