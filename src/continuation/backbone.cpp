@@ -43,17 +43,8 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
 
   const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
     hb::NonlinearModeResidual::Evaluation e;
+    epmc.evaluate(y, lambda, jacobian, e);
     Evaluation out;
-    try {
-      epmc.evaluate(y, lambda, jacobian, e);
-    } catch (const std::exception& error) {
-      // A point the laws cannot evaluate (e.g. a non-finite path from a diverging corrector)
-      // rejects the step; it must not end the run with an exception.
-      out.ok = false;
-      out.message = error.what();
-      out.residual = Eigen::VectorXd::Constant(y.size(), std::numeric_limits<double>::quiet_NaN());
-      return out;
-    }
     out.ok = e.ok;
     out.message = std::move(e.message);
     out.residual = std::move(e.residual);

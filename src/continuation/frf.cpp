@@ -232,15 +232,8 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   double last_omega = std::numeric_limits<double>::quiet_NaN();
   const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
     Evaluation e;
-    try {
-      balance.evaluate(x, omega, jacobian, last);
-    } catch (const std::exception& error) {  // rejects the step instead of ending the run
-      e.ok = false;
-      e.message = error.what();
-      e.residual = Eigen::VectorXd::Constant(x.size(), std::numeric_limits<double>::quiet_NaN());
-      last_x.resize(0);
-      return e;
-    }
+    last_x.resize(0);  // an evaluation that throws leaves no valid cache behind
+    balance.evaluate(x, omega, jacobian, last);
     last_x = x;
     last_omega = omega;
     e.ok = last.ok;
@@ -257,7 +250,8 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   curve.kept_harmonics = basis.orders();
   if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
   const AcceptCallback accept = [&](const Point& p) {
-    if (p.lambda != last_omega || p.x != last_x) balance.evaluate(p.x, p.lambda, false, last);
+    if (p.lambda != last_omega || p.x.size() != last_x.size() || p.x != last_x)
+      balance.evaluate(p.x, p.lambda, false, last);
     FrfPoint f;
     f.omega = p.lambda;
     f.amplitude_h1 = balance.fundamental_amplitude(p.x, options.output_dof);

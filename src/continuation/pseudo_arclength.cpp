@@ -252,7 +252,15 @@ class Tracer {
     // The Jacobian is always requested: the corrector needs it unless converged, and a converged
     // point needs it for its tangent.
     const auto start = Clock::now();
-    const Evaluation e = residual_(sample.x, sample.lambda, true);
+    Evaluation e;
+    try {
+      e = residual_(sample.x, sample.lambda, true);
+    } catch (const std::exception& error) {
+      // A point the model cannot evaluate (e.g. a contact law refusing a path from a diverging
+      // corrector) is a failed evaluation like ok = false: the step is rejected, the run goes on.
+      e.ok = false;
+      e.message = error.what();
+    }
     result_.evaluation_seconds += seconds_since(start);
     ++result_.evaluations;
     if (!e.ok) {

@@ -99,7 +99,8 @@ using AcceptCallback = std::function<bool(const Point&)>;
 
 /// Traces the branch from the initial guess x0 at λ = options.parameter_start (corrected at fixed
 /// λ first). Throws std::invalid_argument on invalid options; never throws for a numerical
-/// failure (it is reported in the result). Non-finite residuals count as a failed corrector.
+/// failure (it is reported in the result). Non-finite residuals, and exceptions thrown by the
+/// residual function, count as a failed evaluation (the step is rejected).
 Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const Options& options,
              const AcceptCallback& on_accept = {});
 

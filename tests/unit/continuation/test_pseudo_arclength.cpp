@@ -264,6 +264,24 @@ TEST(ContinuationArclength, FailedEvaluationsStopAtMinStepKeepingThePoints) {
   EXPECT_GT(r.rejected_steps, 0);
 }
 
+TEST(ContinuationArclength, ThrowingResidualIsAFailedEvaluationNotAnAbort) {
+  const auto base = LinearProblem().residual();
+  jcont::Options o;
+  o.parameter_start = 0.0;
+  o.parameter_end = 1.0;
+  o.min_step = 1e-6;
+  const auto throwing = [&](const VectorXd& x, double lambda, bool jacobian) {
+    if (lambda > 0.5) throw std::invalid_argument("path outside the law's domain");
+    return base(x, lambda, jacobian);
+  };
+  jcont::Result r;
+  ASSERT_NO_THROW(r = jcont::trace(throwing, VectorXd::Zero(3), o));
+  ASSERT_EQ(r.reason, jcont::StopReason::min_step) << describe(r);
+  EXPECT_NE(r.message.find("path outside the law's domain"), std::string::npos) << r.message;
+  ASSERT_GE(r.points.size(), 2u);
+  for (const auto& p : r.points) EXPECT_LE(p.lambda, 0.5);
+}
+
 TEST(ContinuationArclength, NonFiniteResidualIsAFailedStepNeverAnAcceptedPoint) {
   const auto base = s_curve();
   jcont::Options o;
