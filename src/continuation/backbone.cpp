@@ -39,17 +39,23 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   c.state_scale = Eigen::VectorXd::Ones(epmc.unknowns());
   c.state_scale[epmc.unknowns() - 2] = epmc.linear_omega();
   c.state_scale[epmc.unknowns() - 1] = 0.1 * epmc.linear_omega();
-  c.residual_scale = 1.0;  // R̂ is scaled by 1/q: a stiffness times an O(1) shape
 
+  // The last evaluation's contact results are kept so that an accepted point's diagnostics cost
+  // no extra evaluation when the corrector ended on it (as in trace_frf).
+  hb::NonlinearModeResidual::Evaluation last;
+  Eigen::VectorXd last_y;
+  double last_lambda = std::numeric_limits<double>::quiet_NaN();
   const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
-    hb::NonlinearModeResidual::Evaluation e;
-    epmc.evaluate(y, lambda, jacobian, e);
+    last_y.resize(0);  // an evaluation that throws leaves no valid cache behind
+    epmc.evaluate(y, lambda, jacobian, last);
+    last_y = y;
+    last_lambda = lambda;
     Evaluation out;
-    out.ok = e.ok;
-    out.message = std::move(e.message);
-    out.residual = std::move(e.residual);
-    out.d_state = std::move(e.d_state);
-    out.d_parameter = std::move(e.d_parameter);
+    out.ok = last.ok;
+    out.message = last.message;
+    out.residual = std::move(last.residual);
+    out.d_state = std::move(last.d_state);
+    out.d_parameter = std::move(last.d_parameter);
     return out;
   };
   // R̂'s scale: the stiffness seen by the mode, ω² (mass-normalised shape).
@@ -57,7 +63,8 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
 
   const AcceptCallback accept = [&](const Point& p) {
     BackbonePoint b;
-    b.state = epmc.state(p.x, p.lambda);
+    const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
+    b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
     b.iterations = p.iterations;
     b.step = p.step;
     b.unknowns = p.x;

@@ -124,6 +124,8 @@ void NonlinearModeResidual::evaluate(const Eigen::VectorXd& y, double lambda, bo
   balance_.evaluate(q * xh, omega, jacobian, hb);
   out.ok = hb.ok;
   out.message = hb.message;
+  out.fourier_dissipation = hb.fourier_dissipation;
+  out.contacts = hb.contacts;
 
   // R̂ = R(q X̂)/q − ξ Ω V_M X̂   (V_M: velocity blocks of M)
   const Eigen::VectorXd vm = velocity_product(system_.mass, xh);
@@ -174,7 +176,8 @@ void NonlinearModeResidual::evaluate(const Eigen::VectorXd& y, double lambda, bo
   out.d_parameter.head(nx) = (hb.d_coefficients * xh - r1) * kLn10;
 }
 
-NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double lambda) const {
+NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double lambda,
+                                                const Evaluation* at_point) const {
   const Eigen::Index nx = balance_.unknowns();
   const double q = std::pow(10.0, lambda);
   const Eigen::VectorXd x = q * y.head(nx);
@@ -182,14 +185,17 @@ NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double
   s.amplitude = q;
   s.omega = y[nx];
   s.damping_ratio = y[nx + 1] / (2.0 * s.omega);
-  HarmonicBalanceEvaluation hb;
-  balance_.evaluate(x, s.omega, false, hb);
-  s.dissipation = hb.fourier_dissipation;
+  Evaluation here;
+  if (at_point == nullptr) {
+    evaluate(y, lambda, false, here);
+    at_point = &here;
+  }
+  s.dissipation = at_point->fourier_dissipation;
   int slipping = 0;
-  for (const auto& c : hb.contacts) slipping += c.stuck ? 0 : 1;
-  s.slip_fraction = hb.contacts.empty()
-                        ? 0.0
-                        : static_cast<double>(slipping) / static_cast<double>(hb.contacts.size());
+  for (const auto& c : at_point->contacts) slipping += c.stuck ? 0 : 1;
+  s.slip_fraction = at_point->contacts.empty() ? 0.0
+                                               : static_cast<double>(slipping) /
+                                                     static_cast<double>(at_point->contacts.size());
   // Works over one period: ∮ ẋᵀ A ẋ dt = π Ω Σ_k k² (a_kᵀ A a_k + b_kᵀ A b_k).
   double em = 0.0, ec = 0.0;
   for (int k : balance_.basis().orders()) {

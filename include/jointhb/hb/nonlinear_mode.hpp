@@ -70,11 +70,16 @@ class NonlinearModeResidual {
     Eigen::VectorXd d_parameter;
     bool ok = true;
     std::string message;
+    double fourier_dissipation = 0.0;          ///< Σ contact W_D at (q X̂, Ω) [J]
+    std::vector<ContactDiagnostics> contacts;  ///< per contact at (q X̂, Ω)
   };
   void evaluate(const Eigen::VectorXd& y, double lambda, bool jacobian, Evaluation& out) const;
 
-  /// Physical diagnostics of a converged point.
-  [[nodiscard]] NonlinearModeState state(const Eigen::VectorXd& y, double lambda) const;
+  /// Physical diagnostics of a converged point. `at_point`, when given, is this residual's
+  /// evaluation at exactly (y, λ) (e.g. the corrector's last): its contact results are reused
+  /// instead of evaluating the contacts again.
+  [[nodiscard]] NonlinearModeState state(const Eigen::VectorXd& y, double lambda,
+                                         const Evaluation* at_point = nullptr) const;
 
  private:
   // (a_k, b_k): the DOF vectors of harmonic `order` in DOF-major coefficients x.
