@@ -146,9 +146,12 @@ Eigen::MatrixXd FourierBasis::to_frequency(const Eigen::MatrixXd& samples) const
   Eigen::MatrixXd coefficients(size(), m);
   if (m == 0) return coefficients;
   std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(half * m));
-  Eigen::MatrixXd input = samples;  // r2c may not preserve its input for batched plans
   const auto plan = plans_->get(m).forward;
-  fftw_execute_dft_r2c(plan, input.data(), reinterpret_cast<fftw_complex*>(spectrum.data()));
+  // An out-of-place r2c plan preserves its input (FFTW_PRESERVE_INPUT is the default for every
+  // transform but c2r), so the samples are passed as they are, without a copy; only the C API's
+  // signature needs the const_cast.
+  fftw_execute_dft_r2c(plan, const_cast<double*>(samples.data()),
+                       reinterpret_cast<fftw_complex*>(spectrum.data()));
   // X_k = Σ x_i e^{−2πiki/N}: a_k = (2/N) Re X_k, b_k = −(2/N) Im X_k, x_0 = X_0/N.
   const double scale = 2.0 / n;
   for (Eigen::Index j = 0; j < m; ++j) {

@@ -62,6 +62,14 @@ TEST(FourierBasis, RoundTripIsIdentityForFullAndOddBases) {
   }
 }
 
+TEST(FourierBasis, ForwardTransformLeavesItsInputUnchanged) {
+  const FourierBasis b(5, 32);
+  const Eigen::MatrixXd x = random_matrix(32, 4, 11);
+  const Eigen::MatrixXd copy = x;
+  (void)b.to_frequency(x);
+  EXPECT_EQ(x, copy);
+}
+
 TEST(FourierBasis, ParsevalHolds) {
   const FourierBasis b(7, 64);
   const Eigen::MatrixXd c = random_matrix(b.size(), 3, 7);
