@@ -1,9 +1,10 @@
 // Damping curves by EPMC continued over log10 q (continuation/backbone.hpp).
 #include "jointhb/continuation/backbone.hpp"
 
+#include "../support/stopwatch.hpp"
+
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -23,7 +24,7 @@ std::string BackboneOptions::validate(int dofs) const {
 
 BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOptions& options,
                              const std::function<bool(const BackbonePoint&)>& on_point) {
-  const auto start_time = std::chrono::steady_clock::now();
+  const auto start_time = support::Clock::now();
   if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
   const hb::NonlinearModeResidual epmc(system, options.mode);
   BackboneCurve curve;
@@ -76,8 +77,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   curve.message = r.message;
   curve.newton_iterations = r.corrector_iterations;
   curve.rejected_steps = r.rejected_steps;
-  curve.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  curve.seconds = support::seconds_since(start_time);
   return curve;
 }
 

@@ -1,6 +1,8 @@
 // Nonlinear FRF: harmonic balance continued over Ω (continuation/frf.hpp).
 #include "jointhb/continuation/frf.hpp"
 
+#include "../support/stopwatch.hpp"
+
 #include <fmt/format.h>
 
 #include "jointhb/hb/jacobian_check.hpp"
@@ -15,11 +17,8 @@
 namespace jointhb::continuation {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+using support::Clock;
+using support::seconds_since;
 
 hb::HarmonicBalanceOptions balance_options(const FrfOptions& o) {
   hb::HarmonicBalanceOptions b;

@@ -10,6 +10,8 @@
 //   τ_kᵀ (y - y_k) = s (arclength, Keller 1977):  c = τ_k,  d = τ_kᵀ y_k + s.
 #include "jointhb/continuation/pseudo_arclength.hpp"
 
+#include "../support/stopwatch.hpp"
+
 #include <fmt/format.h>
 
 #include <Eigen/LU>
@@ -26,10 +28,11 @@
 namespace jointhb::continuation {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using support::Clock;
+using support::seconds_since;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -49,10 +52,6 @@ constexpr double kCornerStepFactor = 0.05;
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {

@@ -1,5 +1,7 @@
 #include "jointhb/hb/harmonic_balance.hpp"
 
+#include "../support/stopwatch.hpp"
+
 #include <fmt/format.h>
 
 #include <Eigen/LU>
@@ -13,12 +15,9 @@
 namespace jointhb::hb {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using support::Clock;
+using support::seconds_since;
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 constexpr int kMaxHarmonics = 1024;
 constexpr int kMaxTimeSamples = 1 << 20;

@@ -14,6 +14,8 @@
 // Newton cannot cycle between the stuck and sliding tangents.
 #include "jointhb/timeint/newmark.hpp"
 
+#include "../support/stopwatch.hpp"
+
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
@@ -34,12 +36,9 @@ namespace {
 
 using hb::SparseMatrix;
 using Vec = Eigen::VectorXd;
-using Clock = std::chrono::steady_clock;
+using support::Clock;
+using support::seconds_since;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::vector<double> reference_forces(const hb::DiscreteSystem& system, const Vec& x) {
   std::vector<double> f;
