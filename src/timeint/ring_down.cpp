@@ -151,6 +151,26 @@ std::string RingDownOptions::validate() const {
   return {};
 }
 
+std::vector<TwoCycleEstimate> two_cycle_estimates(const std::vector<RingDownCycle>& cycles) {
+  std::vector<TwoCycleEstimate> estimates;
+  for (std::size_t k = 0; k + 1 < cycles.size(); ++k) {
+    const RingDownCycle& cy = cycles[k];
+    const RingDownCycle& next = cycles[k + 1];
+    const double rk = cy.first_peak - cy.trough, uk = cy.second_peak - cy.trough;
+    const double rn = next.first_peak - next.trough, un = next.second_peak - next.trough;
+    if (!(rk > 0.0 && uk > 0.0 && rn > 0.0 && un > 0.0)) continue;
+    const double delta = 0.5 * (std::log(rk / rn) + std::log(uk / un));
+    TwoCycleEstimate e;
+    e.cycle = k;
+    e.time = 0.5 * (cy.time + next.time);
+    e.amplitude = 0.5 * std::pow(rk * uk * rn * un, 0.25);
+    e.omega = std::sqrt(cy.omega * next.omega);
+    e.damping_ratio = delta / std::sqrt(4.0 * pi * pi + delta * delta);
+    estimates.push_back(e);
+  }
+  return estimates;
+}
+
 RingDownResult ring_down(const hb::DiscreteSystem& system, const RingDownOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (const std::string msg = options.validate(); !msg.empty()) {

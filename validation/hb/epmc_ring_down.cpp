@@ -25,8 +25,8 @@
 // Damping estimate. The Gaul–Mayer law unloads elastically to F = 0 and reloads on the virgin curve
 // (no reversal memory): a decay leaves the joints with residual forces, the oscillation centre
 // drifts slowly (ratcheting) and the library's per-cycle ζ_k, which assumes a fixed centre, is
-// biased (47 % for gm1; column lib_zeta, err_zeta_lib). The study therefore uses its own estimate
-// over two cycles: peak-to-trough ranges one period apart, R_k = q̂_k − q̌_k, U_k = q̂_{k+1} − q̌_k,
+// biased (47 % for gm1; column lib_zeta, err_zeta_lib). The study therefore uses the library's
+// drift-tolerant estimate timeint::two_cycle_estimates over two cycles: peak-to-trough ranges one period apart, R_k = q̂_k − q̌_k, U_k = q̂_{k+1} − q̌_k,
 //   δ = ½[ln(R_k/R_{k+1}) + ln(U_k/U_{k+1})],  ζ = δ/√(4π² + δ²),  a = ½ (R_k U_k R_{k+1}
 //   U_{k+1})^¼,
 // where a linear drift of the centre cancels to first order (no Δt correction: ≤ 1e-4 at N = 256).
@@ -276,19 +276,14 @@ int main(int argc, char** argv) {
         s.decayed = false;
         fail(fmt::format("{}: ring-down from q0 = {} did not decay: {}", c.name, q0, r.message));
       }
-      for (std::size_t k = 0; k + 1 < r.cycles.size(); ++k) {
+      for (const timeint::TwoCycleEstimate& est : timeint::two_cycle_estimates(r.cycles)) {
+        const std::size_t k = est.cycle;
         const auto& cy = r.cycles[k];
-        const auto& next = r.cycles[k + 1];
-        // Drift-free estimate over two cycles: the peak-to-trough ranges one period apart, down
-        // swings R = q̂_k − q̌_k and up swings U = q̂_{k+1} − q̌_k; a centre that moves linearly in
-        // time cancels from ln(R_k/R_{k+1}) to first order. Centred on the peak q̂_{k+1}.
-        const double rk = cy.first_peak - cy.trough, uk = cy.second_peak - cy.trough;
-        const double rn = next.first_peak - next.trough, un = next.second_peak - next.trough;
-        if (!(rk > 0 && uk > 0 && rn > 0 && un > 0)) continue;
-        const double delta = 0.5 * (std::log(rk / rn) + std::log(uk / un));
-        const double amplitude = 0.5 * std::pow(rk * uk * rn * un, 0.25);
-        const double zeta_df = delta / std::sqrt(4.0 * kPi * kPi + delta * delta);
-        const double omega_raw = std::sqrt(cy.omega * next.omega);
+        // The library's drift-tolerant estimate over cycles k, k+1 (timeint/ring_down.hpp).
+        const double amplitude = est.amplitude;
+        const double zeta_df = est.damping_ratio;
+        const double omega_raw = est.omega;
+        const double delta = 2.0 * kPi * zeta_df / std::sqrt(1.0 - zeta_df * zeta_df);  // ln ratio
         double w = 0, z = 0, wf = 0, zf = 0;
         if (!interpolate(
                 e, [](const EpmcPoint& p) { return p.q_peak; }, amplitude, w, z)) {
@@ -350,7 +345,7 @@ int main(int argc, char** argv) {
           cycle_out.print(
               "{},{:.3g},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},"
               "{:.8g},{:.4e},{:.4e},{:.4e},{:.4e},{:.8g},{:.8g},{:.4e},{:.4e},{:.4e},{}\n",
-              c.name, q0, k, 0.5 * (cy.time + next.time), amplitude, cy.centre, omega_raw, omega_n,
+              c.name, q0, k, est.time, amplitude, cy.centre, omega_raw, omega_n,
               zeta_df, cy.amplitude, cy.damping_ratio, w, z, err_omega, err_omega_raw, err_zeta,
               err_zeta_lib, wf, zf, err_omega_fund, err_zeta_fund, smear, scored ? 1 : 0);
         }

@@ -268,3 +268,38 @@ TEST(RingDownValidation, ValidateNamesTheField) {
   bad.mode = 2;
   EXPECT_THROW((void)ti::ring_down(one_dof(0.01), bad), std::invalid_argument);
 }
+
+// Synthetic cycles of q(t) = c0 + v t + A r^(t/T) cos(2πt/T) sampled at its peaks and troughs: the
+// fixed-centre ζ_k is biased by the drift v, the two-cycle estimate cancels it to first order.
+TEST(RingDownTwoCycle, DriftingCentreCancelsToFirstOrder) {
+  const double period = 0.01, amplitude = 1.0, r = 0.9, drift = 5e-3 / period;  // v T = 5e-3 A
+  const double delta = -std::log(r), zeta = delta / std::sqrt(4.0 * pi * pi + delta * delta);
+  const auto q_at = [&](double t, double sign) {
+    return drift * t + sign * amplitude * std::pow(r, t / period);
+  };
+  std::vector<ti::RingDownCycle> cycles;
+  for (int k = 0; k < 6; ++k) {
+    ti::RingDownCycle c;
+    c.first_peak = q_at(k * period, 1.0);
+    c.trough = q_at((k + 0.5) * period, -1.0);
+    c.second_peak = q_at((k + 1) * period, 1.0);
+    c.time = (k + 0.5) * period;
+    c.omega = 2.0 * pi / period;
+    cycles.push_back(c);
+  }
+  const auto estimates = ti::two_cycle_estimates(cycles);
+  ASSERT_EQ(estimates.size(), 5u);
+  for (const auto& e : estimates) {
+    // Drift enters at second order: (vT/(2 a))² ~ 1e-5 relative, against ~1e-2 at first order.
+    EXPECT_NEAR(e.damping_ratio / zeta - 1.0, 0.0, 2e-4) << "cycle " << e.cycle;
+    EXPECT_NEAR(e.omega, 2.0 * pi / period, 1e-12);
+    EXPECT_GT(e.amplitude, 0.0);
+  }
+  // The same data read with a fixed centre (the first-order estimate) is off by ≥ 1e-3.
+  const auto& c0 = cycles[2];
+  const double biased = std::log((c0.first_peak - c0.trough) / (c0.second_peak - c0.trough));
+  EXPECT_GT(std::abs(biased / delta - 1.0), 1e-3);
+  // A pair that is not a decaying oscillation (a range ≤ 0) is skipped.
+  cycles[3].trough = cycles[3].first_peak + 1.0;
+  EXPECT_EQ(ti::two_cycle_estimates(cycles).size(), 3u);
+}
