@@ -1,0 +1,272 @@
+#include "jointhb/fe/inp_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <string>
+
+#include "jointhb/fe/box_mesh.hpp"
+#include "jointhb/fe/mesh_checks.hpp"
+#include "jointhb/fe/mesh_file_error.hpp"
+#include "unit/io/temp_file.hpp"
+
+namespace jointhb::fe {
+namespace {
+
+using io::testing::TempFile;
+
+// Two C3D8 elements side by side along x (nodes 1-12), with sets, a surface and cards to skip.
+const char* const kTwoBricks = R"(*HEADING
+two bricks
+** a comment line
+*NODE, NSET=ALLNODES
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 1., 1., 0.
+4, 0., 1., 0.
+5, 0., 0., 1.
+6, 1., 0., 1.
+7, 1., 1., 1.
+8, 0., 1., 1.
+9, 2., 0., 0.
+10, 2., 1., 0.
+11, 2., 0., 1.D0
+12, 2., 1., 1.0e0
+
+*ELEMENT, TYPE=C3D8I, ELSET=Block
+1, 1, 2, 3, 4, 5, 6, 7, 8
+2, 2, 9, 10, 3, 6, 11, 12, 7
+*Nset, nset=Left, generate
+1, 5, 4
+*NSET, NSET=left
+8, 4
+*Elset, elset=Right
+2
+*Surface, type=ELEMENT, name=Top
+block, S2
+*Surface, name=Right_End
+Right, s4
+*Material, name=Steel
+*Elastic
+210e9, 0.3
+*Solid Section, elset=Block, material=Steel
+*STEP
+*STATIC
+*BOUNDARY
+Left, 1, 3
+*END STEP
+)";
+
+std::string message_of(const std::string& contents) {
+  const TempFile file(".inp", contents);
+  try {
+    (void)read_inp(file.path());
+  } catch (const MeshFileError& e) {
+    return e.what();
+  }
+  return "no exception";
+}
+
+// True when `message` starts with "<temp file>:<line>:" and contains `text`.
+::testing::AssertionResult reports(const std::string& contents, int line, const std::string& text) {
+  const TempFile file(".inp", contents);
+  std::string message;
+  try {
+    (void)read_inp(file.path());
+    return ::testing::AssertionFailure() << "no exception";
+  } catch (const MeshFileError& e) {
+    message = e.what();
+  }
+  const std::string position = fmt::format("{}:{}: ", file.path().string(), line);
+  if (message.rfind(position, 0) != 0 || message.find(text) == std::string::npos) {
+    return ::testing::AssertionFailure() << "got: " << message;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(InpReader, ReadsNodesElementsSetsAndSurfaces) {
+  const TempFile file(".inp", kTwoBricks);
+  const InpResult result = read_inp(file.path());
+  const Mesh& mesh = result.mesh;
+  ASSERT_EQ(mesh.num_nodes(), 12);
+  ASSERT_EQ(mesh.num_elements(), 2);
+  EXPECT_EQ(mesh.node_ids[8], 9);
+  EXPECT_EQ(mesh.coordinates.col(10), Eigen::Vector3d(2.0, 0.0, 1.0));
+  EXPECT_EQ(mesh.coordinates.col(11), Eigen::Vector3d(2.0, 1.0, 1.0));
+  EXPECT_EQ(mesh.parts, std::vector<std::string>{"Block"});
+  EXPECT_EQ(mesh.elements[1].type, ElementType::hex8_incompatible);
+  EXPECT_EQ(mesh.elements[1].nodes[1], 8);  // node 9
+  EXPECT_EQ(mesh.element_sets.at("Block"), (std::vector<int>{0, 1}));
+  EXPECT_EQ(mesh.element_sets.at("Right"), std::vector<int>{1});
+  // "Left" by GENERATE (1, 5), extended by "left" (8, 4): one set, first spelling kept.
+  EXPECT_EQ(mesh.node_sets.at("Left"), (std::vector<int>{0, 3, 4, 7}));
+  EXPECT_EQ(mesh.node_sets.at("ALLNODES").size(), 12u);
+  EXPECT_EQ(mesh.surfaces.at("Top"), (std::vector<Face>{{0, 1}, {1, 1}}));
+  EXPECT_EQ(mesh.surfaces.at("Right_End"), (std::vector<Face>{{1, 3}}));
+  EXPECT_TRUE(check_mesh(mesh).empty());
+
+  std::vector<std::string> ignored;
+  for (const IgnoredCard& card : result.ignored_cards) {
+    ignored.push_back(fmt::format("{}@{}", card.keyword, card.line));
+  }
+  EXPECT_EQ(ignored, (std::vector<std::string>{"*HEADING@1", "*MATERIAL@31", "*ELASTIC@32",
+                                               "*SOLID SECTION@34", "*STEP@35", "*STATIC@36",
+                                               "*BOUNDARY@37", "*END STEP@39"}));
+}
+
+// A hex20 box written as C3D20R with each element's 20 nodes over `per_line`-entry lines.
+std::string hex20_inp(const Mesh& mesh, int per_line) {
+  std::string text = "*NODE\n";
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    text +=
+        fmt::format("{}, {:.17g}, {:.17g}, {:.17g}\n", mesh.node_ids[static_cast<std::size_t>(n)],
+                    mesh.coordinates(0, n), mesh.coordinates(1, n), mesh.coordinates(2, n));
+  }
+  text += "*ELEMENT, TYPE=C3D20R, ELSET=EALL\n";
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    std::vector<long> entries = {mesh.element_ids[static_cast<std::size_t>(e)]};
+    for (int n : mesh.elements[static_cast<std::size_t>(e)].node_span()) {
+      entries.push_back(mesh.node_ids[static_cast<std::size_t>(n)]);
+    }
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      text += std::to_string(entries[i]);
+      text += i + 1 == entries.size() ? "\n" : ((i + 1) % per_line == 0 ? ",\n" : ", ");
+    }
+  }
+  return text;
+}
+
+TEST(InpReader, ReadsHex20ElementsContinuedOverSeveralLines) {
+  BoxOptions options;
+  options.size = Eigen::Vector3d(0.1, 0.2, 0.3);
+  options.divisions = {2, 1, 2};
+  options.type = ElementType::hex20_reduced;
+  const Mesh box = box_mesh(options);
+  for (int per_line : {16, 10, 7}) {  // CalculiX writes 16 + 5; other tools 10 + 11 and others
+    const TempFile file(".inp", hex20_inp(box, per_line));
+    const Mesh mesh = read_inp(file.path()).mesh;
+    ASSERT_EQ(mesh.num_elements(), box.num_elements());
+    EXPECT_EQ(mesh.coordinates, box.coordinates);
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      const auto& a = mesh.elements[static_cast<std::size_t>(e)];
+      const auto& b = box.elements[static_cast<std::size_t>(e)];
+      EXPECT_EQ(a.type, ElementType::hex20_reduced);
+      EXPECT_EQ(a.nodes, b.nodes) << "element " << e + 1 << ", " << per_line << " per line";
+    }
+    EXPECT_TRUE(check_mesh(mesh).empty());
+  }
+}
+
+TEST(InpReader, ReadsASinglePartInstanceAndElementsWithoutElset) {
+  const std::string text = R"(*Part, name=Bracket
+*Node
+      1,           0.,           0.,           0.
+      2,           1.,           0.,           0.
+      3,           1.,           1.,           0.
+      4,           0.,           1.,           0.
+      5,           0.,           0.,           1.
+      6,           1.,           0.,           1.
+      7,           1.,           1.,           1.
+      8,           0.,           1.,           1.
+*Element, type=C3D8
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*End Part
+*Assembly, name=Assembly
+*Instance, name=Bracket-1, part=Bracket
+*End Instance
+*Nset, nset=Fixed, instance=Bracket-1
+ 1, 2, 3, 4
+*Elset, elset=_Load_S2, internal, instance=Bracket-1
+ 1,
+*Surface, type=ELEMENT, name=Load
+_Load_S2, S2
+*End Assembly
+)";
+  const TempFile file(".inp", text);
+  const Mesh mesh = read_inp(file.path()).mesh;
+  EXPECT_EQ(mesh.parts, std::vector<std::string>{"Bracket"});
+  EXPECT_EQ(mesh.elements[0].type, ElementType::hex8);
+  EXPECT_EQ(mesh.node_sets.at("Fixed"), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(mesh.surfaces.at("Load"), (std::vector<Face>{{0, 1}}));
+
+  const TempFile flat("-flat.inp",
+                      "*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n"
+                      "7,1,1,1\n8,0,1,1\n*ELEMENT,TYPE=C3D8I\n1,1,2,3,4,5,6,7,8\n");
+  EXPECT_EQ(read_inp(flat.path()).mesh.parts, std::vector<std::string>{"default"});
+}
+
+const std::string kNodes =
+    "*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n";
+
+TEST(InpReader, ErrorsNameFileLineAndEntity) {
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 17\n", 11,
+                      "element 1: unknown node 17"));
+  EXPECT_TRUE(reports(kNodes + "3, 5, 5, 5\n", 10, "node 3 defined twice (first at line 4)"));
+  EXPECT_TRUE(reports(kNodes + "9, 1.0, abc, 0\n", 10, "node 9: coordinate 'abc'"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n1,1,2,3,4,5,6,7,8\n", 12,
+                      "element 1 defined twice (first at line 11)"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D20\n1,1,2,3,4,5,6,7,8,\n", 11,
+                      "element 1: 8 node numbers, C3D20 needs 20"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8,9\n", 11,
+                      "more than 8 node numbers"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,x\n", 11,
+                      "element 1: 'x' is not an integer"));
+}
+
+TEST(InpReader, UnsupportedCardsAndParametersStop) {
+  const std::string element = "*ELEMENT, TYPE=C3D8, ELSET=B\n1,1,2,3,4,5,6,7,8\n";
+  EXPECT_TRUE(reports(kNodes + "*Element, type=C3D4\n1, 1, 2, 3, 5\n", 10,
+                      "element type C3D4 is not supported"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=S4\n1, 1, 2, 3, 4\n", 10, "element type S4"));
+  EXPECT_TRUE(
+      reports("*NODE\n1, 0, 0, 0\n*NGEN, NSET=LINE\n1, 10, 1\n", 3, "card *NGEN is not supported"));
+  EXPECT_TRUE(reports("*INCLUDE, INPUT=mesh.inp\n", 1, "card *INCLUDE is not supported"));
+  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S, TYPE=NODE\n1\n", 12,
+                      "TYPE=NODE is not supported"));
+  EXPECT_TRUE(
+      reports(kNodes + element + "*SURFACE, NAME=S\nNOPE, S1\n", 13, "unknown element set 'NOPE'"));
+  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S\nB, S7\n", 13,
+                      "face label 'S7' is not one of S1..S6"));
+  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S\nB\n", 13, "got 'B'"));
+  EXPECT_TRUE(reports(kNodes + element + "*NSET, NSET=N\n1, 99\n", 13, "unknown node 99"));
+  EXPECT_TRUE(
+      reports(kNodes + element + "*ELSET, ELSET=E, GENERATE\n1, 3\n", 13, "unknown element 2"));
+  EXPECT_TRUE(reports(kNodes + "*NODE, SYSTEM=C\n9, 1, 0, 0\n", 10, "SYSTEM=C is not supported"));
+  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8, INPUT=e.inp\n", 10,
+                      "parameter INPUT of *ELEMENT is not supported"));
+  EXPECT_TRUE(reports("1, 0, 0, 0\n", 1, "data line before the first keyword"));
+  const std::string no_elements = message_of(kNodes);
+  EXPECT_NE(no_elements.find("no elements"), std::string::npos) << no_elements;
+}
+
+TEST(InpReader, PartsAndInstancesBeyondOneFlatModelAreRefusedByName) {
+  const std::string part =
+      "*PART, NAME=A\n" + kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n*END PART\n";
+  EXPECT_TRUE(reports(part + "*PART, NAME=B\n*END PART\n", 14,
+                      "second *PART 'B' (the first, 'A', is at line 1)"));
+  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n0., 0., 5.\n", 16,
+                      "*INSTANCE 'A-1' is translated"));
+  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n0, 0, 0\n"
+                             "0, 0, 0, 0, 0, 1, 90.\n",
+                      17, "*INSTANCE 'A-1' is rotated"));
+  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n*END INSTANCE\n"
+                             "*INSTANCE, NAME=A-2, PART=A\n",
+                      17, "second *INSTANCE 'A-2'"));
+  EXPECT_TRUE(reports(part + "*NSET, NSET=N, INSTANCE=Z-1\n1\n", 14,
+                      "refers to instance 'Z-1', which is not defined"));
+}
+
+TEST(InpReader, EmptyAndMissingFilesAreNamed) {
+  const std::string message = message_of("");
+  EXPECT_NE(message.find("no elements"), std::string::npos) << message;
+  try {
+    (void)read_inp("/nonexistent/dir/model.inp");
+    FAIL() << "no exception";
+  } catch (const MeshFileError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/dir/model.inp: cannot be opened for reading");
+  }
+}
+
+}  // namespace
+}  // namespace jointhb::fe
