@@ -1,4 +1,5 @@
-// Zero-thickness interface elements, eq. (13)-(24) (interface.hpp, docs/zero-thickness-elements.md).
+// Zero-thickness interface elements, eq. (13)-(24) (interface.hpp,
+// docs/zero-thickness-elements.md).
 #include "jointhb/fe/interface.hpp"
 
 #include <fmt/format.h>
@@ -154,7 +155,8 @@ FaceGeometry face_geometry(const Mesh& mesh, const Face& face) {
 
 // Unit outward normal at the face centre.
 Vec3 centre_normal(const Mesh& mesh, const std::vector<int>& nodes) {
-  const auto [a1, a2] = tangents_at(mesh, nodes, shape_values(static_cast<int>(nodes.size()), 0, 0));
+  const auto [a1, a2] =
+      tangents_at(mesh, nodes, shape_values(static_cast<int>(nodes.size()), 0, 0));
   return a1.cross(a2).normalized();
 }
 
@@ -168,8 +170,7 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
   auto surface = [&](const std::string& name, const char* field) -> const std::vector<Face>& {
     const auto it = mesh.surfaces.find(name);
     if (it == mesh.surfaces.end()) {
-      throw std::invalid_argument(
-          fmt::format("{}: unknown surface '{}' ({})", who, name, field));
+      throw std::invalid_argument(fmt::format("{}: unknown surface '{}' ({})", who, name, field));
     }
     if (it->second.empty()) {
       throw std::invalid_argument(fmt::format("{}: surface '{}' ({}) is empty", who, name, field));
@@ -180,10 +181,9 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
   const std::vector<Face>& top_faces = surface(options.top_surface, "top_surface");
 
   // One face type (quad4 or quad8) on both surfaces.
-  const int face_nodes_per_face =
-      face_node_count(mesh.elements.at(static_cast<std::size_t>(bottom_faces.front().element)).type);
-  auto check_type = [&](const std::vector<Face>& faces, const char* side,
-                        const std::string& name) {
+  const int face_nodes_per_face = face_node_count(
+      mesh.elements.at(static_cast<std::size_t>(bottom_faces.front().element)).type);
+  auto check_type = [&](const std::vector<Face>& faces, const char* side, const std::string& name) {
     for (const Face& f : faces) {
       const int n = face_node_count(mesh.elements.at(static_cast<std::size_t>(f.element)).type);
       if (n != face_nodes_per_face) {
@@ -264,8 +264,9 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
       throw std::invalid_argument(fmt::format(
           "{}: {} (surface '{}') coincides with two bottom faces: {} and {}", who,
           describe(mesh, "top", tg.face), options.top_surface,
-          describe(mesh, "bottom",
-                   bottom_faces[static_cast<std::size_t>(used_by[static_cast<std::size_t>(match)])]),
+          describe(
+              mesh, "bottom",
+              bottom_faces[static_cast<std::size_t>(used_by[static_cast<std::size_t>(match)])]),
           describe(mesh, "bottom", bg.face)));
     }
     used_by[static_cast<std::size_t>(match)] = static_cast<int>(b);
@@ -397,8 +398,8 @@ Eigen::VectorXd gaps(const Interface& interface, const Eigen::VectorXd& u) {
     for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k) {
       const double h = point.shape[k];
       if (h == 0.0) continue;
-      relative += h * (u.segment<3>(3 * element.top_nodes[k]) -
-                       u.segment<3>(3 * element.bottom_nodes[k]));
+      relative +=
+          h * (u.segment<3>(3 * element.top_nodes[k]) - u.segment<3>(3 * element.bottom_nodes[k]));
     }
     g.segment<3>(3 * p) = point.frame * relative;
   }
@@ -407,9 +408,8 @@ Eigen::VectorXd gaps(const Interface& interface, const Eigen::VectorXd& u) {
 
 Eigen::VectorXd interface_force(const Interface& interface, const Eigen::VectorXd& tractions) {
   if (tractions.size() != 3 * interface.num_points()) {
-    throw std::invalid_argument(fmt::format(
-        "interface_force: {} tractions, need 3 per point = {}", tractions.size(),
-        3 * interface.num_points()));
+    throw std::invalid_argument(fmt::format("interface_force: {} tractions, need 3 per point = {}",
+                                            tractions.size(), 3 * interface.num_points()));
   }
   // f = Gᵀ A t, eq. (22): the point's traction a_p R_pᵀ t_p (global axes) goes with +h_i to the
   // top node and -h_i to the bottom node (equal and opposite, eq. 20).
@@ -536,8 +536,7 @@ InterfaceContactState evaluate_static_contact(const Interface& interface,
                                               const Eigen::VectorXd& u,
                                               const Eigen::VectorXd& initial_normal_gap) {
   return evaluate_static(
-      interface, [&](int) -> const contact::ContactPoint& { return law; }, u,
-      initial_normal_gap);
+      interface, [&](int) -> const contact::ContactPoint& { return law; }, u, initial_normal_gap);
 }
 
 InterfaceContactState evaluate_static_contact(const Interface& interface,
@@ -545,9 +544,9 @@ InterfaceContactState evaluate_static_contact(const Interface& interface,
                                               const Eigen::VectorXd& u,
                                               const Eigen::VectorXd& initial_normal_gap) {
   if (static_cast<int>(laws.size()) != interface.num_points()) {
-    throw std::invalid_argument(fmt::format(
-        "evaluate_static_contact: {} laws for {} points (need one per point)", laws.size(),
-        interface.num_points()));
+    throw std::invalid_argument(
+        fmt::format("evaluate_static_contact: {} laws for {} points (need one per point)",
+                    laws.size(), interface.num_points()));
   }
   return evaluate_static(
       interface,

@@ -1,5 +1,6 @@
 #pragma once
-// Zero-thickness interface elements of Gaul & Mayer, eq. (13)-(24) (docs/zero-thickness-elements.md).
+// Zero-thickness interface elements of Gaul & Mayer, eq. (13)-(24)
+// (docs/zero-thickness-elements.md).
 //
 // An interface joins two matching surfaces of a Mesh: every bottom face is paired with the top
 // face whose nodes coincide with its own. Each pair is one 8-node (quad4 faces) or 16-node (quad8
@@ -55,12 +56,12 @@ struct InterfaceOptions {
 
 /// One integration point of the interface.
 struct InterfacePoint {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [m], on the bottom face
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();   ///< [m], on the bottom face
   Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();  ///< rows t1, t2, n (orthonormal, det +1)
-  double area = 0.0;                  ///< a_p = w_p det J_p [m²]
-  int element = 0;                    ///< index into Interface::elements
-  Eigen::Vector2d natural = Eigen::Vector2d::Zero();  ///< (ξ, η) on the bottom face
-  std::array<double, 8> shape{};      ///< h_i(ξ, η), eq. (14) (first 4 or 8 used)
+  double area = 0.0;                                    ///< a_p = w_p det J_p [m²]
+  int element = 0;                                      ///< index into Interface::elements
+  Eigen::Vector2d natural = Eigen::Vector2d::Zero();    ///< (ξ, η) on the bottom face
+  std::array<double, 8> shape{};  ///< h_i(ξ, η), eq. (14) (first 4 or 8 used)
 };
 
 /// One zero-thickness element: a bottom face and the top face that coincides with it.
@@ -71,7 +72,7 @@ struct InterfaceElement {
   std::vector<int> top_nodes;     ///< top_nodes[k] coincides with bottom_nodes[k]
   int first_point = 0;            ///< its points are first_point .. first_point + num_points - 1
   int num_points = 0;
-  double area = 0.0;              ///< Σ a_p of its points [m²]
+  double area = 0.0;  ///< Σ a_p of its points [m²]
 };
 
 struct NodePair {
@@ -83,12 +84,12 @@ struct NodePair {
 struct Interface {
   std::string name;
   InterfaceIntegration integration = InterfaceIntegration::nodal;
-  int num_mesh_nodes = 0;                 ///< N: G has 3N columns (Mesh DOF 3i+d)
-  std::vector<InterfacePoint> points;     ///< P points, grouped by element
-  std::vector<InterfaceElement> elements;  ///< the facets (bottom face node lists for output)
-  std::vector<NodePair> node_pairs;       ///< unique, sorted by bottom node
+  int num_mesh_nodes = 0;                    ///< N: G has 3N columns (Mesh DOF 3i+d)
+  std::vector<InterfacePoint> points;        ///< P points, grouped by element
+  std::vector<InterfaceElement> elements;    ///< the facets (bottom face node lists for output)
+  std::vector<NodePair> node_pairs;          ///< unique, sorted by bottom node
   Eigen::SparseMatrix<double> gap_operator;  ///< G, 3P × 3N: g = G u, eq. (19)
-  double total_area = 0.0;                ///< Σ a_p [m²]
+  double total_area = 0.0;                   ///< Σ a_p [m²]
 
   [[nodiscard]] int num_points() const { return static_cast<int>(points.size()); }
   [[nodiscard]] int num_mesh_dofs() const { return 3 * num_mesh_nodes; }

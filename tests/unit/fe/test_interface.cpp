@@ -76,10 +76,10 @@ fe::Mesh block(const std::string& name, int nx, int ny, int nz, const Vector3d& 
 // Two unit-square blocks stacked at z = 1, sharing coordinates but not nodes. Element and node ids
 // of the upper block start at 1001.
 fe::Mesh stacked(int n_lower, int n_upper, bool quadratic = false) {
-  fe::Mesh m = block("lower", n_lower, n_lower, 1, Vector3d(0, 0, 0), Vector3d(1, 1, 1),
-                     quadratic, 0);
-  fe::append(m, block("upper", n_upper, n_upper, 1, Vector3d(0, 0, 1), Vector3d(1, 1, 1),
-                      quadratic, 1000));
+  fe::Mesh m =
+      block("lower", n_lower, n_lower, 1, Vector3d(0, 0, 0), Vector3d(1, 1, 1), quadratic, 0);
+  fe::append(m, block("upper", n_upper, n_upper, 1, Vector3d(0, 0, 1), Vector3d(1, 1, 1), quadratic,
+                      1000));
   return m;
 }
 
@@ -115,7 +115,9 @@ std::string error_of(const fe::Mesh& m, const fe::InterfaceOptions& o) {
 }
 
 // The nodes of block "upper" are those with external id > 1000.
-bool is_upper(const fe::Mesh& m, int node) { return m.node_ids[static_cast<std::size_t>(node)] > 1000; }
+bool is_upper(const fe::Mesh& m, int node) {
+  return m.node_ids[static_cast<std::size_t>(node)] > 1000;
+}
 
 std::vector<Matrix3d> constant_tangents(const fe::Interface& itf, const Matrix3d& c) {
   return std::vector<Matrix3d>(static_cast<std::size_t>(itf.num_points()), c);
@@ -178,8 +180,8 @@ TEST(InterfaceBuild, RigidBodyMotionsGiveZeroGapAndForce) {
       for (int i = 0; i < m.num_nodes(); ++i) {
         const Vector3d x = m.coordinates.col(i);
         Vector3d ui = Vector3d::Zero();
-        if (k < 3) ui = Vector3d::Unit(k) * c(k);  // three translations
-        if (k == 3) ui = small * x;                 // small rotation
+        if (k < 3) ui = Vector3d::Unit(k) * c(k);                  // three translations
+        if (k == 3) ui = small * x;                                // small rotation
         if (k == 4) ui = (finite - Matrix3d::Identity()) * x + c;  // finite rotation
         if (k == 5) ui = Eigen::AngleAxisd(1e-4, Vector3d::UnitZ()).toRotationMatrix() * x - x;
         u.segment<3>(3 * i) = ui;
@@ -196,14 +198,14 @@ TEST(InterfaceElement, EightNodeElementHasTwelveZeroEnergyModes) {
   // The 24×24 stiffness of eq. (24) with a constant diagonal C: rank 12, 12 zero-energy modes.
   for (bool distorted : {false, true}) {
     fe::Mesh m = stacked(1, 1);
-    if (distorted) m.coordinates.col(6) += Vector3d(0.2, 0.1, 0.0);  // lower block's top corner
+    if (distorted) m.coordinates.col(6) += Vector3d(0.2, 0.1, 0.0);      // lower block's top corner
     if (distorted) m.coordinates.col(8 + 2) += Vector3d(0.2, 0.1, 0.0);  // coincident upper node
     for (auto rule : kRules) {
       const fe::Interface itf = fe::build_interface(m, options(rule));
-      const auto k = fe::assemble_interface_force_and_tangent(
-                         itf, VectorXd::Zero(3 * itf.num_points()),
-                         constant_tangents(itf, diagonal_law(2e9, 7e9)))
-                         .stiffness;
+      const auto k =
+          fe::assemble_interface_force_and_tangent(itf, VectorXd::Zero(3 * itf.num_points()),
+                                                   constant_tangents(itf, diagonal_law(2e9, 7e9)))
+              .stiffness;
       std::vector<int> dofs;
       for (int n : itf.elements[0].bottom_nodes)
         for (int d = 0; d < 3; ++d) dofs.push_back(3 * n + d);
@@ -231,10 +233,10 @@ TEST(InterfaceElement, SixteenNodeElementHasTwentyFourZeroEnergyModes) {
   const fe::Mesh m = stacked(1, 1, true);
   const fe::Interface itf = fe::build_interface(m, options(fe::InterfaceIntegration::gauss));
   ASSERT_EQ(itf.num_points(), 9);
-  const Eigen::MatrixXd k = Eigen::MatrixXd(
-      fe::assemble_interface_force_and_tangent(itf, VectorXd::Zero(27),
-                                               constant_tangents(itf, diagonal_law(2e9, 7e9)))
-          .stiffness);
+  const Eigen::MatrixXd k =
+      Eigen::MatrixXd(fe::assemble_interface_force_and_tangent(
+                          itf, VectorXd::Zero(27), constant_tangents(itf, diagonal_law(2e9, 7e9)))
+                          .stiffness);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(k);
   const double top = eig.eigenvalues().maxCoeff();
   int nonzero = 0;
@@ -289,8 +291,7 @@ TEST(InterfaceAssembly, TractionsAreEqualAndOpposite) {
     double scale = f.cwiseAbs().maxCoeff();
     ASSERT_GT(scale, 0.0);
     for (const fe::NodePair& pair : itf.node_pairs) {
-      EXPECT_LE((f.segment<3>(3 * pair.top) + f.segment<3>(3 * pair.bottom)).norm(),
-                1e-15 * scale);
+      EXPECT_LE((f.segment<3>(3 * pair.top) + f.segment<3>(3 * pair.bottom)).norm(), 1e-15 * scale);
     }
   }
 }
@@ -318,7 +319,8 @@ TEST(InterfaceAssembly, UniformOpeningGivesGapDeltaAndForcePressureTimesArea) {
       for (int q = 0; q < itf.num_points(); ++q) t(3 * q + 2) = -p;
       const VectorXd f = fe::interface_force(itf, t);
       Vector3d top = Vector3d::Zero(), bottom = Vector3d::Zero();
-      for (int i = 0; i < m.num_nodes(); ++i) (is_upper(m, i) ? top : bottom) += f.segment<3>(3 * i);
+      for (int i = 0; i < m.num_nodes(); ++i)
+        (is_upper(m, i) ? top : bottom) += f.segment<3>(3 * i);
       EXPECT_LE((top - Vector3d(0, 0, -p)).norm(), 1e-13 * p);
       EXPECT_LE((bottom - Vector3d(0, 0, p)).norm(), 1e-13 * p);
     }
@@ -360,10 +362,10 @@ TEST(InterfaceAssembly, NodalIntegrationDecouplesNodePairs) {
       pair_of[static_cast<std::size_t>(itf.node_pairs[k].bottom)] = static_cast<int>(k);
       pair_of[static_cast<std::size_t>(itf.node_pairs[k].top)] = static_cast<int>(k);
     }
-    const auto k = fe::assemble_interface_force_and_tangent(
-                       itf, VectorXd::Zero(3 * itf.num_points()),
-                       constant_tangents(itf, diagonal_law(1e9, 4e9)))
-                       .stiffness;
+    const auto k =
+        fe::assemble_interface_force_and_tangent(itf, VectorXd::Zero(3 * itf.num_points()),
+                                                 constant_tangents(itf, diagonal_law(1e9, 4e9)))
+            .stiffness;
     int coupled = 0;
     for (int col = 0; col < k.outerSize(); ++col)
       for (Eigen::SparseMatrix<double>::InnerIterator it(k, col); it; ++it)
@@ -442,8 +444,7 @@ TEST(InterfaceBuild, ErrorsNameTheSurfaceAndTheElement) {
     fe::Mesh m = block("lower", 2, 2, 1, Vector3d(0, 0, 0), Vector3d(1, 1, 1), false, 0);
     fe::append(m, block("upper", 2, 2, 1, Vector3d(0, 0, 1), Vector3d(1, 1, 1), true, 1000));
     const std::string msg = error_of(m, options(fe::InterfaceIntegration::gauss));
-    EXPECT_NE(msg.find("mixed quad4/quad8 faces: top face of element 1001 (S1)"),
-              std::string::npos)
+    EXPECT_NE(msg.find("mixed quad4/quad8 faces: top face of element 1001 (S1)"), std::string::npos)
         << msg;
   }
   {  // nodal integration of quad8 faces
@@ -501,6 +502,16 @@ TEST(InterfaceContact, AssembledTangentMatchesCentralDifferences) {
     const auto state = fe::evaluate_static_contact(itf, law, u, g0);
     EXPECT_EQ(state.num_open, 0);
     EXPECT_GT(state.pressure.minCoeff(), 0.0);
+    // Microslip is active: tangential tractions, and their coupling to g_N through μ p_N and k_T.
+    double coupling = 0.0, friction = 0.0;
+    for (int p = 0; p < itf.num_points(); ++p) {
+      coupling =
+          std::max(coupling, state.tangent[static_cast<std::size_t>(p)].block<2, 1>(0, 2).norm());
+      friction = std::max(friction, state.traction.segment<2>(3 * p).norm() / state.pressure(p));
+    }
+    EXPECT_GT(coupling, 0.0);
+    EXPECT_GT(friction, 0.05);
+    EXPECT_LT(friction, 0.4);  // below the slip limit μ p_N
     const Eigen::MatrixXd k = Eigen::MatrixXd(state.stiffness);
     const double h = 1e-12;
     double worst = 0.0;
