@@ -15,36 +15,53 @@ namespace {
 
 const char* ordering_name(int ordering) {
   switch (ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "AMD";
-    case CHOLMOD_METIS: return "METIS";
-    case CHOLMOD_NESDIS: return "NESDIS";
-    case CHOLMOD_COLAMD: return "COLAMD";
-    case CHOLMOD_POSTORDERED: return "postordered";
-    default: return "?";
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "AMD";
+    case CHOLMOD_METIS:
+      return "METIS";
+    case CHOLMOD_NESDIS:
+      return "NESDIS";
+    case CHOLMOD_COLAMD:
+      return "COLAMD";
+    case CHOLMOD_POSTORDERED:
+      return "postordered";
+    default:
+      return "?";
   }
 }
 
 std::string status_text(int status) {
   switch (status) {
-    case CHOLMOD_OK: return "CHOLMOD_OK";
-    case CHOLMOD_NOT_INSTALLED: return "CHOLMOD_NOT_INSTALLED";
-    case CHOLMOD_OUT_OF_MEMORY: return "CHOLMOD_OUT_OF_MEMORY";
-    case CHOLMOD_TOO_LARGE: return "CHOLMOD_TOO_LARGE";
-    case CHOLMOD_INVALID: return "CHOLMOD_INVALID";
-    case CHOLMOD_GPU_PROBLEM: return "CHOLMOD_GPU_PROBLEM";
-    case CHOLMOD_NOT_POSDEF: return "CHOLMOD_NOT_POSDEF";
-    case CHOLMOD_DSMALL: return "CHOLMOD_DSMALL";
-    default: return "status " + std::to_string(status);
+    case CHOLMOD_OK:
+      return "CHOLMOD_OK";
+    case CHOLMOD_NOT_INSTALLED:
+      return "CHOLMOD_NOT_INSTALLED";
+    case CHOLMOD_OUT_OF_MEMORY:
+      return "CHOLMOD_OUT_OF_MEMORY";
+    case CHOLMOD_TOO_LARGE:
+      return "CHOLMOD_TOO_LARGE";
+    case CHOLMOD_INVALID:
+      return "CHOLMOD_INVALID";
+    case CHOLMOD_GPU_PROBLEM:
+      return "CHOLMOD_GPU_PROBLEM";
+    case CHOLMOD_NOT_POSDEF:
+      return "CHOLMOD_NOT_POSDEF";
+    case CHOLMOD_DSMALL:
+      return "CHOLMOD_DSMALL";
+    default:
+      return "status " + std::to_string(status);
   }
 }
 
 }  // namespace
 
 std::string SparseCholeskyStatistics::brief() const {
-  const double fill = matrix_nonzeros > 0 ? factor_nonzeros / static_cast<double>(matrix_nonzeros)
-                                          : 0.0;
+  const double fill =
+      matrix_nonzeros > 0 ? factor_nonzeros / static_cast<double>(matrix_nonzeros) : 0.0;
   char line[256];
   std::snprintf(line, sizeof line,
                 "n=%ld, nnz(A)=%ld, nnz(L)=%.0f (fill x%.1f, %ld stored), %.3g Gflop, ordering %s, "
@@ -154,8 +171,8 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A_in) {
   long used = 0;  // entries in the triangle CHOLMOD reads
   const bool lower = d.options.triangle == Options::Triangle::lower;
   for (long j = 0; j < n; ++j) {
-    for (auto k = d.outer[static_cast<std::size_t>(j)]; k < d.outer[static_cast<std::size_t>(j + 1)];
-         ++k) {
+    for (auto k = d.outer[static_cast<std::size_t>(j)];
+         k < d.outer[static_cast<std::size_t>(j + 1)]; ++k) {
       const auto i = d.inner[static_cast<std::size_t>(k)];
       if (lower ? i >= j : i <= j) ++used;
       if (k > d.outer[static_cast<std::size_t>(j)] && d.inner[static_cast<std::size_t>(k - 1)] >= i)
@@ -203,13 +220,14 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A_in) {
     // L->minor is the failing column of the permuted matrix PAPᵀ; Perm maps it back to A.
     const std::size_t k = d.factor->minor;
     const auto* perm = static_cast<const SuiteSparse_long*>(d.factor->Perm);
-    const long column = (perm != nullptr && k < n) ? static_cast<long>(perm[k]) : static_cast<long>(k);
+    const long column =
+        (perm != nullptr && k < n) ? static_cast<long>(perm[k]) : static_cast<long>(k);
     const bool llt = d.options.method == Options::Method::supernodal_llt;
-    throw std::runtime_error(
-        std::string("SparseCholesky::factorize: ") +
-        (llt ? "matrix not positive definite" : "zero pivot in LDL^T") + " at column " +
-        std::to_string(column) + " (0-based; pivot " + std::to_string(k) + " of " +
-        std::to_string(n) + " in the fill-reducing order; " + status_text(status) + ")");
+    throw std::runtime_error(std::string("SparseCholesky::factorize: ") +
+                             (llt ? "matrix not positive definite" : "zero pivot in LDL^T") +
+                             " at column " + std::to_string(column) + " (0-based; pivot " +
+                             std::to_string(k) + " of " + std::to_string(n) +
+                             " in the fill-reducing order; " + status_text(status) + ")");
   }
   d.valid = true;
   ++d.statistics.factorizations;

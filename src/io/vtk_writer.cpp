@@ -32,20 +32,28 @@ enum class Kind { float64, int64, int32, uint8 };
 
 const char* type_name(Kind kind) {
   switch (kind) {
-    case Kind::float64: return "Float64";
-    case Kind::int64: return "Int64";
-    case Kind::int32: return "Int32";
-    case Kind::uint8: return "UInt8";
+    case Kind::float64:
+      return "Float64";
+    case Kind::int64:
+      return "Int64";
+    case Kind::int32:
+      return "Int32";
+    case Kind::uint8:
+      return "UInt8";
   }
   return "?";
 }
 
 std::size_t value_bytes(Kind kind) {
   switch (kind) {
-    case Kind::float64: return 8;
-    case Kind::int64: return 8;
-    case Kind::int32: return 4;
-    case Kind::uint8: return 1;
+    case Kind::float64:
+      return 8;
+    case Kind::int64:
+      return 8;
+    case Kind::int32:
+      return 4;
+    case Kind::uint8:
+      return 1;
   }
   return 0;
 }
@@ -65,11 +73,20 @@ std::string xml_escape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -87,9 +104,15 @@ void write_ascii_values(std::ofstream& file, const Block& block) {
   const auto per_line = static_cast<std::size_t>(block.components);
   for (std::size_t k = 0; k < block.values(); ++k) {
     switch (block.kind) {
-      case Kind::float64: append_number(line, static_cast<const double*>(block.data)[k]); break;
-      case Kind::int64: append_number(line, static_cast<const std::int64_t*>(block.data)[k]); break;
-      case Kind::int32: append_number(line, static_cast<const std::int32_t*>(block.data)[k]); break;
+      case Kind::float64:
+        append_number(line, static_cast<const double*>(block.data)[k]);
+        break;
+      case Kind::int64:
+        append_number(line, static_cast<const std::int64_t*>(block.data)[k]);
+        break;
+      case Kind::int32:
+        append_number(line, static_cast<const std::int32_t*>(block.data)[k]);
+        break;
       case Kind::uint8:
         append_number(line, static_cast<unsigned>(static_cast<const std::uint8_t*>(block.data)[k]));
         break;
@@ -111,18 +134,20 @@ std::vector<Block> data_blocks(const std::vector<VtkArray>& arrays, std::size_t 
   std::set<std::string> names;
   for (const auto& array : arrays) {
     const std::string context = std::string("VTK ") + where + " array '" + array.name + "'";
-    if (array.name.empty()) throw std::invalid_argument(std::string("VTK ") + where + " array without a name");
+    if (array.name.empty())
+      throw std::invalid_argument(std::string("VTK ") + where + " array without a name");
     if (array.name == reserved)
       throw std::invalid_argument(context + ": the name is reserved for the writer's own array");
-    if (!names.insert(array.name).second) throw std::invalid_argument(context + ": name used twice");
+    if (!names.insert(array.name).second)
+      throw std::invalid_argument(context + ": name used twice");
     if (array.values.rows() < 1) throw std::invalid_argument(context + ": no components");
     if (static_cast<std::size_t>(array.values.cols()) != count)
       throw std::invalid_argument(context + ": " + std::to_string(array.values.cols()) +
                                   " entries, expected " + std::to_string(count));
     for (Eigen::Index k = 0; k < array.values.size(); ++k)
       if (!std::isfinite(array.values.data()[k]))
-        throw std::invalid_argument(context + ": entry " +
-                                    std::to_string(k / array.values.rows()) + " is not finite");
+        throw std::invalid_argument(context + ": entry " + std::to_string(k / array.values.rows()) +
+                                    " is not finite");
     blocks.push_back({array.name, Kind::float64, static_cast<long>(array.values.rows()), count,
                       array.values.data()});
   }
@@ -155,10 +180,9 @@ void write_grid(const std::filesystem::path& path, const Grid& grid, const VtkOp
   std::size_t total_values = points.values() + connectivity.values() + 2 * n_cells;
   for (const auto& b : grid.point_blocks) total_values += b.values();
   for (const auto& b : grid.cell_blocks) total_values += b.values();
-  const bool ascii =
-      options.encoding == VtkEncoding::ascii ||
-      (options.encoding == VtkEncoding::automatic &&
-       total_values <= static_cast<std::size_t>(options.ascii_limit));
+  const bool ascii = options.encoding == VtkEncoding::ascii ||
+                     (options.encoding == VtkEncoding::automatic &&
+                      total_values <= static_cast<std::size_t>(options.ascii_limit));
 
   std::ofstream file(path, std::ios::binary);
   if (!file) throw std::runtime_error("cannot open '" + path.string() + "' for writing");
@@ -179,7 +203,8 @@ void write_grid(const std::filesystem::path& path, const Grid& grid, const VtkOp
     }
   };
 
-  const char* byte_order = std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+  const char* byte_order =
+      std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
   file << "<?xml version=\"1.0\"?>\n"
        << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << byte_order
        << "\" header_type=\"UInt64\">\n"
@@ -272,7 +297,8 @@ void write_pvd(const std::filesystem::path& path,
   file << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
   for (const auto& [timestep, dataset] : datasets) {
     if (!std::isfinite(timestep))
-      throw std::invalid_argument("write_pvd: timestep of '" + dataset.string() + "' is not finite");
+      throw std::invalid_argument("write_pvd: timestep of '" + dataset.string() +
+                                  "' is not finite");
     std::string step;
     append_number(step, timestep);
     file << "<DataSet timestep=\"" << step << "\" part=\"0\" file=\""

@@ -40,36 +40,58 @@ std::string fmt_double(double x) {
 // dsaupd's info on return (ARPACK Users' Guide, dsaupd.f header).
 std::string dsaupd_message(int info, int ncv) {
   switch (info) {
-    case 1: return "maximum number of iterations reached (raise max_iterations or ncv)";
-    case 3: return "no shifts could be applied during an implicit restart (raise ncv = " +
-                   std::to_string(ncv) + ")";
-    case -1: return "n must be positive";
-    case -2: return "count must be positive";
-    case -3: return "ncv must satisfy count < ncv <= n";
-    case -4: return "max_iterations must be positive";
-    case -5: return "invalid 'which'";
-    case -6: return "invalid 'bmat'";
-    case -7: return "workl too short";
-    case -8: return "LAPACK dsteqr failed on the tridiagonal matrix";
-    case -9: return "starting vector is zero";
-    case -10: return "invalid mode";
-    case -11: return "mode and bmat incompatible";
-    case -12: return "invalid iparam(1)";
-    case -13: return "count and which = 'BE' incompatible";
-    case -9999: return "could not build a Lanczos factorization (the operator may be rank "
-                       "deficient: is M singular?)";
-    default: return "dsaupd info " + std::to_string(info);
+    case 1:
+      return "maximum number of iterations reached (raise max_iterations or ncv)";
+    case 3:
+      return "no shifts could be applied during an implicit restart (raise ncv = " +
+             std::to_string(ncv) + ")";
+    case -1:
+      return "n must be positive";
+    case -2:
+      return "count must be positive";
+    case -3:
+      return "ncv must satisfy count < ncv <= n";
+    case -4:
+      return "max_iterations must be positive";
+    case -5:
+      return "invalid 'which'";
+    case -6:
+      return "invalid 'bmat'";
+    case -7:
+      return "workl too short";
+    case -8:
+      return "LAPACK dsteqr failed on the tridiagonal matrix";
+    case -9:
+      return "starting vector is zero";
+    case -10:
+      return "invalid mode";
+    case -11:
+      return "mode and bmat incompatible";
+    case -12:
+      return "invalid iparam(1)";
+    case -13:
+      return "count and which = 'BE' incompatible";
+    case -9999:
+      return "could not build a Lanczos factorization (the operator may be rank "
+             "deficient: is M singular?)";
+    default:
+      return "dsaupd info " + std::to_string(info);
   }
 }
 
 // dseupd's info on return (dseupd.f header).
 std::string dseupd_message(int info) {
   switch (info) {
-    case -8: return "LAPACK dsteqr failed computing the Ritz vectors";
-    case -9: return "starting vector is zero";
-    case -14: return "dsaupd found no eigenvalue to sufficient accuracy";
-    case -17: return "dseupd found a different number of converged Ritz values than dsaupd";
-    default: return "dseupd info " + std::to_string(info);
+    case -8:
+      return "LAPACK dsteqr failed computing the Ritz vectors";
+    case -9:
+      return "starting vector is zero";
+    case -14:
+      return "dsaupd found no eigenvalue to sufficient accuracy";
+    case -17:
+      return "dseupd found a different number of converged Ritz values than dsaupd";
+    default:
+      return "dseupd info " + std::to_string(info);
   }
 }
 
@@ -92,8 +114,8 @@ void check_symmetric(const Eigen::SparseMatrix<double>& A, const char* name) {
   if (!(asym <= 1e-10 * scale))  // also catches NaN
     throw std::invalid_argument(std::string("compute_modes: ") + name +
                                 " must be symmetric and stored in full (both triangles): "
-                                "max |a_ij - a_ji| = " + fmt_double(asym) + " vs max |a_ij| = " +
-                                fmt_double(scale));
+                                "max |a_ij - a_ji| = " +
+                                fmt_double(asym) + " vs max |a_ij| = " + fmt_double(scale));
 }
 
 }  // namespace
@@ -103,7 +125,8 @@ std::string ModalOptions::validate() const {
   if (!std::isfinite(shift)) return "shift: must be finite, got " + fmt_double(shift);
   if (!(tolerance > 0.0 && tolerance <= 1e-3))
     return "tolerance: must be in (0, 1e-3], got " + fmt_double(tolerance);
-  if (max_iterations < 1) return "max_iterations: must be >= 1, got " + std::to_string(max_iterations);
+  if (max_iterations < 1)
+    return "max_iterations: must be >= 1, got " + std::to_string(max_iterations);
   if (ncv != 0 && ncv <= count)
     return "ncv: must be 0 (automatic) or > count = " + std::to_string(count) + ", got " +
            std::to_string(ncv);
@@ -117,13 +140,13 @@ std::string ModalResult::brief() const {
                 "%ld of %d modes, %.6g ... %.6g Hz, max residual %.2g, %d iterations, %d solves, "
                 "%.3f s (factor %.3f s)",
                 static_cast<long>(m), requested, m > 0 ? frequencies_hz(0) : 0.0,
-                m > 0 ? frequencies_hz(m - 1) : 0.0, m > 0 ? residuals.maxCoeff() : 0.0,
-                iterations, operator_applications, seconds, factor_seconds);
+                m > 0 ? frequencies_hz(m - 1) : 0.0, m > 0 ? residuals.maxCoeff() : 0.0, iterations,
+                operator_applications, seconds, factor_seconds);
   return line;
 }
 
-ModalResult compute_modes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                          const ModalOptions& options) {
+ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
+                          const Eigen::SparseMatrix<double>& M, const ModalOptions& options) {
   const auto start = support::Clock::now();
   if (const auto problem = options.validate(); !problem.empty())
     throw std::invalid_argument("compute_modes: " + problem);
@@ -160,7 +183,8 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K, const Eigen::Spa
     result.status = ModalStatus::failed;
     result.message = "K - sigma*M (sigma = " + fmt_double(options.shift) +
                      ") is not positive definite: sigma must lie below the lowest eigenvalue and "
-                     "K be positive semi-definite, M positive definite (" + error.what() + ")";
+                     "K be positive semi-definite, M positive definite (" +
+                     error.what() + ")";
     result.factor = factor.statistics();
     result.seconds = support::seconds_since(start);
     return result;
@@ -225,8 +249,8 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K, const Eigen::Spa
   const int converged = iparam[4];
   if (info == 1 || info == 3 || converged < nev)
     message = "ARPACK: " + std::to_string(converged) + " of " + std::to_string(nev) +
-              " modes converged: " + (info == 0 ? std::string("fewer than requested")
-                                                : dsaupd_message(info, ncv));
+              " modes converged: " +
+              (info == 0 ? std::string("fewer than requested") : dsaupd_message(info, ncv));
   if (converged == 0) {
     result.status = ModalStatus::not_converged;
     result.message = message;
@@ -286,8 +310,9 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K, const Eigen::Spa
     result.eigenvalues(j) = lambda;
     result.frequencies_hz(j) = std::copysign(std::sqrt(std::abs(lambda)), lambda) / kTwoPi;
     result.residuals(j) =
-        r / (std::max({std::abs(lambda), std::abs(options.shift), std::numeric_limits<double>::min()}) *
-             m_phi.norm());
+        r /
+        (std::max({std::abs(lambda), std::abs(options.shift), std::numeric_limits<double>::min()}) *
+         m_phi.norm());
     result.backward_errors(j) = r / ((norm_k + std::abs(lambda) * norm_m) * phi.norm());
     result.shapes.col(j) = phi;
   }

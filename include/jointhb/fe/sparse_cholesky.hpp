@@ -10,11 +10,13 @@
 // Only one triangle of A is read (Options::triangle); the other may be absent or hold anything,
 // so a fully stored symmetric matrix can be passed as it is. CHOLMOD stays behind a pimpl.
 //
-// Determinism: the supernodal factor calls the BLAS (dsyrk/dgemm/dtrsm) and LAPACK (dpotrf). The
-// results do not depend on a thread count only if the BLAS is sequential or deterministic; the
-// Debian 12 build environment uses the reference (netlib, single-threaded) BLAS, with which two
-// factorisations of the same matrix agree bit for bit (tested). CHOLMOD 5.12 itself runs
-// single-threaded on the CPU.
+// Determinism: the supernodal factor calls the BLAS (dsyrk/dgemm/dtrsm) and LAPACK (dpotrf); the
+// ordering (AMD, or METIS for large 3D meshes) is deterministic. Results are independent of the
+// thread count as long as the BLAS is: the Debian 12 environment uses the reference (netlib,
+// single-threaded) BLAS. Debian's CHOLMOD 5.12 links libgomp, but its OpenMP loops only copy and
+// clear: validation/fe/modal_scaling gives bit-identical eigenvalues with OMP_NUM_THREADS=1 and 2
+// (checked), and two factorisations of one matrix agree bit for bit (tested). A multithreaded
+// BLAS (OpenBLAS, MKL) may change the last bits with the thread count.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -38,21 +40,21 @@ struct SparseCholeskyOptions {
     /// of inertia). No pivoting means no stability guarantee for indefinite A: check residuals.
     simplicial_ldlt,
   };
-  Triangle triangle = Triangle::lower;       ///< which triangle of A holds the values
-  Method method = Method::supernodal_llt;    ///< factorisation kind
+  Triangle triangle = Triangle::lower;     ///< which triangle of A holds the values
+  Method method = Method::supernodal_llt;  ///< factorisation kind
 };
 
 /// What the factorisation cost, for performance logs.
 struct SparseCholeskyStatistics {
-  long rows = 0;                  ///< n
-  long matrix_nonzeros = 0;       ///< entries of A read (the chosen triangle incl. diagonal)
-  double factor_nonzeros = 0.0;   ///< nnz(L) of the symbolic analysis (CHOLMOD's lnz)
-  long factor_entries = 0;        ///< entries stored for L (supernodal: incl. amalgamation zeros)
-  double factor_flops = 0.0;      ///< flops of one numeric factorisation (CHOLMOD's fl)
-  std::string ordering;           ///< fill-reducing ordering chosen: "AMD", "METIS", ...
-  int factorizations = 0;         ///< numeric factorisations done on this analysis
-  double analyze_seconds = 0.0;   ///< wall time of analyze()
-  double factorize_seconds = 0.0; ///< wall time of the last factorize()
+  long rows = 0;                   ///< n
+  long matrix_nonzeros = 0;        ///< entries of A read (the chosen triangle incl. diagonal)
+  double factor_nonzeros = 0.0;    ///< nnz(L) of the symbolic analysis (CHOLMOD's lnz)
+  long factor_entries = 0;         ///< entries stored for L (supernodal: incl. amalgamation zeros)
+  double factor_flops = 0.0;       ///< flops of one numeric factorisation (CHOLMOD's fl)
+  std::string ordering;            ///< fill-reducing ordering chosen: "AMD", "METIS", ...
+  int factorizations = 0;          ///< numeric factorisations done on this analysis
+  double analyze_seconds = 0.0;    ///< wall time of analyze()
+  double factorize_seconds = 0.0;  ///< wall time of the last factorize()
 
   /// One line: "n=…, nnz(A)=…, nnz(L)=… (fill ×…), … Gflop, ordering …".
   [[nodiscard]] std::string brief() const;

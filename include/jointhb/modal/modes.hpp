@@ -54,8 +54,8 @@ enum class ModalStatus {
 
 struct ModalResult {
   ModalStatus status = ModalStatus::failed;
-  std::string message;               ///< one line; empty when converged
-  Eigen::VectorXd eigenvalues;       ///< λ_j = ω_j² [rad²/s²], ascending
+  std::string message;          ///< one line; empty when converged
+  Eigen::VectorXd eigenvalues;  ///< λ_j = ω_j² [rad²/s²], ascending
   /// f_j = sign(λ_j)·√|λ_j| / (2π) [Hz]: a rigid-body mode whose λ came out slightly negative by
   /// round-off shows as a tiny negative frequency rather than hiding as 0.
   Eigen::VectorXd frequencies_hz;
@@ -69,16 +69,16 @@ struct ModalResult {
   /// Normwise backward error ‖Kφ_j − λ_j Mφ_j‖₂ / ((‖K‖₁ + |λ_j| ‖M‖₁) ‖φ_j‖₂) (Higham & Higham,
   /// 1998): the relative perturbation of K and M for which (λ_j, φ_j) is exact.
   Eigen::VectorXd backward_errors;
-  double shift = 0.0;              ///< σ used [rad²/s²]
-  int requested = 0;               ///< count asked for
-  int iterations = 0;              ///< ARPACK restarts (its iparam(3) on exit)
-  int operator_applications = 0;   ///< OP x = (K − σM)⁻¹ M x, i.e. factor solves (iparam(9))
-  int mass_applications = 0;       ///< M x products requested by ARPACK (iparam(10))
-  int ncv = 0;                     ///< Lanczos basis size used
+  double shift = 0.0;             ///< σ used [rad²/s²]
+  int requested = 0;              ///< count asked for
+  int iterations = 0;             ///< ARPACK restarts (its iparam(3) on exit)
+  int operator_applications = 0;  ///< OP x = (K − σM)⁻¹ M x, i.e. factor solves (iparam(9))
+  int mass_applications = 0;      ///< M x products requested by ARPACK (iparam(10))
+  int ncv = 0;                    ///< Lanczos basis size used
   fe::SparseCholeskyStatistics factor;  ///< the factorisation of K − σM
-  double factor_seconds = 0.0;     ///< forming and factoring K − σM
-  double lanczos_seconds = 0.0;    ///< dsaupd + dseupd with the operator applications
-  double seconds = 0.0;            ///< total wall time
+  double factor_seconds = 0.0;          ///< forming and factoring K − σM
+  double lanczos_seconds = 0.0;         ///< dsaupd + dseupd with the operator applications
+  double seconds = 0.0;                 ///< total wall time
 
   /// One line: "20 modes, 0.0 … 1234.5 Hz, max residual …, … iterations, … s".
   [[nodiscard]] std::string brief() const;
@@ -89,7 +89,7 @@ struct ModalResult {
 /// K − σM is factored. Throws std::invalid_argument on invalid options or matrices (naming the
 /// field or the constraint); numerical failures (K − σM not positive definite, ARPACK errors,
 /// non-convergence) are a status with a one-line message.
-ModalResult compute_modes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                          const ModalOptions& options = {});
+ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
+                          const Eigen::SparseMatrix<double>& M, const ModalOptions& options = {});
 
 }  // namespace jointhb::modal

@@ -122,14 +122,13 @@ TEST(SparseCholesky, AnalyzeOnceFactorizeManyLikeANewtonLoop) {
 }
 
 TEST(SparseCholesky, ReportsTheColumnWhereTheMatrixIsNotPositiveDefinite) {
-  // A tridiagonal SPD matrix except for a negative diagonal entry far below the others at
-  // column 17: every elimination order fails on or after that column and the message names the
-  // column in A's own numbering when the failing pivot is 17's.
+  // A positive diagonal except for column 17: whatever the elimination order, the failing pivot
+  // is column 17's, and the message must name it in A's own numbering (not the permuted one).
   const int n = 40;
   std::vector<Eigen::Triplet<double>> entries;
   for (int i = 0; i < n; ++i) entries.emplace_back(i, i, i == 17 ? -100.0 : 4.0);
   SpMat A(n, n);
-  A.setFromTriplets(entries.begin(), entries.end());  // diagonal: the failing pivot is column 17
+  A.setFromTriplets(entries.begin(), entries.end());
   SparseCholesky cholesky;
   try {
     cholesky.compute(A);

@@ -113,7 +113,8 @@ std::string attribute(const std::string& text, const std::string& name, std::siz
 VtkData sample_data(const Mesh& mesh) {
   VtkData data;
   Eigen::VectorXd mode(mesh.num_dofs());
-  for (Eigen::Index k = 0; k < mode.size(); ++k) mode(k) = std::sin(0.3 * static_cast<double>(k)) / 3.0;
+  for (Eigen::Index k = 0; k < mode.size(); ++k)
+    mode(k) = std::sin(0.3 * static_cast<double>(k)) / 3.0;
   data.add_point_dofs("mode_1", mode);
   data.add_point_scalars("temperature", Eigen::VectorXd::LinSpaced(mesh.num_nodes(), 0.0, 1.0));
   data.add_cell_scalars("von_mises", Eigen::Vector3d(1.5e8, 2.25e8, 1.0 / 7.0));
@@ -188,9 +189,9 @@ TEST(VtkWriter, AutomaticEncodingSwitchesToBinaryAboveTheLimit) {
 TEST(VtkWriter, QuadSurfaceWithLinearAndQuadraticFacets) {
   const Mesh mesh = small_mesh();
   // Top faces (S2) of the hex8 elements and one 8-node face of the hex20.
-  std::vector<std::vector<int>> quads = {
-      jointhb::fe::face_nodes(mesh, {0, 1}), jointhb::fe::face_nodes(mesh, {1, 1}),
-      jointhb::fe::face_nodes(mesh, {2, 1})};
+  std::vector<std::vector<int>> quads = {jointhb::fe::face_nodes(mesh, {0, 1}),
+                                         jointhb::fe::face_nodes(mesh, {1, 1}),
+                                         jointhb::fe::face_nodes(mesh, {2, 1})};
   ASSERT_EQ(quads[2].size(), 8u);
   VtkData data;
   data.add_cell_scalars("pressure", Eigen::Vector3d(1e6, 2e6, 0.0));
@@ -204,8 +205,8 @@ TEST(VtkWriter, QuadSurfaceWithLinearAndQuadraticFacets) {
       EXPECT_NE(text.find("Name=\"types\" format=\"ascii\">\n9\n9\n23\n"), std::string::npos);
     }
     if (python_available()) {
-    EXPECT_EQ(run_python_check(file.path()), 0);
-  }
+      EXPECT_EQ(run_python_check(file.path()), 0);
+    }
   }
 }
 
@@ -246,11 +247,12 @@ TEST(VtkWriter, PvdCollectionListsTheDatasets) {
   EXPECT_NE(text.find("<DataSet timestep=\"123.25\" part=\"0\" file=\"mode_2.vtu\"/>"),
             std::string::npos);
   if (python_available()) {
-    TempFile script(".py",
-                    "import sys, xml.etree.ElementTree as ET\n"
-                    "r = ET.parse(sys.argv[1]).getroot()\n"
-                    "assert r.get('type') == 'Collection'\n"
-                    "assert [d.get('file') for d in r.iter('DataSet')] == ['mode_1.vtu', 'mode_2.vtu']\n");
+    TempFile script(
+        ".py",
+        "import sys, xml.etree.ElementTree as ET\n"
+        "r = ET.parse(sys.argv[1]).getroot()\n"
+        "assert r.get('type') == 'Collection'\n"
+        "assert [d.get('file') for d in r.iter('DataSet')] == ['mode_1.vtu', 'mode_2.vtu']\n");
     const std::string command =
         "/usr/bin/python3 '" + script.path().string() + "' '" + file.path().string() + "'";
     EXPECT_EQ(std::system(command.c_str()), 0);

@@ -132,7 +132,8 @@ TEST(ModalArpack, FreeFreeChainGivesTheRigidModeAndTheElasticOnes) {
   options.count = 8;  // default shift −(2π·1 Hz)²
   const ModalResult result = compute_modes(K, M, options);
   ASSERT_EQ(result.status, ModalStatus::converged) << result.message;
-  const double lambda_1 = 4.0 * kStiffness / kMass * std::pow(std::sin(std::numbers::pi / (2 * n)), 2);
+  const double lambda_1 =
+      4.0 * kStiffness / kMass * std::pow(std::sin(std::numbers::pi / (2 * n)), 2);
   EXPECT_LT(std::abs(result.eigenvalues(0)), 1e-8 * lambda_1);
   EXPECT_LT(std::abs(result.frequencies_hz(0)), 1e-3);
   // The rigid mode is the uniform translation, mass-normalised: φ = 1/√(n m).
