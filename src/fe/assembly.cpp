@@ -57,7 +57,9 @@ NodeGraph node_graph(const Mesh& mesh) {
     scratch.clear();
     scratch.push_back(static_cast<int>(i));
     for (long k = element_offsets[i]; k < element_offsets[i + 1]; ++k)
-      for (int node : mesh.elements[static_cast<std::size_t>(elements_of[static_cast<std::size_t>(k)])].node_span())
+      for (int node :
+           mesh.elements[static_cast<std::size_t>(elements_of[static_cast<std::size_t>(k)])]
+               .node_span())
         scratch.push_back(node);
     std::sort(scratch.begin(), scratch.end());
     scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
@@ -69,9 +71,9 @@ NodeGraph node_graph(const Mesh& mesh) {
 
 void check_mesh(const Mesh& mesh, const std::vector<Material>& materials) {
   if (materials.size() != mesh.parts.size())
-    throw std::invalid_argument(fmt::format(
-        "assemble: {} materials given for {} parts (one material per part is required)",
-        materials.size(), mesh.parts.size()));
+    throw std::invalid_argument(
+        fmt::format("assemble: {} materials given for {} parts (one material per part is required)",
+                    materials.size(), mesh.parts.size()));
   for (std::size_t p = 0; p < materials.size(); ++p)
     if (const std::string message = materials[p].validate(); !message.empty())
       throw std::invalid_argument(fmt::format("assemble: part '{}': {}", mesh.parts[p], message));
@@ -83,9 +85,10 @@ void check_mesh(const Mesh& mesh, const std::vector<Material>& materials) {
                                               mesh.parts.size()));
     for (int node : element.node_span())
       if (node < 0 || node >= mesh.num_nodes())
-        throw std::invalid_argument(fmt::format("assemble: {} references node index {} (mesh has "
-                                                "{} nodes)",
-                                                element_name(mesh, e), node, mesh.num_nodes()));
+        throw std::invalid_argument(
+            fmt::format("assemble: {} references node index {} (mesh has "
+                        "{} nodes)",
+                        element_name(mesh, e), node, mesh.num_nodes()));
   }
 }
 
@@ -146,9 +149,9 @@ StructuralMatrices assemble(const Mesh& mesh, const std::vector<Material>& mater
         for (int d = 0; d < 3; ++d)
           x[3 * a + d] = mesh.coordinates(d, element.nodes[static_cast<std::size_t>(a)]);
       const auto offset = static_cast<std::size_t>(i) * kMaxSize;
-      volumes[static_cast<std::size_t>(i)] = detail::element_kernel(
-          element.type, x, constants[static_cast<std::size_t>(element.part)],
-          k_buffer.data() + offset, m_buffer.data() + offset);
+      volumes[static_cast<std::size_t>(i)] =
+          detail::element_kernel(element.type, x, constants[static_cast<std::size_t>(element.part)],
+                                 k_buffer.data() + offset, m_buffer.data() + offset);
     }
     for (int i = 0; i < count; ++i) {
       const int e = first + i;
@@ -167,17 +170,23 @@ StructuralMatrices assemble(const Mesh& mesh, const std::vector<Material>& mater
       const double* me = m_buffer.data() + static_cast<std::size_t>(i) * kMaxSize;
       for (int b = 0; b < n; ++b) {
         const int node_b = element.nodes[static_cast<std::size_t>(b)];
-        const int* begin = graph.neighbours.data() + graph.offsets[static_cast<std::size_t>(node_b)];
-        const int* end = graph.neighbours.data() + graph.offsets[static_cast<std::size_t>(node_b) + 1];
+        const int* begin =
+            graph.neighbours.data() + graph.offsets[static_cast<std::size_t>(node_b)];
+        const int* end =
+            graph.neighbours.data() + graph.offsets[static_cast<std::size_t>(node_b) + 1];
         for (int a = 0; a < n; ++a) {
           const int node_a = element.nodes[static_cast<std::size_t>(a)];
           const auto k = static_cast<int>(std::lower_bound(begin, end, node_a) - begin);
           for (int d = 0; d < 3; ++d) {
-            const auto base = static_cast<std::size_t>(outer[static_cast<std::size_t>(3 * node_b + d)] + 3 * k);
-            const auto column = static_cast<std::size_t>(3 * b + d) * static_cast<std::size_t>(size);
+            const auto base =
+                static_cast<std::size_t>(outer[static_cast<std::size_t>(3 * node_b + d)] + 3 * k);
+            const auto column =
+                static_cast<std::size_t>(3 * b + d) * static_cast<std::size_t>(size);
             for (int r = 0; r < 3; ++r) {
-              k_values[base + static_cast<std::size_t>(r)] += ke[column + static_cast<std::size_t>(3 * a + r)];
-              m_values[base + static_cast<std::size_t>(r)] += me[column + static_cast<std::size_t>(3 * a + r)];
+              k_values[base + static_cast<std::size_t>(r)] +=
+                  ke[column + static_cast<std::size_t>(3 * a + r)];
+              m_values[base + static_cast<std::size_t>(r)] +=
+                  me[column + static_cast<std::size_t>(3 * a + r)];
             }
           }
         }
@@ -200,9 +209,9 @@ DofMap DofMap::from_fixed_nodes(int num_nodes, const std::vector<FixedNodes>& fi
   for (std::size_t s = 0; s < fixed.size(); ++s)
     for (int node : fixed[s].nodes) {
       if (node < 0 || node >= num_nodes)
-        throw std::invalid_argument(fmt::format(
-            "DofMap: fixed node set {} contains node index {} (mesh has {} nodes)", s, node,
-            num_nodes));
+        throw std::invalid_argument(
+            fmt::format("DofMap: fixed node set {} contains node index {} (mesh has {} nodes)", s,
+                        node, num_nodes));
       for (int d = 0; d < 3; ++d)
         if (fixed[s].directions[static_cast<std::size_t>(d)])
           is_fixed[static_cast<std::size_t>(3 * node + d)] = 1;
@@ -219,8 +228,8 @@ DofMap DofMap::from_fixed_nodes(int num_nodes, const std::vector<FixedNodes>& fi
 
 Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free) const {
   if (free.size() != num_free())
-    throw std::invalid_argument(fmt::format("DofMap::expand: vector of size {}, must be {}",
-                                            free.size(), num_free()));
+    throw std::invalid_argument(
+        fmt::format("DofMap::expand: vector of size {}, must be {}", free.size(), num_free()));
   Eigen::VectorXd full = Eigen::VectorXd::Zero(num_full());
   for (int i = 0; i < num_free(); ++i) full(full_of_free[static_cast<std::size_t>(i)]) = free(i);
   return full;
@@ -228,8 +237,8 @@ Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free) const {
 
 Eigen::VectorXd DofMap::restrict(const Eigen::VectorXd& full) const {
   if (full.size() != num_full())
-    throw std::invalid_argument(fmt::format("DofMap::restrict: vector of size {}, must be {}",
-                                            full.size(), num_full()));
+    throw std::invalid_argument(
+        fmt::format("DofMap::restrict: vector of size {}, must be {}", full.size(), num_full()));
   Eigen::VectorXd free(num_free());
   for (int i = 0; i < num_free(); ++i) free(i) = full(full_of_free[static_cast<std::size_t>(i)]);
   return free;
@@ -244,7 +253,8 @@ Eigen::SparseMatrix<double> DofMap::restrict(const Eigen::SparseMatrix<double>& 
   free.reserve(full.nonZeros());
   for (int j = 0; j < num_free(); ++j) {
     free.startVec(j);
-    for (Eigen::SparseMatrix<double>::InnerIterator it(full, full_of_free[static_cast<std::size_t>(j)]);
+    for (Eigen::SparseMatrix<double>::InnerIterator it(full,
+                                                       full_of_free[static_cast<std::size_t>(j)]);
          it; ++it) {
       const int i = free_of_full[static_cast<std::size_t>(it.index())];
       if (i >= 0) free.insertBack(i, j) = it.value();

@@ -56,8 +56,8 @@ Eigen::Matrix<double, 20, 1> hex20_shape_functions(const Eigen::Vector3d& xi) {
     const auto row = static_cast<Eigen::Index>(a);
     if (a < 8) {
       const double s = xi(0) * c[0] + xi(1) * c[1] + xi(2) * c[2];
-      n(row) = 0.125 * (1.0 + xi(0) * c[0]) * (1.0 + xi(1) * c[1]) * (1.0 + xi(2) * c[2]) *
-               (s - 2.0);
+      n(row) =
+          0.125 * (1.0 + xi(0) * c[0]) * (1.0 + xi(1) * c[1]) * (1.0 + xi(2) * c[2]) * (s - 2.0);
     } else {
       // f_k = 1 − ξ_k² along the edge's own direction (c[k] = 0), else 1 + ξ_k c_k.
       double product = 0.25;
@@ -82,8 +82,8 @@ Eigen::Matrix<double, 3, 20> hex20_shape_derivatives(const Eigen::Vector3d& xi) 
       for (int k = 0; k < 3; ++k) {
         const auto k0 = static_cast<std::size_t>(k), k1 = static_cast<std::size_t>((k + 1) % 3),
                    k2 = static_cast<std::size_t>((k + 2) % 3);
-        d(k, col) = 0.125 * c[k0] * (1.0 + t[k1]) * (1.0 + t[k2]) *
-                    (2.0 * t[k0] + t[k1] + t[k2] - 1.0);
+        d(k, col) =
+            0.125 * c[k0] * (1.0 + t[k1]) * (1.0 + t[k2]) * (2.0 * t[k0] + t[k1] + t[k2] - 1.0);
       }
     } else {
       std::array<double, 3> f{}, df{};
@@ -135,12 +135,15 @@ const std::vector<GaussPoint>& hex_gauss_rule(int points_per_direction) {
   static const std::vector<GaussPoint> one = tensor_rule({0.0}, {2.0});
   static const std::vector<GaussPoint> two =
       tensor_rule({-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)}, {1.0, 1.0});
-  static const std::vector<GaussPoint> three = tensor_rule(
-      {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0});
+  static const std::vector<GaussPoint> three =
+      tensor_rule({-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0});
   switch (points_per_direction) {
-    case 1: return one;
-    case 2: return two;
-    case 3: return three;
+    case 1:
+      return one;
+    case 2:
+      return two;
+    case 3:
+      return three;
     default:
       throw std::invalid_argument("hex_gauss_rule: points_per_direction = " +
                                   std::to_string(points_per_direction) + " must be 1, 2 or 3");

@@ -26,14 +26,18 @@ struct RuleTable {
 
 template <int N>
 Eigen::Matrix<double, N, 1> shape_at(const Eigen::Vector3d& xi) {
-  if constexpr (N == 8) return hex8_shape_functions(xi);
-  else return hex20_shape_functions(xi);
+  if constexpr (N == 8)
+    return hex8_shape_functions(xi);
+  else
+    return hex20_shape_functions(xi);
 }
 
 template <int N>
 Eigen::Matrix<double, 3, N> derivatives_at(const Eigen::Vector3d& xi) {
-  if constexpr (N == 8) return hex8_shape_derivatives(xi);
-  else return hex20_shape_derivatives(xi);
+  if constexpr (N == 8)
+    return hex8_shape_derivatives(xi);
+  else
+    return hex20_shape_derivatives(xi);
 }
 
 template <int N>
@@ -195,10 +199,12 @@ namespace detail {
 double element_kernel(ElementType type, const double* coordinates, const IsotropicConstants& c,
                       double* stiffness, double* mass) {
   switch (type) {
-    case ElementType::hex8: return compatible_kernel<8>(2, 2, coordinates, c, stiffness, mass);
+    case ElementType::hex8:
+      return compatible_kernel<8>(2, 2, coordinates, c, stiffness, mass);
     case ElementType::hex8_incompatible:
       return incompatible_kernel(coordinates, c, stiffness, mass);
-    case ElementType::hex20: return compatible_kernel<20>(3, 3, coordinates, c, stiffness, mass);
+    case ElementType::hex20:
+      return compatible_kernel<20>(3, 3, coordinates, c, stiffness, mass);
     case ElementType::hex20_reduced:
       return compatible_kernel<20>(2, 3, coordinates, c, stiffness, mass);
   }
@@ -218,8 +224,7 @@ ElementMatrices element_matrices(ElementType type, const Eigen::Matrix3Xd& coord
   ElementMatrices e;
   e.stiffness.resize(size, size);
   e.mass.resize(size, size);
-  e.volume =
-      detail::element_kernel(type, coordinates.data(), c, e.stiffness.data(), e.mass.data());
+  e.volume = detail::element_kernel(type, coordinates.data(), c, e.stiffness.data(), e.mass.data());
   if (!(e.volume > 0.0))
     throw std::invalid_argument(std::string(abaqus_name(type)) +
                                 ": det J <= 0 at an integration point or the centre (inverted "

@@ -44,7 +44,7 @@ struct StructuralMatrices {
 
 /// Nodes whose selected directions are fixed (u_d = 0).
 struct FixedNodes {
-  std::vector<int> nodes;                         ///< node indices (e.g. a Mesh::node_sets entry)
+  std::vector<int> nodes;  ///< node indices (e.g. a Mesh::node_sets entry)
   std::array<bool, 3> directions{true, true, true};  ///< fixed x, y, z
 };
 

@@ -37,9 +37,10 @@
 namespace jointhb::fe {
 
 struct ElementMatrices {
-  Eigen::MatrixXd stiffness;  ///< 3n × 3n [N/m], eq. (1) (condensed, eq. (3), for hex8_incompatible)
-  Eigen::MatrixXd mass;       ///< 3n × 3n [kg], eq. (2)
-  double volume = 0.0;        ///< [m³], Σ_q w_q det J_q with the mass rule
+  Eigen::MatrixXd
+      stiffness;         ///< 3n × 3n [N/m], eq. (1) (condensed, eq. (3), for hex8_incompatible)
+  Eigen::MatrixXd mass;  ///< 3n × 3n [kg], eq. (2)
+  double volume = 0.0;   ///< [m³], Σ_q w_q det J_q with the mass rule
 };
 
 /// Gauss points per direction of the stiffness rule of `type` (2 or 3).

@@ -27,8 +27,15 @@ TEST_P(Assembly, FreeMeshHasMassOfTheBoxAndSixRigidBodyModes) {
   EXPECT_NEAR(m.total_mass, kAluminium.density * volume, 1e-12 * kAluminium.density * volume);
   EXPECT_NEAR(m.mass.sum(), 3.0 * m.total_mass, 1e-12 * m.total_mass);
   EXPECT_EQ(m.stiffness.rows(), mesh.num_dofs());
-  EXPECT_EQ(Eigen::SparseMatrix<double>(m.stiffness - Eigen::SparseMatrix<double>(m.stiffness.transpose())).cwiseAbs().sum(), 0.0);
-  EXPECT_EQ(Eigen::SparseMatrix<double>(m.mass - Eigen::SparseMatrix<double>(m.mass.transpose())).cwiseAbs().sum(), 0.0);
+  EXPECT_EQ(Eigen::SparseMatrix<double>(m.stiffness -
+                                        Eigen::SparseMatrix<double>(m.stiffness.transpose()))
+                .cwiseAbs()
+                .sum(),
+            0.0);
+  EXPECT_EQ(Eigen::SparseMatrix<double>(m.mass - Eigen::SparseMatrix<double>(m.mass.transpose()))
+                .cwiseAbs()
+                .sum(),
+            0.0);
 
   // K r = 0 for the 6 rigid-body fields; M r has the resultant ρ V of a translation.
   const double k_scale = Eigen::MatrixXd(m.stiffness).cwiseAbs().maxCoeff();
@@ -107,7 +114,8 @@ TEST(AssemblyErrors, InvertedElementIsNamed) {
 }
 
 TEST(DofMap, FixedDirectionsExpandAndRestrict) {
-  const DofMap map = DofMap::from_fixed_nodes(3, {{{0}, {true, true, true}}, {{2}, {false, true, false}}});
+  const DofMap map =
+      DofMap::from_fixed_nodes(3, {{{0}, {true, true, true}}, {{2}, {false, true, false}}});
   EXPECT_EQ(map.num_full(), 9);
   EXPECT_EQ(map.num_free(), 5);
   EXPECT_EQ(map.full_of_free, (std::vector<int>{3, 4, 5, 6, 8}));
@@ -121,7 +129,8 @@ TEST(DofMap, FixedDirectionsExpandAndRestrict) {
   for (int i = 0; i < 9; ++i)
     for (int j = 0; j < 9; ++j)
       if ((i + j) % 2 == 0) dense(i, j) = 10.0 * i + j;
-  const Eigen::MatrixXd restricted = Eigen::MatrixXd(map.restrict(Eigen::SparseMatrix<double>(dense.sparseView())));
+  const Eigen::MatrixXd restricted =
+      Eigen::MatrixXd(map.restrict(Eigen::SparseMatrix<double>(dense.sparseView())));
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
       EXPECT_EQ(restricted(i, j), dense(map.full_of_free[static_cast<std::size_t>(i)],

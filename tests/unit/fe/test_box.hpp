@@ -4,6 +4,7 @@
 // helpers to distort interior nodes, impose tractions and find nodes by position.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -113,7 +114,8 @@ inline Eigen::VectorXd face_load(const Mesh& mesh, double x_face,
   for (const Element& element : mesh.elements) {
     const int n = node_count(element.type);
     Eigen::Matrix3Xd x(3, n);
-    for (int a = 0; a < n; ++a) x.col(a) = mesh.coordinates.col(element.nodes[static_cast<std::size_t>(a)]);
+    for (int a = 0; a < n; ++a)
+      x.col(a) = mesh.coordinates.col(element.nodes[static_cast<std::size_t>(a)]);
     if (std::abs(x(0, 1) - x_face) > 1e-9 || std::abs(x(0, 6) - x_face) > 1e-9) continue;
     for (int q = 0; q < 3; ++q)
       for (int p = 0; p < 3; ++p) {

@@ -59,8 +59,7 @@ TEST_P(HexShape, DerivativesMatchFiniteDifferences) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Types, HexShape,
-                         ::testing::Values(ElementType::hex8, ElementType::hex20),
+INSTANTIATE_TEST_SUITE_P(Types, HexShape, ::testing::Values(ElementType::hex8, ElementType::hex20),
                          [](const auto& p) { return std::string(abaqus_name(p.param)); });
 
 TEST(HexGaussRule, WeightsAndPolynomialExactness) {

@@ -87,7 +87,8 @@ TEST_P(SolidElement, StiffnessIsSymmetricWithSixRigidBodyModes) {
   const double scale = k.cwiseAbs().maxCoeff();
   EXPECT_LT((k * rigid_body_modes(x)).cwiseAbs().maxCoeff(), 1e-12 * scale);
 
-  const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
+  const Eigen::VectorXd eigenvalues =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
   int zeros = 0;
   for (Eigen::Index i = 0; i < eigenvalues.size(); ++i) {
     EXPECT_GT(eigenvalues(i), -1e-10 * eigenvalues.maxCoeff());
@@ -107,7 +108,8 @@ TEST_P(SolidElement, ConsistentMassCarriesTheElementMass) {
   a << 1.0, 0.2, 0.1, -0.1, 0.7, 0.15, 0.05, -0.2, 0.4;
   const int n = node_count(type);
   Eigen::Matrix3Xd x(3, n);
-  for (int i = 0; i < n; ++i) x.col(i) = a * hex_node_natural_coordinates(i) + Eigen::Vector3d(1, 2, 3);
+  for (int i = 0; i < n; ++i)
+    x.col(i) = a * hex_node_natural_coordinates(i) + Eigen::Vector3d(1, 2, 3);
   const ElementMatrices e = element_matrices(type, x, kMaterial);
   const double volume = 8.0 * a.determinant();
   EXPECT_NEAR(e.volume, volume, 1e-14 * volume);
@@ -117,7 +119,8 @@ TEST_P(SolidElement, ConsistentMassCarriesTheElementMass) {
   const Eigen::MatrixXd r = rigid_body_modes(x).leftCols(3);
   const Eigen::Matrix3d translational = r.transpose() * e.mass * r;
   EXPECT_LT((translational - kMaterial.density * volume * Eigen::Matrix3d::Identity())
-                .cwiseAbs().maxCoeff(),
+                .cwiseAbs()
+                .maxCoeff(),
             1e-12 * kMaterial.density * volume);
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.mass).eigenvalues().minCoeff(), 0.0);
 }
@@ -128,9 +131,10 @@ TEST_P(SolidElement, IsotropicFormulaEqualsBtDB) {
   if (type == ElementType::hex8_incompatible) {
     // Condensation, eq. (3), only releases: K(hex8) − K(hex8_incompatible) = K_uα K_αα⁻¹ K_αu is
     // positive semi-definite, of rank ≤ 9, and non-zero.
-    const Eigen::MatrixXd released = element_stiffness(ElementType::hex8, x, kMaterial) -
-                                     element_stiffness(type, x, kMaterial);
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(released).eigenvalues();
+    const Eigen::MatrixXd released =
+        element_stiffness(ElementType::hex8, x, kMaterial) - element_stiffness(type, x, kMaterial);
+    const Eigen::VectorXd ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(released).eigenvalues();
     EXPECT_GT(ev.minCoeff(), -1e-12 * ev.maxCoeff());
     EXPECT_GT(ev.maxCoeff(), 1e-3 * element_stiffness(ElementType::hex8, x, kMaterial).norm());
     EXPECT_LT(ev(ev.size() - 10), 1e-10 * ev.maxCoeff());
@@ -213,7 +217,8 @@ double bending_tip_ratio(ElementType type, int nx) {
   const Eigen::VectorXd f = testing::face_load(mesh, length, [&](const Eigen::Vector3d& p) {
     return Eigen::Vector3d(-moment * (p(2) - 0.5 * h) / inertia, 0.0, 0.0);
   });
-  const DofMap dofs = DofMap::from_fixed_nodes(mesh.num_nodes(), {{testing::nodes_where(mesh, 0, 0.0)}});
+  const DofMap dofs =
+      DofMap::from_fixed_nodes(mesh.num_nodes(), {{testing::nodes_where(mesh, 0, 0.0)}});
   const StructuralMatrices m = assemble(mesh, {material});
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(dofs.restrict(m.stiffness));
   const Eigen::VectorXd u = dofs.expand(solver.solve(dofs.restrict(f)));
@@ -241,8 +246,10 @@ TEST(SolidElementBending, FullyIntegratedHex8LocksInBending) {
   EXPECT_GT(aspect2, 0.25);
   EXPECT_LT(aspect1, 0.7);
   EXPECT_LT(aspect2, aspect1);
-  std::printf("hex8 pure bending, one element through the thickness: tip / exact = %.4f (a/h = 2), "
-              "%.4f (a/h = 1)\n", aspect2, aspect1);
+  std::printf(
+      "hex8 pure bending, one element through the thickness: tip / exact = %.4f (a/h = 2), "
+      "%.4f (a/h = 1)\n",
+      aspect2, aspect1);
 }
 
 TEST(SolidElementErrors, InvertedElementAndWrongSizesThrow) {
@@ -251,7 +258,8 @@ TEST(SolidElementErrors, InvertedElementAndWrongSizesThrow) {
   EXPECT_NO_THROW((void)element_stiffness(ElementType::hex8, x, kMaterial));
   Eigen::Matrix3Xd mirrored = x;
   mirrored.row(0) *= -1.0;  // left-handed node order: det J < 0
-  EXPECT_THROW((void)element_stiffness(ElementType::hex8, mirrored, kMaterial), std::invalid_argument);
+  EXPECT_THROW((void)element_stiffness(ElementType::hex8, mirrored, kMaterial),
+               std::invalid_argument);
   EXPECT_THROW((void)element_stiffness(ElementType::hex8_incompatible, mirrored, kMaterial),
                std::invalid_argument);
   EXPECT_THROW((void)element_stiffness(ElementType::hex20, x, kMaterial), std::invalid_argument);
