@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "cli_support.hpp"
+#include "fe_run.hpp"
 #include "frf_run.hpp"
 #include "jointhb/io/case_file.hpp"
 #include "loop_sweep_run.hpp"
@@ -52,6 +53,7 @@ int RunCommand::run() const {
   if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
     return run_loop_sweep(*sweep, dir, start);
   }
+  if (const auto* fe_case = std::get_if<io::FeCase>(&c)) return run_fe_case(*fe_case, dir, start);
   const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
   if (plot_) plot_results(dir);
   return code;

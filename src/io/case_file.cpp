@@ -41,7 +41,11 @@ CaseFile parse_case_file(const std::string& text, const std::string& file_name) 
   if (root.IsMap()) {
     for (auto it = root.begin(); it != root.end(); ++it) {
       const YAML::Node key = it->first;
-      if (key.IsScalar() && key.Scalar() == "model") return parse_discrete_case(text, file_name);
+      if (key.IsScalar() && key.Scalar() == "model") {
+        const YAML::Node type = it->second.IsMap() ? it->second["type"] : YAML::Node();
+        if (type && type.IsScalar() && type.Scalar() == "fe") return parse_fe_case(text, file_name);
+        return parse_discrete_case(text, file_name);
+      }
     }
     check_needs_no_model(root, yaml::Reader(file_name));
   }

@@ -137,7 +137,7 @@ class DiscreteCaseReader {
     const std::string type_name = reader_.text(type->value, "model.type");
     if (type_name != "discrete") {
       reader_.fail(type->value, "model.type",
-                   "must be discrete (finite-element models are not supported yet), got '" +
+                   "must be discrete here (fe: a finite-element case, docs/case-files.md), got '" +
                        type_name + "'");
     }
     if (!model.has("mass")) reader_.fail(node, "model.mass", "required");

@@ -1,6 +1,6 @@
 #pragma once
 // Any case file `jointhb run` accepts: a file with a top-level `model:` is a discrete-model case
-// (io/discrete_case.hpp), any other file a loop-sweep case (io/loop_sweep_case.hpp). Schema and
+// (io/discrete_case.hpp) or, with model.type fe, a finite-element case (io/fe_case.hpp), any other file a loop-sweep case (io/loop_sweep_case.hpp). Schema and
 // error format: docs/case-files.md.
 
 #include <filesystem>
@@ -8,11 +8,12 @@
 #include <variant>
 
 #include "jointhb/io/discrete_case.hpp"
+#include "jointhb/io/fe_case.hpp"
 #include "jointhb/io/loop_sweep_case.hpp"
 
 namespace jointhb::io {
 
-using CaseFile = std::variant<LoopSweepCase, DiscreteCase>;
+using CaseFile = std::variant<LoopSweepCase, DiscreteCase, FeCase>;
 
 /// Reads a case file of either kind. Throws InputError as the two readers do; a file without
 /// `model:` that asks for what only a model can have (analysis.frf, contacts, excitation) is

@@ -404,8 +404,8 @@ TEST(io_DiscreteCase, NonFiniteNumbersAreRejected) {
 }
 
 TEST(io_DiscreteCase, ModelTypeAndMatrixShapesAreChecked) {
-  expect_error("model:\n  type: fe\n", 2, "fe", "model.type",
-               "must be discrete (finite-element models are not supported yet), got 'fe'");
+  expect_error("model:\n  type: shell\n", 2, "shell", "model.type",
+               "must be discrete here (fe: a finite-element case, docs/case-files.md), got 'shell'");
   expect_error("model:\n  mass: 1.0\n", 2, "mass", "model.type", "required (discrete)");
   expect_error("model:\n  type: discrete\n  mass: 1.0\n", 2, "type", "model.stiffness", "required");
   expect_error("model:\n  type: discrete\n  mass: [[1.0, 0.0], [0.0, 1.0, 0.0]]\n", 3,

@@ -1,0 +1,206 @@
+#include "fe_run.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "jointhb/fe/assembly.hpp"
+#include "jointhb/io/csv_writer.hpp"
+#include "jointhb/io/vtk_writer.hpp"
+#include "jointhb/modal/modes.hpp"
+#include "jointhb/preload/preload_solver.hpp"
+
+namespace jointhb::cli {
+namespace {
+
+using nlohmann::ordered_json;
+
+// Node values of an interface from its point values: v_i = Σ_p a_p h_i(p) v_p / Σ_p a_p h_i(p)
+// over the bottom face nodes (a lumped L2 projection; with nodal integration the plain average
+// of the points at that node weighted by area).
+Eigen::VectorXd node_average(const fe::Interface& iface, const Eigen::VectorXd& point_values,
+                             int num_nodes) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(num_nodes), weight = Eigen::VectorXd::Zero(num_nodes);
+  for (const fe::InterfaceElement& e : iface.elements) {
+    for (int p = e.first_point; p < e.first_point + e.num_points; ++p) {
+      const fe::InterfacePoint& pt = iface.points[static_cast<std::size_t>(p)];
+      for (std::size_t k = 0; k < e.bottom_nodes.size(); ++k) {
+        const double w = pt.area * pt.shape[k];
+        sum[e.bottom_nodes[k]] += w * point_values[p];
+        weight[e.bottom_nodes[k]] += w;
+      }
+    }
+  }
+  for (int i = 0; i < num_nodes; ++i) sum[i] = weight[i] != 0.0 ? sum[i] / weight[i] : 0.0;
+  return sum;
+}
+
+std::string file_label(const std::string& name) {
+  std::string s = name;
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+  return s;
+}
+
+void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
+                     const preload::ContactInterface& ci, const preload::InterfaceResult& r) {
+  const std::string label = file_label(ci.geometry.name);
+  io::CsvWriter csv(dir / ("contact_" + label + ".csv"),
+                    {"point", "x", "y", "z", "area", "pressure", "gap", "slip_1", "slip_2",
+                     "traction_1", "traction_2", "open"});
+  const auto& s = r.state;
+  for (std::size_t p = 0; p < ci.geometry.points.size(); ++p) {
+    const auto i = static_cast<Eigen::Index>(p);
+    const auto& pt = ci.geometry.points[p];
+    csv.write_row({static_cast<double>(p), pt.position.x(), pt.position.y(), pt.position.z(),
+                   pt.area, s.pressure[i], s.gap[3 * i + 2], s.gap[3 * i], s.gap[3 * i + 1],
+                   s.traction[3 * i], s.traction[3 * i + 1], s.open[p] ? 1.0 : 0.0});
+  }
+  std::vector<std::vector<int>> quads;
+  for (const auto& e : ci.geometry.elements) quads.push_back(e.bottom_nodes);
+  const Eigen::Index points = ci.geometry.num_points();
+  Eigen::VectorXd gap(points), t1(points), t2(points);
+  for (Eigen::Index p = 0; p < points; ++p)
+    gap[p] = s.gap[3 * p + 2], t1[p] = s.traction[3 * p], t2[p] = s.traction[3 * p + 1];
+  io::VtkData data;
+  data.add_point_scalars("pressure", node_average(ci.geometry, s.pressure, mesh.num_nodes()));
+  data.add_point_scalars("gap", node_average(ci.geometry, gap, mesh.num_nodes()));
+  data.add_point_scalars("traction_1", node_average(ci.geometry, t1, mesh.num_nodes()));
+  data.add_point_scalars("traction_2", node_average(ci.geometry, t2, mesh.num_nodes()));
+  Eigen::VectorXd cell_pressure(static_cast<Eigen::Index>(quads.size()));
+  for (std::size_t e = 0; e < ci.geometry.elements.size(); ++e) {
+    const auto& el = ci.geometry.elements[e];
+    double f = 0.0;
+    for (int p = el.first_point; p < el.first_point + el.num_points; ++p)
+      f += ci.geometry.points[static_cast<std::size_t>(p)].area * s.pressure[p];
+    cell_pressure[static_cast<Eigen::Index>(e)] = f / el.area;
+  }
+  data.add_cell_scalars("mean_pressure", cell_pressure);
+  io::write_quad_surface_vtu(dir / ("contact_" + label + ".vtu"), mesh.coordinates, quads, data);
+}
+
+}  // namespace
+
+int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start) {
+  const bool tty = isatty(fileno(stderr)) != 0;
+  for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  ordered_json summary;
+  summary["case"] = c.source;
+  summary["kind"] = "fe";
+  summary["model"] = {{"nodes", c.mesh.num_nodes()},
+                      {"elements", c.mesh.num_elements()},
+                      {"dofs", c.mesh.num_dofs()},
+                      {"parts", c.mesh.parts}};
+  int code = 0;
+
+  // ---- structure -------------------------------------------------------------------------
+  const fe::StructuralMatrices structure = fe::assemble(c.mesh, c.material_per_part);
+  summary["model"]["mass_kg"] = structure.total_mass;
+  summary["timings"]["assembly_seconds"] = structure.seconds;
+  std::fprintf(stderr, "model: %d nodes, %d elements, %d DOFs, mass %.4g kg (assembly %.2f s)\n",
+               c.mesh.num_nodes(), c.mesh.num_elements(), c.mesh.num_dofs(), structure.total_mass,
+               structure.seconds);
+
+  preload::PreloadModel model;
+  model.mesh = &c.mesh;
+  model.structure = structure;
+  model.interfaces = c.interfaces;
+  model.bolts = c.bolts;
+  model.constraints = c.constraints;
+
+  // ---- preload ---------------------------------------------------------------------------
+  Eigen::SparseMatrix<double> stiffness = structure.stiffness;
+  fe::DofMap dofs = fe::DofMap::from_fixed_nodes(c.mesh.num_nodes(), c.constraints);
+  const bool needs_preload = c.preload_requested || (c.modes && (!c.interfaces.empty() || !c.bolts.empty()));
+  if (needs_preload) {
+    preload::PreloadOptions options = c.preload;
+    if (tty) {
+      options.progress = [](int step, int it, double r) {
+        std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
+      };
+    }
+    const preload::PreloadResult p = preload::solve_preload(model, options);
+    if (tty) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "preload: %s (%.2f s)\n", p.message.c_str(), p.seconds);
+    {
+      io::CsvWriter steps(dir / "preload_steps.csv",
+                          {"step", "load_factor", "iterations", "line_search_cuts", "residual", "converged"});
+      for (std::size_t k = 0; k < p.steps.size(); ++k) {
+        const auto& s = p.steps[k];
+        steps.write_row({static_cast<double>(k + 1), s.load_factor, static_cast<double>(s.iterations),
+                         static_cast<double>(s.line_search_cuts), s.residual, s.converged ? 1.0 : 0.0});
+      }
+    }
+    ordered_json pj;
+    pj["status"] = p.converged ? "converged" : "failed";
+    pj["message"] = p.message;
+    pj["load_factor"] = p.load_factor;
+    pj["newton_iterations"] = p.total_iterations;
+    pj["support"] = p.support_dofs.empty() ? "user constraints" : "3-2-1 (statically determinate)";
+    pj["support_reaction_relative"] = p.support_reaction;
+    pj["factor"] = p.factor_statistics;
+    pj["bolts"] = ordered_json::array();
+    for (std::size_t b = 0; b < c.bolts.size(); ++b)
+      pj["bolts"].push_back({{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
+                             {"head_nodes", c.bolts[b].head_nodes.size()},
+                             {"nut_nodes", c.bolts[b].nut_nodes.size()}});
+    pj["interfaces"] = ordered_json::array();
+    for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
+      const auto& r = p.interfaces[i];
+      pj["interfaces"].push_back({{"name", r.name},
+                                  {"points", c.interfaces[i].geometry.num_points()},
+                                  {"area", c.interfaces[i].geometry.total_area},
+                                  {"clamping_force", r.clamping_force},
+                                  {"closed_area_fraction", r.closed_area_fraction},
+                                  {"mean_pressure", r.mean_pressure},
+                                  {"max_pressure", r.max_pressure},
+                                  {"min_gap", r.min_gap},
+                                  {"max_gap", r.max_gap}});
+      std::fprintf(stderr, "  interface %s: clamping force %.4g N, closed area %.1f %%, max pressure %.4g Pa\n",
+                   r.name.c_str(), r.clamping_force, 100.0 * r.closed_area_fraction, r.max_pressure);
+      write_interface(dir, c.mesh, c.interfaces[i], r);
+    }
+    pj["seconds"] = {{"total", p.seconds}, {"contact", p.contact_seconds},
+                     {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
+    summary["preload"] = pj;
+    io::VtkData data;
+    data.add_point_dofs("displacement", p.displacement);
+    io::write_vtu(dir / "preload.vtu", c.mesh, data);
+    if (!p.converged) code = 1;
+    stiffness = p.dynamic_stiffness;
+  }
+
+  // ---- modes -----------------------------------------------------------------------------
+  if (c.modes && code == 0) {
+    const Eigen::SparseMatrix<double> K = dofs.restrict(stiffness);
+    const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
+    const modal::ModalResult m = modal::compute_modes(K, M, *c.modes);
+    std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
+    io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual"});
+    io::VtkData data;
+    std::vector<std::pair<double, std::filesystem::path>> collection;
+    for (Eigen::Index j = 0; j < m.eigenvalues.size(); ++j) {
+      csv.write_row({static_cast<double>(j + 1), m.frequencies_hz[j], m.eigenvalues[j], m.residuals[j]});
+      data.add_point_dofs(fmt::format("mode_{}", j + 1), dofs.expand(m.shapes.col(j)));
+    }
+    if (m.eigenvalues.size() > 0) io::write_vtu(dir / "modes.vtu", c.mesh, data);
+    ordered_json mj;
+    mj["status"] = m.status == modal::ModalStatus::converged ? "converged" : "failed";
+    mj["message"] = m.message;
+    mj["frequencies_hz"] = std::vector<double>(m.frequencies_hz.data(), m.frequencies_hz.data() + m.frequencies_hz.size());
+    mj["max_residual"] = m.residuals.size() ? m.residuals.maxCoeff() : 0.0;
+    mj["shift"] = m.shift;
+    mj["iterations"] = m.iterations;
+    mj["seconds"] = m.seconds;
+    summary["modes"] = mj;
+    if (m.status != modal::ModalStatus::converged) code = 1;
+  }
+  summary["status"] = code == 0 ? "ok" : "failed";
+  summary["seconds"] = seconds_since(start);
+  write_summary(dir / "summary.json", summary);
+  std::fprintf(stderr, "done in %.2f s -> %s\n", seconds_since(start), dir.string().c_str());
+  return code;
+}
+
+}  // namespace jointhb::cli

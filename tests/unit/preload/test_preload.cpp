@@ -1,0 +1,176 @@
+// The bolts and the preloaded static state (preload/bolt.hpp, preload/preload_solver.hpp) on two
+// stacked blocks joined by a zero-thickness interface.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "jointhb/contact/harmonic_loop.hpp"
+#include "jointhb/fe/box_mesh.hpp"
+#include "jointhb/preload/preload_solver.hpp"
+
+namespace fe = jointhb::fe;
+namespace pl = jointhb::preload;
+namespace ct = jointhb::contact;
+
+namespace {
+
+// Two 20 × 20 × h mm aluminium blocks, the upper one on the lower one.
+fe::Mesh two_blocks(int n = 4, double h = 0.01) {
+  fe::BoxOptions lower;
+  lower.part = "lower";
+  lower.size = {0.02, 0.02, h};
+  lower.divisions = {n, n, 2};
+  fe::BoxOptions upper = lower;
+  upper.part = "upper";
+  upper.origin = {0.0, 0.0, h};
+  fe::Mesh mesh = fe::box_mesh(lower);
+  fe::append(mesh, fe::box_mesh(upper));
+  return mesh;
+}
+
+ct::ContactPointOptions contact_options() {
+  ct::ContactPointOptions o;
+  o.normal.reference_pressure = 1e6;
+  o.normal.decay = 1e6;
+  o.friction_coefficient = 0.3;
+  return o;
+}
+
+pl::PreloadModel model_of(const fe::Mesh& mesh, double radius, double preload = 4000.0) {
+  pl::PreloadModel m;
+  m.mesh = &mesh;
+  fe::Material al{"aluminium", 70e9, 0.33, 2700.0};
+  m.structure = fe::assemble(mesh, {al, al});
+  fe::InterfaceOptions io;
+  io.name = "joint";
+  io.bottom_surface = "lower.zmax";
+  io.top_surface = "upper.zmin";
+  m.interfaces.push_back({fe::build_interface(mesh, io),
+                          ct::ContactPoint(contact_options(), ct::make_tangential_law("gaul-mayer", 1.0 / 3.0))});
+  pl::BoltOptions b;
+  b.name = "bolt";
+  b.axis_point = {0.01, 0.01, 0.0};
+  b.head_surface = "upper.zmax";
+  b.nut_surface = "lower.zmin";
+  b.head_radius = b.nut_radius = radius;
+  b.axial_stiffness = 5e8;
+  b.preload = preload;
+  m.bolts.push_back(pl::build_bolt(mesh, b));
+  return m;
+}
+
+}  // namespace
+
+TEST(PreloadBolt, CouplingIsSelfEquilibratedAndMeasuresElongation) {
+  const fe::Mesh mesh = two_blocks();
+  const pl::PreloadModel m = model_of(mesh, 0.006);
+  const pl::Bolt& bolt = m.bolts.front();
+  EXPECT_FALSE(bolt.head_nodes.empty());
+  EXPECT_FALSE(bolt.nut_nodes.empty());
+  // A rigid translation does not stretch the bolt: bᵀu = 0.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_dofs());
+  for (int i = 0; i < mesh.num_nodes(); ++i) u.segment<3>(3 * i) << 1e-3, -2e-3, 3e-3;
+  EXPECT_NEAR(bolt.coupling.dot(u), 0.0, 1e-15);
+  // Head up by δ, nut fixed: elongation δ.
+  u.setZero();
+  for (int i : bolt.head_nodes) u[3 * i + 2] = 1e-4;
+  EXPECT_NEAR(bolt.coupling.dot(u), 1e-4, 1e-16);
+  // The preload is self-equilibrated: Σ f = 0, Σ f_z over the head = −P.
+  const Eigen::VectorXd f = pl::bolt_load(m.bolts, mesh.num_dofs());
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  double head_z = 0.0;
+  for (int i = 0; i < mesh.num_nodes(); ++i) total += f.segment<3>(3 * i);
+  for (int i : bolt.head_nodes) head_z += f[3 * i + 2];
+  EXPECT_LT(total.norm(), 1e-9);
+  EXPECT_NEAR(head_z, -4000.0, 1e-9);
+}
+
+TEST(PreloadBolt, ErrorsNameTheBoltAndTheField) {
+  const fe::Mesh mesh = two_blocks();
+  pl::BoltOptions b;
+  b.name = "b7";
+  b.axis_point = {0.01, 0.01, 0.0};
+  b.head_surface = "upper.zmax";
+  b.nut_surface = "nope";
+  b.head_radius = b.nut_radius = 0.004;
+  b.axial_stiffness = 1e8;
+  b.preload = 1e3;
+  try {
+    (void)pl::build_bolt(mesh, b);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("bolt 'b7': nut_surface: unknown surface 'nope'"), std::string::npos) << e.what();
+  }
+  b.nut_surface = "lower.zmin";
+  b.axis_point = {1.0, 1.0, 0.0};  // far outside
+  EXPECT_THROW((void)pl::build_bolt(mesh, b), std::invalid_argument);
+  b.axis_point = {0.01, 0.01, 0.0};
+  b.head_surface = "lower.zmin";  // head below the nut
+  b.nut_surface = "upper.zmax";
+  EXPECT_THROW((void)pl::build_bolt(mesh, b), std::invalid_argument);
+}
+
+// A footprint covering the whole top and bottom faces loads the blocks by a uniform pressure
+// P/A, so the interface pressure is uniform and equal to it; the gap follows from eq. (6):
+// g = −ln(P/(A p_N0))/λ, independent of the blocks' elasticity.
+TEST(PreloadSolver, UniformClampingMatchesTheExponentialLawInClosedForm) {
+  const fe::Mesh mesh = two_blocks();
+  const pl::PreloadModel m = model_of(mesh, 1.0);  // radius 1 m: every face
+  pl::PreloadOptions o;
+  o.residual_tolerance = 1e-11;
+  const pl::PreloadResult r = pl::solve_preload(m, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  const double area = 0.02 * 0.02, p = 4000.0 / area;
+  const auto& iface = r.interfaces.front();
+  EXPECT_NEAR(iface.clamping_force / 4000.0 - 1.0, 0.0, 1e-9);
+  const double gap = -std::log(p / 1e6) / 1e6;
+  for (Eigen::Index k = 0; k < iface.state.pressure.size(); ++k) {
+    EXPECT_NEAR(iface.state.pressure[k] / p - 1.0, 0.0, 1e-6) << "point " << k;
+    EXPECT_NEAR(iface.state.gap[3 * k + 2], gap, 1e-6 * std::abs(gap));
+  }
+  EXPECT_NEAR(iface.closed_area_fraction, 1.0, 1e-12);
+  EXPECT_LT(r.support_reaction, 1e-8);  // the 3-2-1 support carries (almost) nothing
+  EXPECT_EQ(r.support_dofs.size(), 6u);
+}
+
+// A bolt with a small footprint: equilibrium makes the clamping force equal to the preload, the
+// pressure concentrates under the bolt and decays away from it.
+TEST(PreloadSolver, LocalBoltConcentratesThePressureAndBalancesTheBoltForce) {
+  const fe::Mesh mesh = two_blocks(8, 0.004);
+  const pl::PreloadModel m = model_of(mesh, 0.004);
+  pl::PreloadOptions o;
+  o.residual_tolerance = 1e-10;
+  const pl::PreloadResult r = pl::solve_preload(m, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  const auto& iface = r.interfaces.front();
+  EXPECT_NEAR(iface.clamping_force / 4000.0 - 1.0, 0.0, 1e-8);
+  // Pressure at the point nearest the axis vs at a corner.
+  double centre = 0.0, corner = 0.0, best_c = 1.0, best_k = 0.0;
+  for (std::size_t p = 0; p < m.interfaces.front().geometry.points.size(); ++p) {
+    const Eigen::Vector3d x = m.interfaces.front().geometry.points[p].position;
+    const double d = std::hypot(x.x() - 0.01, x.y() - 0.01);
+    if (d < best_c) best_c = d, centre = iface.state.pressure[static_cast<Eigen::Index>(p)];
+    if (d > best_k) best_k = d, corner = iface.state.pressure[static_cast<Eigen::Index>(p)];
+  }
+  EXPECT_GT(centre, 2.0 * iface.mean_pressure);
+  EXPECT_LT(corner, centre);
+  EXPECT_GT(iface.max_gap, iface.min_gap);
+  // The dynamic tangent is symmetric.
+  const Eigen::SparseMatrix<double> K = r.dynamic_stiffness;
+  EXPECT_LT(Eigen::MatrixXd(K - Eigen::SparseMatrix<double>(K.transpose())).cwiseAbs().maxCoeff(),
+            1e-9 * Eigen::MatrixXd(K).cwiseAbs().maxCoeff());
+}
+
+TEST(PreloadSolver, UnconnectedPartIsNamed) {
+  const fe::Mesh mesh = two_blocks();
+  pl::PreloadModel m = model_of(mesh, 0.006);
+  m.interfaces.clear();
+  m.bolts.clear();
+  try {
+    (void)pl::solve_preload(m, {});
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("part 'upper'"), std::string::npos) << e.what();
+  }
+}
