@@ -177,11 +177,12 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
     const modal::ModalResult m = modal::compute_modes(K, M, *c.modes);
     std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
-    io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual"});
+    io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual", "backward_error"});
     io::VtkData data;
     std::vector<std::pair<double, std::filesystem::path>> collection;
     for (Eigen::Index j = 0; j < m.eigenvalues.size(); ++j) {
-      csv.write_row({static_cast<double>(j + 1), m.frequencies_hz[j], m.eigenvalues[j], m.residuals[j]});
+      csv.write_row({static_cast<double>(j + 1), m.frequencies_hz[j], m.eigenvalues[j], m.residuals[j],
+                     m.backward_errors[j]});
       data.add_point_dofs(fmt::format("mode_{}", j + 1), dofs.expand(m.shapes.col(j)));
     }
     if (m.eigenvalues.size() > 0) io::write_vtu(dir / "modes.vtu", c.mesh, data);
@@ -190,6 +191,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     mj["message"] = m.message;
     mj["frequencies_hz"] = std::vector<double>(m.frequencies_hz.data(), m.frequencies_hz.data() + m.frequencies_hz.size());
     mj["max_residual"] = m.residuals.size() ? m.residuals.maxCoeff() : 0.0;
+    mj["max_backward_error"] = m.backward_errors.size() ? m.backward_errors.maxCoeff() : 0.0;
     mj["shift"] = m.shift;
     mj["iterations"] = m.iterations;
     mj["seconds"] = m.seconds;

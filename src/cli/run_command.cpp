@@ -24,6 +24,10 @@ RunCommand::RunCommand(CLI::App& parent) {
       "  analysis.loop_sweep  W_D amplitude sweep of one contact point -> DIR/wd_sweep.csv\n"
       "  analysis.frf         nonlinear FRF of a discrete model, one curve per excitation\n"
       "                       level -> DIR/frf.csv\n"
+      "  analysis.nonlinear_modes  damping curves (EPMC) -> DIR/backbone.csv\n"
+      "  analysis.preload     preloaded state of a finite-element case (model.type fe)\n"
+      "                       -> DIR/preload_steps.csv, contact_<interface>.csv/.vtu\n"
+      "  analysis.modes       modes about the preloaded state -> DIR/modes.csv, modes.vtu\n"
       "Rows are flushed as they are computed; DIR/summary.json echoes the inputs and gives\n"
       "per-curve results, iteration counts and timings.");
   app_->add_option("case", case_path_, "case file (YAML); omitted: the built-in default case")
