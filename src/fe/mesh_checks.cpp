@@ -9,7 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "hex_shape.hpp"
+#include "jointhb/fe/hexahedron.hpp"
 
 namespace jointhb::fe {
 
@@ -22,17 +22,24 @@ std::string MeshCheckOptions::validate() const {
 
 namespace {
 
+// J = ∂x/∂ξ = Σ_a x_a (∂N_a/∂ξ)ᵀ of element `element` at the reference point xi.
+Eigen::Matrix3d jacobian(const Mesh& mesh, int element, const Eigen::Vector3d& xi) {
+  const Element& e = mesh.elements[static_cast<std::size_t>(element)];
+  const Eigen::Matrix3Xd dn = shape_derivatives(e.type, xi);
+  Eigen::Matrix3d j = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < node_count(e.type); ++a)
+    j += mesh.coordinates.col(e.nodes[static_cast<std::size_t>(a)]) * dn.col(a).transpose();
+  return j;
+}
+
 // The points where det J is sampled (mesh_checks.hpp).
 std::vector<Eigen::Vector3d> sample_points(ElementType type) {
   std::vector<Eigen::Vector3d> points;
   if (node_count(type) == 8) {
-    for (int a = 0; a < 8; ++a) points.push_back(detail::reference_node(a));
+    for (int a = 0; a < 8; ++a) points.push_back(hex_node_natural_coordinates(a));
     points.emplace_back(0.0, 0.0, 0.0);
   } else {
-    const detail::GaussRule g = detail::gauss_rule(3);
-    for (double z : g.points)
-      for (double y : g.points)
-        for (double x : g.points) points.emplace_back(x, y, z);
+    for (const GaussPoint& g : hex_gauss_rule(3)) points.push_back(g.xi);
   }
   return points;
 }
@@ -69,7 +76,7 @@ DetRange det_range(const Mesh& mesh, int element) {
   DetRange range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Eigen::Vector3d& xi :
        sample_points(mesh.elements[static_cast<std::size_t>(element)].type)) {
-    const double det = detail::jacobian(mesh, element, xi).determinant();
+    const double det = jacobian(mesh, element, xi).determinant();
     range.min = std::min(range.min, det);
     range.max = std::max(range.max, det);
   }
@@ -129,20 +136,9 @@ double jacobian_ratio(const Mesh& mesh, int element) {
 }
 
 double element_volume(const Mesh& mesh, int element) {
-  const detail::GaussRule g = detail::gauss_rule(3);
   double volume = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    for (int j = 0; j < 3; ++j) {
-      for (int i = 0; i < 3; ++i) {
-        const auto si = static_cast<std::size_t>(i);
-        const auto sj = static_cast<std::size_t>(j);
-        const auto sk = static_cast<std::size_t>(k);
-        const Eigen::Vector3d xi(g.points[si], g.points[sj], g.points[sk]);
-        volume += g.weights[si] * g.weights[sj] * g.weights[sk] *
-                  detail::jacobian(mesh, element, xi).determinant();
-      }
-    }
-  }
+  for (const GaussPoint& g : hex_gauss_rule(3))
+    volume += g.weight * jacobian(mesh, element, g.xi).determinant();
   return volume;
 }
 
