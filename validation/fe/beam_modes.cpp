@@ -154,8 +154,8 @@ std::vector<double> frequency_roots(double s, double r2, Support support, int co
   return roots;
 }
 
-double cowper_kappa() {
-  const double nu = kAluminium.poissons_ratio;
+double cowper_kappa(const Material& material) {
+  const double nu = material.poissons_ratio;
   return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu);
 }
 
@@ -164,11 +164,12 @@ struct BendingReference {
 };
 
 // depth: the section dimension in the bending plane; breadth: the other one.
-BendingReference bending_reference(Support support, double depth, double breadth, int count) {
-  const double e = kAluminium.youngs_modulus, g = kAluminium.shear_modulus();
-  const double rho = kAluminium.density;
+BendingReference bending_reference(const Material& material, Support support, double depth,
+                                   double breadth, int count) {
+  const double e = material.youngs_modulus, g = material.shear_modulus();
+  const double rho = material.density;
   const double area = depth * breadth, inertia = breadth * std::pow(depth, 3) / 12.0;
-  const double s = e * inertia / (cowper_kappa() * g * area * kLength * kLength);
+  const double s = e * inertia / (cowper_kappa(material) * g * area * kLength * kLength);
   const double r2 = inertia / (area * kLength * kLength);
   const double scale = std::sqrt(e * inertia / (rho * area)) / (kLength * kLength) / (2.0 * kPi);
   const std::vector<double> eb = frequency_roots(0.0, 0.0, support, count);
@@ -257,7 +258,7 @@ Eigen::VectorXd reflect(const Eigen::VectorXd& phi, const std::vector<int>& mirr
   return out;
 }
 
-Run solve(Support support, ElementType type, int nz) {
+Run solve(const Material& material, Support support, ElementType type, int nz) {
   Run run;
   run.support = support;
   run.type = type;
@@ -270,7 +271,7 @@ Run solve(Support support, ElementType type, int nz) {
   box.divisions = {run.nx, run.ny, run.nz};
   box.type = type;
   const Mesh mesh = box_mesh(box);
-  const StructuralMatrices m = assemble(mesh, {kAluminium});
+  const StructuralMatrices m = assemble(mesh, {material});
   std::vector<FixedNodes> fixed;
   if (support == Support::cantilever) fixed.push_back({mesh.node_sets.at("bar.xmin"), {true, true, true}});
   const DofMap dofs = DofMap::from_fixed_nodes(mesh.num_nodes(), fixed);
@@ -338,7 +339,7 @@ int main(int argc, char** argv) {
       {Support::free, {4.730041, 7.853205, 10.995608}},
       {Support::cantilever, {1.875104, 4.694091, 7.854757}}};
   std::map<Support, BendingReference> ref_z, ref_y;
-  std::printf("Cowper kappa = %.6f\n", cowper_kappa());
+  std::printf("Cowper kappa = %.6f\n", cowper_kappa(kAluminium));
   for (Support s : {Support::free, Support::cantilever}) {
     const std::vector<double> eb = frequency_roots(0.0, 0.0, s, 3);
     for (std::size_t i = 0; i < 3; ++i) {
@@ -349,8 +350,8 @@ int main(int argc, char** argv) {
             fmt::format("{} beta L root {}: {:.6f} vs {:.6f}", support_name(s), i + 1, eb[i],
                         expected));
     }
-    ref_z[s] = bending_reference(s, kThickness, kWidth, 3);
-    ref_y[s] = bending_reference(s, kWidth, kThickness, 1);
+    ref_z[s] = bending_reference(kAluminium, s, kThickness, kWidth, 3);
+    ref_y[s] = bending_reference(kAluminium, s, kWidth, kThickness, 1);
     for (std::size_t i = 0; i < 3; ++i)
       std::printf("%-10s bending_z %zu: Euler-Bernoulli %.3f Hz, Timoshenko %.3f Hz (%.2e)\n",
                   support_name(s), i + 1, ref_z[s].euler_bernoulli_hz[i],
@@ -391,7 +392,7 @@ int main(int argc, char** argv) {
   std::vector<Run> runs;
   for (Support s : {Support::free, Support::cantilever})
     for (const auto& [type, nz] : meshes) {
-      runs.push_back(solve(s, type, nz));
+      runs.push_back(solve(kAluminium, s, type, nz));
       const Run& r = runs.back();
       std::printf("%-10s %-6s nz=%d nx=%3d dofs=%6d rigid=%d (%.2f s):", support_name(s),
                   abaqus_name(type), nz, r.nx, r.dofs, r.rigid, r.seconds);
@@ -478,8 +479,10 @@ int main(int argc, char** argv) {
         const auto it = reference.find({s, Family::z_bending, i});
         if (!m || it == reference.end()) continue;
         const double e = m->frequency_hz / it->second.hz - 1.0;
-        check(std::abs(e) <= 3e-3, fmt::format("{} C3D8I nz=2 bending_z {}: vs 3D reference {:.3e}",
-                                               support_name(s), i, e));
+        const double bound = std::array<double, 3>{4e-3, 7e-3, 1.3e-2}[static_cast<std::size_t>(i - 1)];
+        check(std::abs(e) <= bound,
+              fmt::format("{} C3D8I nz=2 bending_z {}: vs 3D reference {:.3e} (bound {:.1e})",
+                          support_name(s), i, e, bound));
       }
   } else {
     for (const auto& [type, nz] :
@@ -493,6 +496,28 @@ int main(int argc, char** argv) {
                                                  "{:.3e}",
                                                  abaqus_name(type), nz, i, e));
       }
+  }
+
+  // Diagnostic (full run, not bounded): the same bar with ν = 0, C3D20 n_z = 4 against Timoshenko
+  // with ν = 0 (κ = 5/6): separates the Poisson coupling of the 3D solid from discretisation.
+  std::vector<std::string> poisson_rows;
+  if (!args.ci) {
+    Material no_poisson = kAluminium;
+    no_poisson.poissons_ratio = 0.0;
+    for (Support s : {Support::free, Support::cantilever}) {
+      const BendingReference ref = bending_reference(no_poisson, s, kThickness, kWidth, 3);
+      const Run r = solve(no_poisson, s, ElementType::hex20, 4);
+      for (int i = 1; i <= 3; ++i) {
+        const Mode* m = r.find(Family::z_bending, i);
+        if (!m) continue;
+        const double ft = ref.timoshenko_hz[static_cast<std::size_t>(i - 1)];
+        std::printf("nu = 0: %-10s bending_z %d: C3D20 nz=4 %.3f Hz, Timoshenko %.3f Hz, "
+                    "ratio - 1 = %.3e\n",
+                    support_name(s), i, m->frequency_hz, ft, m->frequency_hz / ft - 1.0);
+        poisson_rows.push_back(fmt::format("{},{},{:.6f},{:.6f},{:.4e}", support_name(s), i,
+                                           m->frequency_hz, ft, m->frequency_hz / ft - 1.0));
+      }
+    }
   }
 
   // Tables.
@@ -534,6 +559,11 @@ int main(int argc, char** argv) {
                                family_name(family), order, beam_hz(s, family, order, false),
                                beam_hz(s, family, order, true), r.hz, r.order, r.step);
     }
+  if (!poisson_rows.empty()) {
+    std::ofstream poisson(args.prefix + "_poisson0.csv");
+    poisson << "support,bending_z_order,c3d20_nz4_hz,timoshenko_nu0_hz,ratio_minus_1\n";
+    for (const std::string& row : poisson_rows) poisson << row << "\n";
+  }
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
