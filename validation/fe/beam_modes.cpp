@@ -33,21 +33,30 @@
 //   order observed over n_z = 1, 2, 4; rates of convergence are computed against it.
 //
 // Bounds (exit code 1 when one is exceeded; measured values of the full run in brackets):
-//   * the frequency-equation solver reproduces the Euler–Bernoulli β_n L within 1e-5;
-//   * free-free: exactly six rigid modes; the first three thickness-bending modes are found, each
-//     with a z fraction ≥ 0.9 and a symmetry purity ≥ 0.99;
+//   * the frequency-equation solver reproduces the Euler–Bernoulli β_n L (6 decimals) within 1e-5
+//     [agrees to the 6 printed decimals];
+//   * free-free: exactly six rigid modes (cantilever: none); the first three thickness-bending
+//     modes are found, each with a z fraction ≥ 0.9 and a symmetry purity ≥ 0.99 [z fraction
+//     ≥ 0.990, purity 1 to the 6 tabulated decimals]. (The first torsion mode has a z fraction
+//     of 0.94 and lies between bending modes 2 and 3: "dominant u_z" alone would misidentify it;
+//     the symmetry does not.)
 //   * full run, free-free: the 3D reference of the three thickness-bending modes is within 1 % of
-//     Timoshenko [see README_beam_modes.md];
-//   * full run: C3D8I with n_z = 2 is within 3e-3 of the 3D reference for the three
-//     thickness-bending modes, free-free and cantilever [worst see README];
-//   * C3D8 locks: with n_z = 1 its first thickness-bending frequency is ≥ 1.3 × that of
-//     Timoshenko, free-free and cantilever;
-//   * --ci: C3D8I n_z = 2 and C3D20 n_z = 1 within 1.5 % of Timoshenko for the three free-free
-//     thickness-bending modes.
-// --ci: C3D8 n_z = 1, C3D8I n_z = 1, 2, C3D20 n_z = 1 (no 3D reference).
+//     Timoshenko [+5.0e-4, +1.8e-3, +3.5e-3];
+//   * full run: C3D8I with n_z = 2 is within 4e-3 / 7e-3 / 1.3e-2 of the 3D reference for
+//     thickness-bending modes 1 / 2 / 3, free-free and cantilever [free 1.3e-3, 4.7e-3, 1.0e-2;
+//     cantilever 2.8e-3, 4.6e-3, 8.2e-3];
+//   * C3D8 locks: with n_z = 1 its first thickness-bending frequency is ≥ 1.3 × Timoshenko's,
+//     free-free and cantilever [1.68, 1.68];
+//   * --ci: C3D8I n_z = 2 and C3D20 n_z = 1 within 2 % of Timoshenko for the three free-free
+//     thickness-bending modes [C3D8I 1.8e-3, 6.5e-3, 1.36e-2; C3D20 1.0e-3, 3.8e-3, 7.9e-3].
+//   Not bounded, printed and tabulated (full run): the same bar with ν = 0, C3D20 n_z = 4 against
+//   Timoshenko with ν = 0 [agree within 2.4e-5, free-free and cantilever]: the remaining 3D −
+//   Timoshenko difference with ν = 0.33 is the Poisson coupling, not discretisation.
+// --ci: C3D8 n_z = 1, C3D8I n_z = 1, 2, C3D20 n_z = 1, both supports (no 3D reference), ~1 s.
 //
 // Sample runs:
-//   build/validation/fe/jointhb_validate_fe_beam_modes validation/fe/results/beam_modes
+//   build/validation/fe/jointhb_validate_fe_beam_modes validation/fe/results/beam_modes  (~30 s)
+//   build/validation/fe/jointhb_validate_fe_beam_modes --ci /tmp/beam_modes             (~1 s)
 
 #include <fmt/format.h>
 
@@ -83,10 +92,14 @@ const char* support_name(Support s) { return s == Support::free ? "free" : "cant
 enum class Family { z_bending, y_bending, torsion, axial };
 const char* family_name(Family f) {
   switch (f) {
-    case Family::z_bending: return "bending_z";
-    case Family::y_bending: return "bending_y";
-    case Family::torsion: return "torsion";
-    case Family::axial: return "axial";
+    case Family::z_bending:
+      return "bending_z";
+    case Family::y_bending:
+      return "bending_y";
+    case Family::torsion:
+      return "torsion";
+    case Family::axial:
+      return "axial";
   }
   return "?";
 }
@@ -116,9 +129,9 @@ Eigen::Matrix4d expm(const Eigen::Matrix4d& a) {
 double frequency_determinant(double x, double s, double r2, Support support) {
   const double omega2 = std::pow(x, 4);
   Eigen::Matrix4d a;
-  a << 0.0, 1.0, 0.0, s,            //
-      0.0, 0.0, 1.0, 0.0,             //
-      0.0, -r2 * omega2, 0.0, -1.0,   //
+  a << 0.0, 1.0, 0.0, s,             //
+      0.0, 0.0, 1.0, 0.0,            //
+      0.0, -r2 * omega2, 0.0, -1.0,  //
       -omega2, 0.0, 0.0, 0.0;
   const Eigen::Matrix4d t = expm(a);
   // free: w̄, ψ unknown at ξ = 0 (M = Q = 0 there); cantilever: M̄, Q̄ unknown (w = ψ = 0).
@@ -208,7 +221,7 @@ struct Mode {
   Family family{};
   int order = 0;  // 1, 2, … within its family
   double frequency_hz = 0.0;
-  std::array<double, 3> fraction{};  // kinetic-energy fraction in x, y, z
+  std::array<double, 3> fraction{};   // kinetic-energy fraction in x, y, z
   double even_y = 0.0, even_z = 0.0;  // mass-weighted fraction even under R_y, R_z
 };
 
@@ -273,7 +286,8 @@ Run solve(const Material& material, Support support, ElementType type, int nz) {
   const Mesh mesh = box_mesh(box);
   const StructuralMatrices m = assemble(mesh, {material});
   std::vector<FixedNodes> fixed;
-  if (support == Support::cantilever) fixed.push_back({mesh.node_sets.at("bar.xmin"), {true, true, true}});
+  if (support == Support::cantilever)
+    fixed.push_back({mesh.node_sets.at("bar.xmin"), {true, true, true}});
   const DofMap dofs = DofMap::from_fixed_nodes(mesh.num_nodes(), fixed);
   run.dofs = dofs.num_free();
 
@@ -309,8 +323,8 @@ Run solve(const Material& material, Support support, ElementType type, int nz) {
     mode.even_y = even_fraction(mirror_y, 1);
     mode.even_z = even_fraction(mirror_z, 2);
     const bool ey = mode.even_y > 0.5, ez = mode.even_z > 0.5;
-    mode.family = ey ? (ez ? Family::axial : Family::z_bending)
-                     : (ez ? Family::y_bending : Family::torsion);
+    mode.family =
+        ey ? (ez ? Family::axial : Family::z_bending) : (ez ? Family::y_bending : Family::torsion);
     mode.order = ++counts[mode.family];
     run.modes.push_back(mode);
   }
@@ -354,14 +368,13 @@ int main(int argc, char** argv) {
     ref_y[s] = bending_reference(kAluminium, s, kWidth, kThickness, 1);
     for (std::size_t i = 0; i < 3; ++i)
       std::printf("%-10s bending_z %zu: Euler-Bernoulli %.3f Hz, Timoshenko %.3f Hz (%.2e)\n",
-                  support_name(s), i + 1, ref_z[s].euler_bernoulli_hz[i],
-                  ref_z[s].timoshenko_hz[i],
+                  support_name(s), i + 1, ref_z[s].euler_bernoulli_hz[i], ref_z[s].timoshenko_hz[i],
                   ref_z[s].timoshenko_hz[i] / ref_z[s].euler_bernoulli_hz[i] - 1.0);
     std::printf(
         "%-10s bending_y 1: Euler-Bernoulli %.3f Hz, Timoshenko %.3f Hz; torsion 1 (St-Venant) "
         "%.1f Hz; axial 1 %.1f Hz\n",
-        support_name(s), ref_y[s].euler_bernoulli_hz[0], ref_y[s].timoshenko_hz[0],
-        torsion_hz(s), axial_hz(s));
+        support_name(s), ref_y[s].euler_bernoulli_hz[0], ref_y[s].timoshenko_hz[0], torsion_hz(s),
+        axial_hz(s));
   }
   auto beam_hz = [&](Support s, Family f, int order, bool timoshenko) {
     const auto i = static_cast<std::size_t>(order - 1);
@@ -369,11 +382,13 @@ int main(int argc, char** argv) {
       case Family::z_bending:
         return timoshenko ? ref_z[s].timoshenko_hz[i] : ref_z[s].euler_bernoulli_hz[i];
       case Family::y_bending:
-        return order == 1 ? (timoshenko ? ref_y[s].timoshenko_hz[0]
-                                        : ref_y[s].euler_bernoulli_hz[0])
-                          : std::nan("");
-      case Family::torsion: return order == 1 ? torsion_hz(s) : std::nan("");
-      case Family::axial: return order == 1 ? axial_hz(s) : std::nan("");
+        return order == 1
+                   ? (timoshenko ? ref_y[s].timoshenko_hz[0] : ref_y[s].euler_bernoulli_hz[0])
+                   : std::nan("");
+      case Family::torsion:
+        return order == 1 ? torsion_hz(s) : std::nan("");
+      case Family::axial:
+        return order == 1 ? axial_hz(s) : std::nan("");
     }
     return std::nan("");
   };
@@ -423,8 +438,8 @@ int main(int argc, char** argv) {
         continue;
       }
       check(m->fraction[2] >= 0.9 && purity(*m) >= 0.99,
-            fmt::format("{}: bending_z {} has z fraction {:.4f}, symmetry purity {:.6f}", where,
-                        i, m->fraction[2], purity(*m)));
+            fmt::format("{}: bending_z {} has z fraction {:.4f}, symmetry purity {:.6f}", where, i,
+                        m->fraction[2], purity(*m)));
     }
   }
   // Locking.
@@ -432,8 +447,8 @@ int main(int argc, char** argv) {
     const Mode* m = find(s, ElementType::hex8, 1).find(Family::z_bending, 1);
     if (m == nullptr) continue;
     const double ratio = m->frequency_hz / beam_hz(s, Family::z_bending, 1, true);
-    check(ratio >= 1.3, fmt::format("{}: C3D8 nz=1 should lock: f1/f_T = {:.4f}",
-                                    support_name(s), ratio));
+    check(ratio >= 1.3,
+          fmt::format("{}: C3D8 nz=1 should lock: f1/f_T = {:.4f}", support_name(s), ratio));
   }
 
   // 3D reference: Richardson extrapolation of C3D20 over n_z = 2 → 4, order observed over 1, 2, 4.
@@ -479,22 +494,22 @@ int main(int argc, char** argv) {
         const auto it = reference.find({s, Family::z_bending, i});
         if (!m || it == reference.end()) continue;
         const double e = m->frequency_hz / it->second.hz - 1.0;
-        const double bound = std::array<double, 3>{4e-3, 7e-3, 1.3e-2}[static_cast<std::size_t>(i - 1)];
+        const double bound =
+            std::array<double, 3>{4e-3, 7e-3, 1.3e-2}[static_cast<std::size_t>(i - 1)];
         check(std::abs(e) <= bound,
               fmt::format("{} C3D8I nz=2 bending_z {}: vs 3D reference {:.3e} (bound {:.1e})",
                           support_name(s), i, e, bound));
       }
   } else {
-    for (const auto& [type, nz] :
-         std::vector<std::pair<ElementType, int>>{{ElementType::hex8_incompatible, 2},
-                                                  {ElementType::hex20, 1}})
+    for (const auto& [type, nz] : std::vector<std::pair<ElementType, int>>{
+             {ElementType::hex8_incompatible, 2}, {ElementType::hex20, 1}})
       for (int i = 1; i <= 3; ++i) {
         const Mode* m = find(Support::free, type, nz).find(Family::z_bending, i);
         if (!m) continue;
         const double e = m->frequency_hz / beam_hz(Support::free, Family::z_bending, i, true) - 1.0;
-        check(std::abs(e) <= 1.5e-2, fmt::format("free {} nz={} bending_z {}: /Timoshenko - 1 = "
-                                                 "{:.3e}",
-                                                 abaqus_name(type), nz, i, e));
+        check(std::abs(e) <= 2e-2, fmt::format("free {} nz={} bending_z {}: /Timoshenko - 1 = "
+                                               "{:.3e}",
+                                               abaqus_name(type), nz, i, e));
       }
   }
 
@@ -511,9 +526,10 @@ int main(int argc, char** argv) {
         const Mode* m = r.find(Family::z_bending, i);
         if (!m) continue;
         const double ft = ref.timoshenko_hz[static_cast<std::size_t>(i - 1)];
-        std::printf("nu = 0: %-10s bending_z %d: C3D20 nz=4 %.3f Hz, Timoshenko %.3f Hz, "
-                    "ratio - 1 = %.3e\n",
-                    support_name(s), i, m->frequency_hz, ft, m->frequency_hz / ft - 1.0);
+        std::printf(
+            "nu = 0: %-10s bending_z %d: C3D20 nz=4 %.3f Hz, Timoshenko %.3f Hz, "
+            "ratio - 1 = %.3e\n",
+            support_name(s), i, m->frequency_hz, ft, m->frequency_hz / ft - 1.0);
         poisson_rows.push_back(fmt::format("{},{},{:.6f},{:.6f},{:.4e}", support_name(s), i,
                                            m->frequency_hz, ft, m->frequency_hz / ft - 1.0));
       }
@@ -536,8 +552,8 @@ int main(int argc, char** argv) {
         if (r.nz > 1) {
           const Mode* previous = find(r.support, r.type, r.nz / 2).find(m.family, m.order);
           if (previous)
-            rate = std::log2(std::abs(previous->frequency_hz / it->second.hz - 1.0) /
-                             std::abs(error));
+            rate =
+                std::log2(std::abs(previous->frequency_hz / it->second.hz - 1.0) / std::abs(error));
         }
       }
       table << fmt::format(
