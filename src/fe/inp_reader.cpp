@@ -266,20 +266,13 @@ class InpReader {
   void read_elements(const Card& card) {
     check_parameters(card, {"TYPE", "ELSET"});
     const std::string type_name = upper(required(card, "TYPE"));
-    ElementType type{};
-    if (type_name == "C3D8") {
-      type = ElementType::hex8;
-    } else if (type_name == "C3D8I") {
-      type = ElementType::hex8_incompatible;
-    } else if (type_name == "C3D20") {
-      type = ElementType::hex20;
-    } else if (type_name == "C3D20R") {
-      type = ElementType::hex20_reduced;
-    } else {
+    const std::optional<ElementType> known = element_type_of_abaqus_name(type_name);
+    if (!known) {
       fail(card.line, fmt::format("element type {} is not supported (supported: C3D8, C3D8I, "
                                   "C3D20, C3D20R)",
                                   type_name));
     }
+    const ElementType type = *known;
     const std::string* elset = card.find("ELSET");
     const std::string part_name = elset                    ? *elset
                                   : !current_part_.empty() ? current_part_

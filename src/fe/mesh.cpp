@@ -20,6 +20,19 @@ const char* abaqus_name(ElementType type) {
   return "?";
 }
 
+std::optional<ElementType> element_type_of_abaqus_name(std::string_view name) {
+  for (ElementType type : {ElementType::hex8, ElementType::hex8_incompatible, ElementType::hex20,
+                           ElementType::hex20_reduced})
+    if (name == abaqus_name(type)) return type;
+  return std::nullopt;
+}
+
+const std::array<std::array<int, 2>, 12>& hex_edge_corners() {
+  static constexpr std::array<std::array<int, 2>, 12> edges = {
+      {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+  return edges;
+}
+
 namespace {
 // Corners of S1..S6 with outward normals (right-hand rule), then the mid-edge nodes between
 // consecutive corners (hex20 numbering of mesh.hpp).
@@ -45,6 +58,14 @@ std::vector<int> face_nodes(const Mesh& mesh, const Face& face) {
   for (int local : face_local_nodes(element.type, face.face))
     nodes.push_back(element.nodes[static_cast<std::size_t>(local)]);
   return nodes;
+}
+
+Eigen::Vector3d face_centre(const Mesh& mesh, const Face& face) {
+  const Element& element = mesh.elements.at(static_cast<std::size_t>(face.element));
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int local : face_local_nodes(element.type, face.face).first(4))
+    centre += mesh.coordinates.col(element.nodes[static_cast<std::size_t>(local)]);
+  return centre / 4.0;
 }
 
 void append(Mesh& mesh, const Mesh& other) {

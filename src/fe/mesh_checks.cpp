@@ -46,20 +46,8 @@ std::vector<Eigen::Vector3d> sample_points(ElementType type) {
 
 // The longest of the element's 12 corner-to-corner edges.
 double longest_edge(const Mesh& mesh, const Element& element) {
-  constexpr std::array<std::array<int, 2>, 12> edges = {{{0, 1},
-                                                         {1, 2},
-                                                         {2, 3},
-                                                         {3, 0},
-                                                         {4, 5},
-                                                         {5, 6},
-                                                         {6, 7},
-                                                         {7, 4},
-                                                         {0, 4},
-                                                         {1, 5},
-                                                         {2, 6},
-                                                         {3, 7}}};
   double longest = 0.0;
-  for (const auto& [a, b] : edges) {
+  for (const auto& [a, b] : hex_edge_corners()) {
     longest = std::max(longest, (mesh.coordinates.col(element.nodes[static_cast<std::size_t>(a)]) -
                                  mesh.coordinates.col(element.nodes[static_cast<std::size_t>(b)]))
                                     .norm());

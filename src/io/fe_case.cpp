@@ -25,14 +25,6 @@ namespace {
 using yaml::Fields;
 using yaml::item_path;
 
-std::optional<fe::ElementType> element_type(const std::string& name) {
-  if (name == "C3D8") return fe::ElementType::hex8;
-  if (name == "C3D8I") return fe::ElementType::hex8_incompatible;
-  if (name == "C3D20") return fe::ElementType::hex20;
-  if (name == "C3D20R") return fe::ElementType::hex20_reduced;
-  return std::nullopt;
-}
-
 class FeCaseReader {
  public:
   FeCaseReader(std::string file_name, std::filesystem::path directory)
@@ -138,7 +130,7 @@ class FeCaseReader {
       fe::ElementType type = fe::ElementType::hex8_incompatible;
       if (const auto* e = f.find("element")) {
         const std::string name = reader_.text(e->value, f.path_of("element"));
-        const auto t = element_type(name);
+        const auto t = fe::element_type_of_abaqus_name(name);
         if (!t) reader_.fail(e->value, f.path_of("element"), "must be one of C3D8, C3D8I, C3D20, C3D20R, got '" + name + "'");
         type = *t;
       }
@@ -252,9 +244,7 @@ class FeCaseReader {
         for (std::string* surface : {&o.bottom_surface, &o.top_surface}) {
           std::vector<fe::Face> kept;
           for (const fe::Face& face : c.mesh.surfaces.at(*surface)) {
-            Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-            const auto nodes = fe::face_nodes(c.mesh, face);
-            for (int k = 0; k < 4; ++k) centre += c.mesh.coordinates.col(nodes[static_cast<std::size_t>(k)]) / 4.0;
+            const Eigen::Vector3d centre = fe::face_centre(c.mesh, face);
             if ((centre.array() >= lo.array()).all() && (centre.array() <= hi.array()).all()) kept.push_back(face);
           }
           if (kept.empty()) reader_.fail(region->value, f.path_of("region"), "no face of surface '" + *surface + "' has its centre inside the region");

@@ -51,9 +51,7 @@ Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const 
   Footprint fp;
   for (const fe::Face& face : it->second) {
     const std::vector<int> nodes = fe::face_nodes(mesh, face);
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) c += mesh.coordinates.col(nodes[static_cast<std::size_t>(k)]);
-    c /= 4.0;
+    const Eigen::Vector3d c = fe::face_centre(mesh, face);
     const Eigen::Vector3d off = c - point;
     if ((off - off.dot(axis) * axis).norm() > radius) continue;
     const Eigen::Vector3d d1 = mesh.coordinates.col(nodes[2]) - mesh.coordinates.col(nodes[0]);

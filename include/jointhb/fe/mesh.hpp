@@ -14,8 +14,10 @@
 #include <Eigen/Core>
 #include <array>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace jointhb::fe {
@@ -33,6 +35,12 @@ enum class ElementType {
 [[nodiscard]] int face_node_count(ElementType type);
 /// "C3D8", "C3D8I", "C3D20", "C3D20R".
 [[nodiscard]] const char* abaqus_name(ElementType type);
+/// The type whose abaqus_name is `name` (case-sensitive), or none.
+[[nodiscard]] std::optional<ElementType> element_type_of_abaqus_name(std::string_view name);
+
+/// The corners (local numbering) of the 12 edges of a hexahedron; hex20 mid-edge node 8 + k lies
+/// on edge k (the numbering above).
+[[nodiscard]] const std::array<std::array<int, 2>, 12>& hex_edge_corners();
 
 struct Element {
   ElementType type = ElementType::hex8_incompatible;
@@ -71,6 +79,9 @@ struct Mesh {
 
 /// The face's global node indices, in the order of face_local_nodes.
 [[nodiscard]] std::vector<int> face_nodes(const Mesh& mesh, const Face& face);
+
+/// The mean of the face's corner nodes [m] (its centre for straight-edged faces).
+[[nodiscard]] Eigen::Vector3d face_centre(const Mesh& mesh, const Face& face);
 
 /// Appends `other` to `mesh` (nodes, elements, parts, sets, surfaces; names must not clash, else
 /// std::invalid_argument naming the clash). Indices of `other` are shifted. No nodes are merged.

@@ -70,18 +70,7 @@ TEST(BoxMesh, Hex20HasOneNodePerCornerAndEdge) {
 
 TEST(BoxMesh, Hex20MidEdgeNodesAreAtEdgeMidpoints) {
   // Abaqus mid-edge node k lies between corners kEdges[k - 8] (mesh.hpp).
-  constexpr std::array<std::array<int, 2>, 12> edges = {{{0, 1},
-                                                         {1, 2},
-                                                         {2, 3},
-                                                         {3, 0},
-                                                         {4, 5},
-                                                         {5, 6},
-                                                         {6, 7},
-                                                         {7, 4},
-                                                         {0, 4},
-                                                         {1, 5},
-                                                         {2, 6},
-                                                         {3, 7}}};
+  const auto& edges = hex_edge_corners();
   const Mesh mesh = box_mesh(sample_box(ElementType::hex20));
   for (const Element& e : mesh.elements) {
     for (std::size_t k = 0; k < 12; ++k) {

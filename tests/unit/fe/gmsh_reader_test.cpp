@@ -179,18 +179,7 @@ TEST(GmshReader, ReordersHex20MidEdgeNodesToAbaqus) {
   EXPECT_EQ(mesh.parts, std::vector<std::string>{"default"});
   EXPECT_EQ(mesh.elements[0].type, ElementType::hex20);
   // Abaqus mid-edge node 8 + k lies halfway between these corners (mesh.hpp).
-  constexpr std::array<std::array<int, 2>, 12> edges = {{{0, 1},
-                                                         {1, 2},
-                                                         {2, 3},
-                                                         {3, 0},
-                                                         {4, 5},
-                                                         {5, 6},
-                                                         {6, 7},
-                                                         {7, 4},
-                                                         {0, 4},
-                                                         {1, 5},
-                                                         {2, 6},
-                                                         {3, 7}}};
+  const auto& edges = hex_edge_corners();
   const auto& nodes = mesh.elements[0].nodes;
   for (std::size_t k = 0; k < 12; ++k) {
     const Eigen::Vector3d a = mesh.coordinates.col(nodes[static_cast<std::size_t>(edges[k][0])]);

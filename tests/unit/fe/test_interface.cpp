@@ -46,8 +46,7 @@ fe::Mesh block(const std::string& name, int nx, int ny, int nz, const Vector3d& 
   // Corner offsets in half-element units (0 or 2) and the hex20 edge table of mesh.hpp.
   const int c[8][3] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0},
                        {0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}};
-  const int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                            {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  const auto& edges = fe::hex_edge_corners();
   m.parts.push_back(name);
   for (int ez = 0; ez < nz; ++ez)
     for (int ey = 0; ey < ny; ++ey)

@@ -36,8 +36,7 @@ Eigen::Matrix3Xd distorted_element(ElementType type, bool curved, unsigned seed 
                0.2 * Eigen::Vector3d(u(gen), u(gen), u(gen));
   if (n == 20) {
     // Mid-edge node between corners (edges of mesh.hpp).
-    const int ends[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                             {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    const auto& ends = hex_edge_corners();
     for (int m = 0; m < 12; ++m) {
       x.col(8 + m) = 0.5 * (x.col(ends[m][0]) + x.col(ends[m][1]));
       if (curved) x.col(8 + m) += 0.05 * Eigen::Vector3d(u(gen), u(gen), u(gen));
