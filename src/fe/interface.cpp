@@ -497,7 +497,7 @@ namespace {
 
 template <class LawOf>
 InterfaceContactState evaluate_static(const Interface& interface, const LawOf& law_of,
-                                      const Eigen::VectorXd& u,
+                                      const Eigen::VectorXd& u, bool with_stiffness,
                                       const Eigen::VectorXd& initial_normal_gap) {
   const int np = interface.num_points();
   if (initial_normal_gap.size() != 0 && initial_normal_gap.size() != np) {
@@ -523,6 +523,10 @@ InterfaceContactState evaluate_static(const Interface& interface, const LawOf& l
     s.open[static_cast<std::size_t>(p)] = step.open;
     s.num_open += step.open ? 1 : 0;
   }
+  if (!with_stiffness) {
+    s.force = interface_force(interface, s.traction);
+    return s;
+  }
   InterfaceAssembly a = assemble_interface_force_and_tangent(interface, s.traction, s.tangent);
   s.force = std::move(a.force);
   s.stiffness = std::move(a.stiffness);
@@ -534,15 +538,18 @@ InterfaceContactState evaluate_static(const Interface& interface, const LawOf& l
 InterfaceContactState evaluate_static_contact(const Interface& interface,
                                               const contact::ContactPoint& law,
                                               const Eigen::VectorXd& u,
-                                              const Eigen::VectorXd& initial_normal_gap) {
+                                              const Eigen::VectorXd& initial_normal_gap,
+                                              bool with_stiffness) {
   return evaluate_static(
-      interface, [&](int) -> const contact::ContactPoint& { return law; }, u, initial_normal_gap);
+      interface, [&](int) -> const contact::ContactPoint& { return law; }, u, with_stiffness,
+      initial_normal_gap);
 }
 
 InterfaceContactState evaluate_static_contact(const Interface& interface,
                                               std::span<const contact::ContactPoint> laws,
                                               const Eigen::VectorXd& u,
-                                              const Eigen::VectorXd& initial_normal_gap) {
+                                              const Eigen::VectorXd& initial_normal_gap,
+                                              bool with_stiffness) {
   if (static_cast<int>(laws.size()) != interface.num_points()) {
     throw std::invalid_argument(
         fmt::format("evaluate_static_contact: {} laws for {} points (need one per point)",
@@ -551,7 +558,7 @@ InterfaceContactState evaluate_static_contact(const Interface& interface,
   return evaluate_static(
       interface,
       [&](int p) -> const contact::ContactPoint& { return laws[static_cast<std::size_t>(p)]; }, u,
-      initial_normal_gap);
+      with_stiffness, initial_normal_gap);
 }
 
 }  // namespace jointhb::fe

@@ -93,7 +93,8 @@ Evaluation evaluate(const PreloadModel& model, const Eigen::VectorXd& u, const E
   ev.residual = model.structure.stiffness * u - load;
   const auto t0 = std::chrono::steady_clock::now();
   for (const ContactInterface& ci : model.interfaces) {
-    ev.states.push_back(fe::evaluate_static_contact(ci.geometry, ci.law, u));
+    // The Newton matrix is built from the tangents (newton_matrix), not from K of the state.
+    ev.states.push_back(fe::evaluate_static_contact(ci.geometry, ci.law, u, {}, /*with_stiffness=*/false));
     ev.residual += ev.states.back().force;
   }
   contact_seconds += seconds_since(t0);

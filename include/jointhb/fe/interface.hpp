@@ -135,21 +135,24 @@ struct InterfaceContactState {
   std::vector<bool> open;                ///< p_N below the law's gapping floor (P)
   int num_open = 0;
   Eigen::VectorXd force;                  ///< f = Gᵀ A t (3N)
-  Eigen::SparseMatrix<double> stiffness;  ///< K = Gᵀ A C G (3N × 3N)
+  Eigen::SparseMatrix<double> stiffness;  ///< K = Gᵀ A C G (3N × 3N); empty without with_stiffness
 };
 
 /// Static contact state for the displacement u (3N): each point steps from (t_T0 = 0, g_0 = 0)
 /// to g_1 = G u + g_N0 e_N, i.e. the tangential traction is the virgin response to the tangential
 /// displacement since the unloaded, stress-free state (the preload's tangential convention).
 /// `initial_normal_gap` (P or empty = zero) adds g_N0,p to each normal gap (geometric offsets,
-/// bolt-hole clearances). One law for every point.
+/// bolt-hole clearances). One law for every point. `with_stiffness` = false skips assembling K
+/// (the tangents C_p are still returned), for callers that only need the force or build their own
+/// matrix from the tangents.
 [[nodiscard]] InterfaceContactState evaluate_static_contact(
     const Interface& interface, const contact::ContactPoint& law, const Eigen::VectorXd& u,
-    const Eigen::VectorXd& initial_normal_gap = {});
+    const Eigen::VectorXd& initial_normal_gap = {}, bool with_stiffness = true);
 
 /// As above with one law per point (laws.size() == P).
 [[nodiscard]] InterfaceContactState evaluate_static_contact(
     const Interface& interface, std::span<const contact::ContactPoint> laws,
-    const Eigen::VectorXd& u, const Eigen::VectorXd& initial_normal_gap = {});
+    const Eigen::VectorXd& u, const Eigen::VectorXd& initial_normal_gap = {},
+    bool with_stiffness = true);
 
 }  // namespace jointhb::fe
