@@ -91,6 +91,22 @@ struct SparseCholesky::Impl {
         options.method == Options::Method::supernodal_llt ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common.final_ll = options.method == Options::Method::supernodal_llt;
   }
+  // solution = A⁻¹ B for the column-major block B (rows × cols, leading dimension ld), through
+  // the workspace reused across calls (cholmod_l_solve2).
+  void solve(const double* data, Eigen::Index rows, Eigen::Index cols, Eigen::Index ld) {
+    cholmod_dense rhs{};
+    rhs.nrow = static_cast<size_t>(rows);
+    rhs.ncol = static_cast<size_t>(cols);
+    rhs.d = static_cast<size_t>(ld);
+    rhs.nzmax = rhs.d * rhs.ncol;
+    rhs.x = const_cast<double*>(data);  // CHOLMOD reads B only
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_l_solve2(CHOLMOD_A, factor, &rhs, nullptr, &solution, nullptr, &work_y, &work_e,
+                          &common))
+      throw std::runtime_error("SparseCholesky::solve: CHOLMOD failed (" +
+                               status_text(common.status) + ")");
+  }
   ~Impl() {
     free_factor();
     cholmod_l_free_dense(&solution, &common);
@@ -252,18 +268,7 @@ void SparseCholesky::solve_into(const Eigen::Ref<const Eigen::VectorXd>& b,
                                 std::to_string(b.size()) + " rows, solution " +
                                 std::to_string(x.size()) + ", matrix " +
                                 std::to_string(d.statistics.rows));
-  cholmod_dense rhs{};
-  rhs.nrow = static_cast<size_t>(b.size());
-  rhs.ncol = 1;
-  rhs.nzmax = rhs.nrow;
-  rhs.d = rhs.nrow;
-  rhs.x = const_cast<double*>(b.data());  // CHOLMOD reads B only
-  rhs.xtype = CHOLMOD_REAL;
-  rhs.dtype = CHOLMOD_DOUBLE;
-  if (!cholmod_l_solve2(CHOLMOD_A, d.factor, &rhs, nullptr, &d.solution, nullptr, &d.work_y,
-                        &d.work_e, &d.common))
-    throw std::runtime_error("SparseCholesky::solve: CHOLMOD failed (" +
-                             status_text(d.common.status) + ")");
+  d.solve(b.data(), b.size(), 1, b.size());
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(d.solution->x), b.size());
 }
 
@@ -275,18 +280,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B
                                 std::to_string(B.rows()) + " rows, matrix " +
                                 std::to_string(d.statistics.rows));
   if (B.cols() == 0) return Eigen::MatrixXd(B.rows(), 0);
-  cholmod_dense rhs{};
-  rhs.nrow = static_cast<size_t>(B.rows());
-  rhs.ncol = static_cast<size_t>(B.cols());
-  rhs.d = static_cast<size_t>(B.outerStride());
-  rhs.nzmax = rhs.d * rhs.ncol;
-  rhs.x = const_cast<double*>(B.data());  // CHOLMOD reads B only
-  rhs.xtype = CHOLMOD_REAL;
-  rhs.dtype = CHOLMOD_DOUBLE;
-  if (!cholmod_l_solve2(CHOLMOD_A, d.factor, &rhs, nullptr, &d.solution, nullptr, &d.work_y,
-                        &d.work_e, &d.common))
-    throw std::runtime_error("SparseCholesky::solve: CHOLMOD failed (" +
-                             status_text(d.common.status) + ")");
+  d.solve(B.data(), B.rows(), B.cols(), B.outerStride());
   const auto ld = static_cast<Eigen::Index>(d.solution->d);
   return Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
       static_cast<const double*>(d.solution->x), B.rows(), B.cols(), Eigen::OuterStride<>(ld));
