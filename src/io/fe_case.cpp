@@ -84,6 +84,11 @@ class FeCaseReader {
     if (const auto* interfaces = f.find("interfaces")) read_interfaces(interfaces->value, c);
     if (const auto* bolts = f.find("bolts")) read_bolts(bolts->value, c);
     if (const auto* constraints = f.find("constraints")) read_constraints(constraints->value, c);
+    try {
+      preload::check_connectivity(c.mesh, c.interfaces, c.bolts, c.constraints);
+    } catch (const std::invalid_argument& error) {
+      reader_.fail(f.find("parts")->value, "model.parts", error.what());
+    }
   }
 
   void read_materials(const YAML::Node& node) {

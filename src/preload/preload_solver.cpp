@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 
 #include "../support/stopwatch.hpp"
@@ -33,8 +34,8 @@ using support::seconds_since;
 
 // Parts joined by interfaces and bolts; every group needs a constraint unless the whole model is
 // one free-free group (then the 3-2-1 support holds it).
-void check_connectivity(const PreloadModel& model) {
-  const fe::Mesh& mesh = *model.mesh;
+void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
+                           std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints) {
   const int parts = static_cast<int>(mesh.parts.size());
   std::vector<int> root(static_cast<std::size_t>(parts));
   std::iota(root.begin(), root.end(), 0);
@@ -46,14 +47,14 @@ void check_connectivity(const PreloadModel& model) {
   const auto part_of = [&](const fe::Face& f) {
     return mesh.elements[static_cast<std::size_t>(f.element)].part;
   };
-  for (const ContactInterface& ci : model.interfaces)
+  for (const ContactInterface& ci : interfaces)
     for (const fe::InterfaceElement& e : ci.geometry.elements) join(part_of(e.bottom), part_of(e.top));
-  for (const Bolt& b : model.bolts)
+  for (const Bolt& b : bolts)
     for (int p : b.parts) join(p, b.parts.front());
   std::vector<bool> constrained(static_cast<std::size_t>(parts), false);
-  if (!model.constraints.empty()) {
+  if (!constraints.empty()) {
     std::vector<bool> fixed_node(static_cast<std::size_t>(mesh.num_nodes()), false);
-    for (const fe::FixedNodes& f : model.constraints)
+    for (const fe::FixedNodes& f : constraints)
       for (int n : f.nodes) fixed_node[static_cast<std::size_t>(n)] = true;
     for (const fe::Element& e : mesh.elements)
       for (int n : e.node_span())
@@ -62,7 +63,7 @@ void check_connectivity(const PreloadModel& model) {
   std::vector<int> groups;
   for (int p = 0; p < parts; ++p)
     if (find(p) == p) groups.push_back(p);
-  if (model.constraints.empty()) {
+  if (constraints.empty()) {
     if (groups.size() > 1) {
       // Name a part that is not in the group of part 0.
       for (int p = 0; p < parts; ++p)
@@ -150,6 +151,11 @@ InterfaceResult summarise(const ContactInterface& ci, fe::InterfaceContactState 
 
 }  // namespace
 
+void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
+                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints) {
+  check_connectivity_of(mesh, interfaces, bolts, constraints);
+}
+
 std::vector<int> statically_determinate_support(const fe::Mesh& mesh) {
   std::vector<bool> used(static_cast<std::size_t>(mesh.num_nodes()), false);
   for (const fe::Element& e : mesh.elements)
@@ -233,7 +239,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   const int n = mesh.num_dofs();
   if (model.structure.stiffness.rows() != n)
     throw std::invalid_argument("preload: the structural matrices do not match the mesh");
-  check_connectivity(model);
+  check_connectivity(*model.mesh, model.interfaces, model.bolts, model.constraints);
 
   PreloadResult result;
   std::vector<fe::FixedNodes> fixed = model.constraints;

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,13 @@ struct PreloadResult {
   int total_iterations = 0;
   double assembly_seconds = 0.0, contact_seconds = 0.0, factor_seconds = 0.0, seconds = 0.0;
 };
+
+/// Throws std::invalid_argument naming a part that is neither constrained nor joined (through
+/// interfaces and bolts) to a constrained part; without constraints, naming a part outside the
+/// group of the first part (a free-free model must be one group). solve_preload calls it; the
+/// case reader calls it to report the problem against the case file.
+void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
+                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints);
 
 /// Solves eq. (P-1). Throws std::invalid_argument on invalid options or a model whose parts are
 /// not all connected (by interfaces and bolts) or constrained (naming the part). Numerical
