@@ -157,7 +157,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                                   {"max_pressure", r.max_pressure},
                                   {"min_gap", r.min_gap},
                                   {"max_gap", r.max_gap}});
-      std::fprintf(stderr, "  interface %s: clamping force %.4g N, closed area %.1f %%, max pressure %.4g Pa\n",
+      std::fprintf(stderr, "  interface %s: clamping force %.6g N, closed area %.1f %%, max pressure %.4g Pa\n",
                    r.name.c_str(), r.clamping_force, 100.0 * r.closed_area_fraction, r.max_pressure);
       write_interface(dir, c.mesh, c.interfaces[i], r);
     }
