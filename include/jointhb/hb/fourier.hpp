@@ -64,7 +64,9 @@ class FourierBasis {
   bool odd_only_;
   std::vector<int> orders_;
   Eigen::MatrixXd synthesis_;
-  std::shared_ptr<Plans> plans_;  // FFTW plans and buffers, shared by copies (not thread-safe)
+  // FFTW plans, shared by copies. to_time/to_frequency may run on several threads at once: plans
+  // are made under a mutex and executed on the caller's arrays (FFTW_UNALIGNED).
+  std::shared_ptr<Plans> plans_;
 };
 
 }  // namespace jointhb::hb
