@@ -137,6 +137,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     pj["message"] = p.message;
     pj["load_factor"] = p.load_factor;
     pj["newton_iterations"] = p.total_iterations;
+    pj["factorizations"] = p.factor.factorizations;
     pj["support"] = p.support_dofs.empty() ? "user constraints" : "3-2-1 (statically determinate)";
     pj["support_reaction_relative"] = p.support_reaction;
     pj["factor"] = p.factor_statistics;

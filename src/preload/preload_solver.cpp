@@ -21,6 +21,8 @@ std::string PreloadOptions::validate() const {
   if (!(residual_tolerance > 0.0 && residual_tolerance < 1.0))
     return fmt::format("residual_tolerance: must be in (0, 1), got {}", residual_tolerance);
   if (max_line_search < 0) return fmt::format("max_line_search: must be >= 0, got {}", max_line_search);
+  if (!(reuse_factor_ratio >= 0.0 && reuse_factor_ratio < 1.0))
+    return fmt::format("reuse_factor_ratio: must be in [0, 1), got {}", reuse_factor_ratio);
   if (!(closed_pressure_fraction >= 0.0 && closed_pressure_fraction < 1.0))
     return fmt::format("closed_pressure_fraction: must be in [0, 1), got {}",
                        closed_pressure_fraction);
@@ -266,6 +268,8 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   Eigen::Index analysed_nonzeros = -1;
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   Evaluation last;
+  // The factor may serve the next iteration as a chord step (reuse_factor_ratio).
+  bool try_chord = false;
   result.converged = true;
   for (int k = 1; k <= options.load_steps; ++k) {
     PreloadStep step;
@@ -287,6 +291,26 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
                               options.max_iterations, step.residual, options.residual_tolerance);
         break;
       }
+      if (try_chord && cholesky.factorized()) {
+        // Chord step with the factor of an earlier state: kept if it decreases ‖r‖ (full step,
+        // no line search); otherwise refactor at this state below.
+        const auto t0 = std::chrono::steady_clock::now();
+        const Eigen::VectorXd du = dofs.expand(cholesky.solve(Eigen::VectorXd(-dofs.restrict(ev.residual))));
+        result.factor_seconds += seconds_since(t0);
+        Evaluation trial = evaluate(model, u_step + du, load, result.contact_seconds);
+        const double trial_norm = dofs.restrict(trial.residual).norm();
+        if (std::isfinite(trial_norm) && trial_norm < (1.0 - 1e-4) * norm) {
+          try_chord = trial_norm <= options.reuse_factor_ratio * norm;
+          u_step += du;
+          ev = std::move(trial);
+          norm = trial_norm;
+          ++step.iterations;
+          ++step.chord_iterations;
+          ++result.total_iterations;
+          continue;
+        }
+      }
+      try_chord = false;
       auto t0 = std::chrono::steady_clock::now();
       const SpMat tangent = newton_matrix(model, ev.states);
       const SpMat free = dofs.restrict(tangent);
@@ -298,6 +322,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
           analysed_nonzeros = free.nonZeros();
         }
         cholesky.factorize(free);
+        ++step.factorizations;
       } catch (const std::exception& error) {
         failure = fmt::format("the tangent stiffness could not be factored ({}); an interface may "
                               "have opened completely or the parts are not held",
@@ -315,6 +340,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
         Evaluation trial = evaluate(model, u_step + alpha * du, load, result.contact_seconds);
         const double trial_norm = dofs.restrict(trial.residual).norm();
         if (std::isfinite(trial_norm) && trial_norm < (1.0 - 1e-4 * alpha) * norm) {
+          try_chord = alpha == 1.0 && trial_norm <= options.reuse_factor_ratio * norm;
           u_step += alpha * du;
           ev = std::move(trial);
           norm = trial_norm;
@@ -344,8 +370,10 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
     last = std::move(ev);
     result.load_factor = step.load_factor;
   }
-  if (result.factor_statistics.empty() && cholesky.analyzed())
-    result.factor_statistics = cholesky.statistics().brief();
+  if (cholesky.analyzed()) {
+    result.factor = cholesky.statistics();
+    result.factor_statistics = result.factor.brief();
+  }
   result.displacement = u;
   if (last.states.empty()) last = evaluate(model, u, result.load_factor * bolt_full, result.contact_seconds);
   for (std::size_t i = 0; i < model.interfaces.size(); ++i)
@@ -359,8 +387,9 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   }
   result.dynamic_stiffness = dynamic_stiffness(model, u);
   if (result.converged) {
-    result.message = fmt::format("converged: {} load steps, {} Newton iterations", options.load_steps,
-                                 result.total_iterations);
+    result.message = fmt::format("converged: {} load steps, {} Newton iterations ({} factorisations)",
+                                 options.load_steps, result.total_iterations,
+                                 result.factor.factorizations);
   }
   result.seconds = seconds_since(start);
   return result;

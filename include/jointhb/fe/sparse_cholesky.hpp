@@ -12,11 +12,14 @@
 //
 // Determinism: the supernodal factor calls the BLAS (dsyrk/dgemm/dtrsm) and LAPACK (dpotrf); the
 // ordering (AMD, or METIS for large 3D meshes) is deterministic. Results are independent of the
-// thread count as long as the BLAS is: the Debian 12 environment uses the reference (netlib,
-// single-threaded) BLAS. Debian's CHOLMOD 5.12 links libgomp, but its OpenMP loops only copy and
-// clear: validation/fe/modal_scaling gives bit-identical eigenvalues with OMP_NUM_THREADS=1 and 2
-// (checked), and two factorisations of one matrix agree bit for bit (tested). A multithreaded
-// BLAS (OpenBLAS, MKL) may change the last bits with the thread count.
+// thread count as long as the BLAS is: the environment (.ci/setup) uses Debian's single-threaded
+// OpenBLAS (libopenblas0-serial, selected as libblas.so.3 by update-alternatives; the reference
+// netlib BLAS works too, 8-10x slower at 100k-300k DOFs). Debian's CHOLMOD 5.12 links libgomp, but its OpenMP loops
+// only copy and clear: validation/fe/modal_scaling and fe_scaling give bit-identical eigenvalues
+// with OMP_NUM_THREADS=1 and 2 (checked), and two factorisations of one matrix agree bit for bit
+// (tested). A multithreaded BLAS (libopenblas0-pthread, MKL) changes the last bits with the
+// thread count: fe_scaling's frequencies moved by up to 1.4e-10 relative between 1 and 2
+// OpenBLAS threads (docs/performance.md).
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -4,7 +4,8 @@
 // (K_s: structure, eq. (1) of fe/assembly.hpp; t_I: the contact laws of interface I at every
 // integration point, the static convention of fe/interface.hpp; bolts under force control, eq.
 // (B-2)), solved by Newton–Raphson with load stepping in s = 1/n, 2/n, …, 1 and a backtracking
-// line search on ‖r‖, the tangent K_s + Σ_I G_Iᵀ A C_I G_I factored by CHOLMOD (analysed once).
+// line search on ‖r‖, the tangent K_s + Σ_I G_Iᵀ A C_I G_I factored by CHOLMOD (analysed once;
+// in the quadratic phase the factor is reused for chord steps, PreloadOptions::reuse_factor_ratio).
 //
 // Rigid-body motion: an assembly held only by its bolts is free-free. The bolt forces are
 // self-equilibrated, so a statically determinate (3-2-1) support carries no load: it removes the
@@ -27,6 +28,7 @@
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/fe/interface.hpp"
 #include "jointhb/fe/mesh.hpp"
+#include "jointhb/fe/sparse_cholesky.hpp"
 #include "jointhb/preload/bolt.hpp"
 
 namespace jointhb::preload {
@@ -51,6 +53,14 @@ struct PreloadOptions {
   int max_iterations = 40;             ///< ≥ 1: Newton iterations per load step
   double residual_tolerance = 1e-9;    ///< (0, 1): ‖r_free‖ ≤ tol · ‖f_bolt‖ (s = 1)
   int max_line_search = 12;            ///< ≥ 0: halvings of the Newton step
+  /// Modified Newton: after an iteration that reduced the residual by at least this factor
+  /// (a full step, the quadratic phase), the next iteration first tries the step with the
+  /// factor it already has (a chord step: one solve, no assembly or factorisation); the chord
+  /// step is kept when it decreases ‖r‖, otherwise the tangent is refactored at the same state.
+  /// This also carries the last factor of a converged load step into the first iteration of the
+  /// next. The convergence test (residual_tolerance on the exact residual) is unchanged.
+  /// 0 = plain Newton (a factorisation every iteration); in [0, 1).
+  double reuse_factor_ratio = 0.1;
   /// [0, 1): a point counts as closed when p_N ≥ this fraction of the interface's mean pressure
   /// (clamping force / area).
   double closed_pressure_fraction = 0.01;
@@ -62,7 +72,9 @@ struct PreloadOptions {
 
 struct PreloadStep {
   double load_factor = 0.0;
-  int iterations = 0;
+  int iterations = 0;      ///< accepted iterations (Newton and chord)
+  int factorizations = 0;  ///< of the tangent (≤ iterations + rejected chord steps)
+  int chord_iterations = 0;  ///< accepted iterations that reused the previous factor
   int line_search_cuts = 0;
   double residual = 0.0;  ///< relative, at the end of the step
   bool converged = false;
@@ -94,6 +106,7 @@ struct PreloadResult {
   fe::DofMap dofs;                  ///< free DOFs of the preload solve
   Eigen::SparseMatrix<double> dynamic_stiffness;  ///< K_t, eq. (P-2), full DOFs
   std::string factor_statistics;    ///< CHOLMOD's one-line statistics
+  fe::SparseCholeskyStatistics factor;  ///< the same as numbers; factorizations = Σ steps' factorizations
   int total_iterations = 0;
   double assembly_seconds = 0.0, contact_seconds = 0.0, factor_seconds = 0.0, seconds = 0.0;
 };

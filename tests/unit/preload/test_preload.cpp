@@ -162,6 +162,37 @@ TEST(PreloadSolver, LocalBoltConcentratesThePressureAndBalancesTheBoltForce) {
             1e-9 * Eigen::MatrixXd(K).cwiseAbs().maxCoeff());
 }
 
+// Modified Newton (reuse_factor_ratio): chord steps with an earlier factor save factorisations
+// and reach the same state to the residual tolerance; 0 is plain Newton, one factorisation per
+// iteration.
+TEST(PreloadSolver, FactorReuseSavesFactorisationsAndReachesTheSameState) {
+  const fe::Mesh mesh = two_blocks(8, 0.004);
+  const pl::PreloadModel m = model_of(mesh, 0.004);
+  pl::PreloadOptions plain;
+  plain.residual_tolerance = 1e-10;
+  plain.reuse_factor_ratio = 0.0;
+  pl::PreloadOptions reuse = plain;
+  reuse.reuse_factor_ratio = 0.1;
+  const pl::PreloadResult a = pl::solve_preload(m, plain), b = pl::solve_preload(m, reuse);
+  ASSERT_TRUE(a.converged) << a.message;
+  ASSERT_TRUE(b.converged) << b.message;
+  EXPECT_EQ(a.factor.factorizations, a.total_iterations);
+  int chords = 0, factorizations = 0;
+  for (const pl::PreloadStep& s : b.steps) {
+    chords += s.chord_iterations;
+    factorizations += s.factorizations;
+    EXPECT_LE(s.residual, reuse.residual_tolerance);
+  }
+  EXPECT_GT(chords, 0);
+  EXPECT_EQ(factorizations, b.factor.factorizations);
+  EXPECT_LT(b.factor.factorizations, a.factor.factorizations);
+  // Both states satisfy the residual tolerance: they agree far below the displacement scale.
+  EXPECT_LT((a.displacement - b.displacement).norm(), 1e-6 * a.displacement.norm());
+  pl::PreloadOptions bad = plain;
+  bad.reuse_factor_ratio = 1.0;
+  EXPECT_NE(bad.validate().find("reuse_factor_ratio"), std::string::npos);
+}
+
 TEST(PreloadSolver, UnconnectedPartIsNamed) {
   const fe::Mesh mesh = two_blocks();
   pl::PreloadModel m = model_of(mesh, 0.006);
