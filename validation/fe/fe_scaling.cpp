@@ -58,6 +58,7 @@
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "lap_case.hpp"
 #include "study_arguments.hpp"
 
 namespace {
@@ -122,57 +123,11 @@ Refinement nearest_refinement(long target) {
   return best;
 }
 
-// cases/05-bolted-lap/case.yaml with the divisions of both plates replaced.
+// cases/05-bolted-lap/case.yaml (lap_case.hpp) with the divisions of both plates replaced.
 std::string lap_case(const Refinement& r) {
-  std::string text = R"(model:
-  type: fe
-  materials:
-    aluminium: {youngs_modulus: 70.0e9, poissons_ratio: 0.33, density: 2700.0}
-  parts:
-    - name: lower
-      material: aluminium
-      element: C3D8I
-      box: {origin: [0.0, 0.0, 0.0], size: [0.100, 0.030, 0.004], divisions: @DIV@}
-    - name: upper
-      material: aluminium
-      element: C3D8I
-      box: {origin: [0.060, 0.0, 0.004], size: [0.100, 0.030, 0.004], divisions: @DIV@}
-  interfaces:
-    - name: lap
-      bottom: lower.zmax
-      top: upper.zmin
-      region: {min: [0.060, 0.0, 0.0039], max: [0.100, 0.030, 0.0041]}
-      integration: nodal
-      contact:
-        pressure: 1.0e6
-        decay: 1.0e6
-        mu: 0.3
-        law: gaul-mayer
-        n: 0.3333333333333333
-        stiffness_ratio: 0.8
-  bolts:
-    - name: bolt-1
-      point: [0.070, 0.015, 0.0]
-      direction: [0.0, 0.0, 1.0]
-      head: {surface: upper.zmax, radius: 0.0045}
-      nut: {surface: lower.zmin, radius: 0.0045}
-      stiffness: 5.0e8
-      preload: 5000.0
-    - name: bolt-2
-      point: [0.090, 0.015, 0.0]
-      direction: [0.0, 0.0, 1.0]
-      head: {surface: upper.zmax, radius: 0.0045}
-      nut: {surface: lower.zmin, radius: 0.0045}
-      stiffness: 5.0e8
-      preload: 5000.0
-analysis:
-  preload: {load_steps: 4, tolerance: 1.0e-9}
-  modes: {count: 20, shift_hz: -10.0}
-)";
-  const std::string divisions = fmt::format("[{}, {}, {}]", r.nx(), r.ny(), r.nz);
-  for (auto at = text.find("@DIV@"); at != std::string::npos; at = text.find("@DIV@"))
-    text.replace(at, 5, divisions);
-  return text;
+  validation::LapCaseOptions o;
+  o.nx = r.nx(), o.ny = r.ny(), o.nz = r.nz;
+  return validation::lap_case_yaml(o);
 }
 
 // Everything measured on one size; one CSV row.

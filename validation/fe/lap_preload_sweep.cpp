@@ -87,6 +87,7 @@
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/bolt.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "lap_case.hpp"
 #include "study_arguments.hpp"
 
 namespace {
@@ -110,39 +111,18 @@ struct MeshSize {
   [[nodiscard]] std::string label() const { return fmt::format("{}x{}x{}", nx, ny, nz); }
 };
 
-// cases/05-bolted-lap/case.yaml with the divisions substituted (preload set per level later).
+// cases/05-bolted-lap/case.yaml (lap_case.hpp) with the divisions substituted (preload set per
+// level later).
 std::string lap_case_yaml(const MeshSize& m) {
-  return fmt::format(R"(model:
-  type: fe
-  materials:
-    aluminium: {{youngs_modulus: {E}, poissons_ratio: 0.33, density: 2700.0}}
-  parts:
-    - name: lower
-      material: aluminium
-      element: C3D8I
-      box: {{origin: [0.0, 0.0, 0.0], size: [0.100, 0.030, 0.004], divisions: [{nx}, {ny}, {nz}]}}
-    - name: upper
-      material: aluminium
-      element: C3D8I
-      box: {{origin: [0.060, 0.0, 0.004], size: [0.100, 0.030, 0.004], divisions: [{nx}, {ny}, {nz}]}}
-  interfaces:
-    - name: lap
-      bottom: lower.zmax
-      top: upper.zmin
-      region: {{min: [0.060, 0.0, 0.0039], max: [0.100, 0.030, 0.0041]}}
-      integration: nodal
-      contact: {{pressure: {p0}, decay: 1.0e6, mu: 0.3, law: gaul-mayer, n: 0.3333333333333333, stiffness_ratio: 0.8}}
-  bolts:
-    - {{name: bolt-1, point: [0.070, 0.015, 0.0], direction: [0.0, 0.0, 1.0], head: {{surface: upper.zmax, radius: {r}}}, nut: {{surface: lower.zmin, radius: {r}}}, stiffness: 5.0e8, preload: 5000.0}}
-    - {{name: bolt-2, point: [0.090, 0.015, 0.0], direction: [0.0, 0.0, 1.0], head: {{surface: upper.zmax, radius: {r}}}, nut: {{surface: lower.zmin, radius: {r}}}, stiffness: 5.0e8, preload: 5000.0}}
-analysis:
-  preload: {{load_steps: 4, tolerance: 1.0e-10}}
-  modes: {{count: {count}, shift_hz: -{shift}}}
-)",
-                     fmt::arg("E", kYoungs), fmt::arg("nx", m.nx), fmt::arg("ny", m.ny),
-                     fmt::arg("nz", m.nz), fmt::arg("p0", kPressureAtZeroGap),
-                     fmt::arg("r", kFootprintRadius), fmt::arg("count", kRigid + kElastic),
-                     fmt::arg("shift", kShiftHz));
+  validation::LapCaseOptions o;
+  o.nx = m.nx, o.ny = m.ny, o.nz = m.nz;
+  o.youngs_modulus = kYoungs;
+  o.pressure = kPressureAtZeroGap;
+  o.footprint_radius = kFootprintRadius;
+  o.tolerance = 1.0e-10;
+  o.modes = kRigid + kElastic;
+  o.shift_hz = kShiftHz;
+  return validation::lap_case_yaml(o);
 }
 
 // ---- modes --------------------------------------------------------------------------------------
