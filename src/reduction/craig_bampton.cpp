@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "../support/blas_gemm.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
@@ -84,6 +85,8 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
 
   const SpMat K_ii = block(K, i_pos, ni, i_pos, ni), K_ib = block(K, i_pos, ni, b_pos, nb);
   const SpMat M_ii = block(M, i_pos, ni, i_pos, ni), M_ib = block(M, i_pos, ni, b_pos, nb);
+  // The boundary-row blocks stored column-major as well: Eigen's fast sparse × dense path.
+  const SpMat K_bi = block(K, b_pos, nb, i_pos, ni), M_bi = block(M, b_pos, nb, i_pos, ni);
   const Eigen::MatrixXd K_bb = Eigen::MatrixXd(block(K, b_pos, nb, b_pos, nb));
   const Eigen::MatrixXd M_bb = Eigen::MatrixXd(block(M, b_pos, nb, b_pos, nb));
 
@@ -143,13 +146,14 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
   const Eigen::MatrixXd& Psi = r.constraint_modes;
   // C = M_bi + Ψᵀ M_ii (nb × n_i): M_r's boundary block is M_bb + C Ψ + (M_bi Ψ)ᵀ and its
   // coupling block C Φ. C Ψ is the O(n_i nb²) product that dominates for large interfaces.
-  const Eigen::MatrixXd coupling = Eigen::MatrixXd(M_ib.transpose()) + (M_ii * Psi).transpose();
-  const Eigen::MatrixXd MbiPsi = M_ib.transpose() * Psi;
+  const Eigen::MatrixXd coupling = Eigen::MatrixXd(M_bi) + (M_ii * Psi).transpose();
+  const Eigen::MatrixXd MbiPsi = M_bi * Psi;
   r.stiffness = Eigen::MatrixXd::Zero(size, size);
   r.mass = Eigen::MatrixXd::Zero(size, size);
-  r.stiffness.topLeftCorner(nb, nb) = symmetric_part(K_bb + Eigen::MatrixXd(K_ib.transpose() * Psi));
+  r.stiffness.topLeftCorner(nb, nb) = symmetric_part(K_bb + Eigen::MatrixXd(K_bi * Psi));
   r.stiffness.bottomRightCorner(m, m) = r.normal_eigenvalues.asDiagonal();
-  const Eigen::MatrixXd Mbb = M_bb + coupling * Psi + MbiPsi.transpose();
+  Eigen::MatrixXd Mbb = M_bb + MbiPsi.transpose();
+  support::gemm_add(coupling, Psi, Mbb);  // + C Ψ, the O(n_i nb²) product, through the BLAS
   r.mass.topLeftCorner(nb, nb) = symmetric_part(Mbb);
   const Eigen::MatrixXd Mbm = coupling * r.normal_modes;
   r.mass.topRightCorner(nb, m) = Mbm;
