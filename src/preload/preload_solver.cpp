@@ -10,6 +10,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "../support/contact_tangent.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
@@ -114,14 +115,7 @@ SpMat newton_matrix(const PreloadModel& model, const std::vector<fe::InterfaceCo
   std::vector<Eigen::Triplet<double>> triplets;
   for (std::size_t i = 0; i < model.interfaces.size(); ++i) {
     std::vector<Eigen::Matrix3d> c(states[i].tangent.size(), Eigen::Matrix3d::Zero());
-    for (std::size_t p = 0; p < c.size(); ++p) {
-      const Eigen::Matrix3d& t = states[i].tangent[p];
-      const Eigen::Matrix2d tt = 0.5 * (t.topLeftCorner<2, 2>() + t.topLeftCorner<2, 2>().transpose());
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(tt);
-      c[p].topLeftCorner<2, 2>() = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                                   eig.eigenvectors().transpose();
-      c[p](2, 2) = std::max(t(2, 2), 0.0);
-    }
+    for (std::size_t p = 0; p < c.size(); ++p) c[p] = support::symmetric_psd_part(states[i].tangent[p]);
     fe::add_interface_stiffness(model.interfaces[i].geometry, c, triplets);
   }
   SpMat k(model.structure.stiffness.rows(), model.structure.stiffness.cols());
