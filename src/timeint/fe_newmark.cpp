@@ -28,6 +28,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "period_harmonics.hpp"
 #include "../support/contact_tangent.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
@@ -617,21 +618,8 @@ FeSteadyStateResult fe_forced_steady_state(const preload::PreloadModel& model,
     }
   }
 
-  // Harmonics of the last period by direct sums (absolute-time phase), as newmark.cpp.
-  const int h = options.harmonics;
-  result.coefficients = Eigen::MatrixXd::Zero(outputs, 2 * h + 1);
-  const double phase0 = std::fmod(omega * result.start_time, 2.0 * std::numbers::pi);
-  for (int j = 0; j < steps; ++j) {
-    const double theta = phase0 + 2.0 * std::numbers::pi * j / steps;
-    const auto x = result.samples.col(j);
-    result.coefficients.col(0) += x;
-    for (int k = 1; k <= h; ++k) {
-      result.coefficients.col(2 * k - 1) += std::cos(k * theta) * x;
-      result.coefficients.col(2 * k) += std::sin(k * theta) * x;
-    }
-  }
-  result.coefficients.col(0) /= steps;
-  result.coefficients.rightCols(2 * h) *= 2.0 / steps;
+  // Harmonics of the last period (absolute-time phase), as newmark.cpp.
+  result.coefficients = period_harmonics(result.samples, omega, result.start_time, options.harmonics);
   result.external_work = ledger.external_work;
   result.viscous_dissipation = ledger.viscous_dissipation;
   result.contact_work = ledger.contact_work;

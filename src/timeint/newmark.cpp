@@ -14,6 +14,7 @@
 // Newton cannot cycle between the stuck and sliding tangents.
 #include "jointhb/timeint/newmark.hpp"
 
+#include "period_harmonics.hpp"
 #include "../support/stopwatch.hpp"
 
 #include <fmt/format.h>
@@ -687,20 +688,7 @@ SteadyStateResult forced_steady_state(const hb::DiscreteSystem& system,
   }
 
   // Harmonics of the last period by direct sums over the samples (absolute-time phase).
-  const int harmonics = options.harmonics;
-  result.coefficients = Eigen::MatrixXd::Zero(n, 2 * harmonics + 1);
-  const double phase0 = std::fmod(omega * t0, 2.0 * std::numbers::pi);
-  for (int j = 0; j < steps; ++j) {
-    const double theta = phase0 + 2.0 * std::numbers::pi * j / steps;
-    const auto x = result.samples.col(j);
-    result.coefficients.col(0) += x;
-    for (int k = 1; k <= harmonics; ++k) {
-      result.coefficients.col(2 * k - 1) += std::cos(k * theta) * x;
-      result.coefficients.col(2 * k) += std::sin(k * theta) * x;
-    }
-  }
-  result.coefficients.col(0) /= steps;
-  result.coefficients.rightCols(2 * harmonics) *= 2.0 / steps;
+  result.coefficients = period_harmonics(result.samples, omega, t0, options.harmonics);
   result.amplitude_max = result.samples.cwiseAbs().rowwise().maxCoeff();
   result.contact_dissipation = ledger.contact_dissipation;
   result.external_work = ledger.external_work;
