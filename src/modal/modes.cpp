@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../support/sparse_norm.hpp"
 #include "../support/stopwatch.hpp"
 
 // arpack-ng's ISO C binding (arpack/arpack.h declares these too, but also complex routines whose
@@ -93,17 +94,6 @@ std::string dseupd_message(int info) {
     default:
       return "dseupd info " + std::to_string(info);
   }
-}
-
-// ‖A‖₁ = max_j Σ_i |a_ij|.
-double norm1(const Eigen::SparseMatrix<double>& A) {
-  double best = 0.0;
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-    double sum = 0.0;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
-    best = std::max(best, sum);
-  }
-  return best;
 }
 
 void check_symmetric(const Eigen::SparseMatrix<double>& A, const char* name) {
@@ -286,8 +276,8 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
   result.shapes.resize(n, m);
   result.residuals.resize(m);
   result.backward_errors.resize(m);
-  const double norm_k = norm1(K);
-  const double norm_m = norm1(M);
+  const double norm_k = support::norm1(K);
+  const double norm_m = support::norm1(M);
   Eigen::VectorXd k_phi(n), m_phi(n);
   for (int j = 0; j < m; ++j) {
     const int source = order[static_cast<std::size_t>(j)];

@@ -137,6 +137,14 @@ void add_bolt_stiffness(const std::vector<Bolt>& bolts,
   }
 }
 
+Eigen::SparseMatrix<double> bolt_stiffness(const std::vector<Bolt>& bolts, int num_dofs) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  add_bolt_stiffness(bolts, triplets);
+  Eigen::SparseMatrix<double> k(num_dofs, num_dofs);
+  k.setFromTriplets(triplets.begin(), triplets.end());
+  return k;
+}
+
 Eigen::VectorXd bolt_load(const std::vector<Bolt>& bolts, int num_dofs, double load_factor) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(num_dofs);
   for (const Bolt& bolt : bolts)

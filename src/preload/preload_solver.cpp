@@ -208,18 +208,21 @@ std::vector<int> statically_determinate_support(const fe::Mesh& mesh) {
   return dofs;
 }
 
+std::vector<Eigen::Matrix3d> stuck_tangents(const ContactInterface& interface,
+                                             const Eigen::VectorXd& gaps) {
+  std::vector<Eigen::Matrix3d> tangents(interface.geometry.points.size(), Eigen::Matrix3d::Zero());
+  for (std::size_t p = 0; p < tangents.size(); ++p) {
+    const contact::TangentialState s = interface.law.tangential_state(gaps[3 * static_cast<Eigen::Index>(p) + 2]);
+    tangents[p].diagonal() << s.limits.stiffness, s.limits.stiffness, s.normal_stiffness;
+  }
+  return tangents;
+}
+
 Eigen::SparseMatrix<double> dynamic_stiffness(const PreloadModel& model,
                                               const Eigen::VectorXd& displacement) {
   std::vector<Eigen::Triplet<double>> triplets;
-  for (const ContactInterface& ci : model.interfaces) {
-    const Eigen::VectorXd g = fe::gaps(ci.geometry, displacement);
-    std::vector<Eigen::Matrix3d> tangents(ci.geometry.points.size(), Eigen::Matrix3d::Zero());
-    for (std::size_t p = 0; p < tangents.size(); ++p) {
-      const contact::TangentialState s = ci.law.tangential_state(g[3 * static_cast<Eigen::Index>(p) + 2]);
-      tangents[p].diagonal() << s.limits.stiffness, s.limits.stiffness, s.normal_stiffness;
-    }
-    fe::add_interface_stiffness(ci.geometry, tangents, triplets);
-  }
+  for (const ContactInterface& ci : model.interfaces)
+    fe::add_interface_stiffness(ci.geometry, stuck_tangents(ci, fe::gaps(ci.geometry, displacement)), triplets);
   add_bolt_stiffness(model.bolts, triplets);
   SpMat extra(model.structure.stiffness.rows(), model.structure.stiffness.cols());
   extra.setFromTriplets(triplets.begin(), triplets.end());

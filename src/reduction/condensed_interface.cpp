@@ -13,15 +13,6 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// K_structure + Σ k_b b bᵀ over all mesh DOFs: the linear stiffness the contact laws act beside.
-SpMat structure_and_bolts(const preload::PreloadModel& model) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  preload::add_bolt_stiffness(model.bolts, triplets);
-  SpMat bolts(model.structure.stiffness.rows(), model.structure.stiffness.cols());
-  bolts.setFromTriplets(triplets.begin(), triplets.end());
-  return model.structure.stiffness + bolts;
-}
-
 // The free DOFs of every node of every zero-thickness element (the Craig–Bampton boundary).
 std::vector<int> interface_dofs(const preload::PreloadModel& model, const fe::DofMap& dofs) {
   std::set<int> nodes;
@@ -68,7 +59,9 @@ CondensedModel condense(const preload::PreloadModel& model, const preload::Prelo
                                             preload.interfaces.size(), model.interfaces.size()));
   CondensedModel r;
   r.dofs = fe::DofMap::from_fixed_nodes(model.mesh->num_nodes(), model.constraints);
-  const SpMat K = r.dofs.restrict(structure_and_bolts(model));
+  // K_structure + Σ k_b b bᵀ: the linear stiffness the contact laws act beside.
+  const SpMat K = r.dofs.restrict(SpMat(model.structure.stiffness +
+                                        preload::bolt_stiffness(model.bolts, model.mesh->num_dofs())));
   const SpMat M = r.dofs.restrict(model.structure.mass);
   r.cb = craig_bampton(K, M, interface_dofs(model, r.dofs), options);
 
@@ -87,14 +80,13 @@ CondensedModel condense(const preload::PreloadModel& model, const preload::Prelo
     c.reference_gap = state.gap;
     c.reference_traction = state.traction;
     // The stuck tangent of eq. (P-2) at the preloaded gap, weighted by the point areas: A C_pre.
+    c.stuck_tangents = preload::stuck_tangents(ci, state.gap);
     std::vector<Eigen::Triplet<double>> weighted;
     for (Eigen::Index p = 0; p < P; ++p) {
       c.areas[p] = ci.geometry.points[static_cast<std::size_t>(p)].area;
-      const contact::TangentialState s = ci.law.tangential_state(state.gap[3 * p + 2]);
-      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-      C.diagonal() << s.limits.stiffness, s.limits.stiffness, s.normal_stiffness;
-      c.stuck_tangents.push_back(C);
-      for (int a = 0; a < 3; ++a) weighted.emplace_back(static_cast<int>(3 * p + a), static_cast<int>(3 * p + a), c.areas[p] * C(a, a));
+      for (int a = 0; a < 3; ++a)
+        weighted.emplace_back(static_cast<int>(3 * p + a), static_cast<int>(3 * p + a),
+                              c.areas[p] * c.stuck_tangents[static_cast<std::size_t>(p)](a, a));
     }
     SpMat AC(3 * P, 3 * P);
     AC.setFromTriplets(weighted.begin(), weighted.end());

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "../support/blas_gemm.hpp"
+#include "../support/sparse_norm.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
@@ -32,16 +33,6 @@ SpMat block(const SpMat& A, const std::vector<int>& row_position, int rows,
   SpMat B(rows, cols);
   B.setFromTriplets(entries.begin(), entries.end());
   return B;
-}
-
-double one_norm(const SpMat& A) {
-  double worst = 0.0;
-  for (int j = 0; j < A.outerSize(); ++j) {
-    double sum = 0.0;
-    for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
-    worst = std::max(worst, sum);
-  }
-  return worst;
 }
 
 Eigen::MatrixXd symmetric_part(const Eigen::MatrixXd& A) { return 0.5 * (A + A.transpose()); }
@@ -129,7 +120,7 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
   // along one axis) has rigid fixed-interface modes: λ_1 at round-off level, ε ‖K_ii‖/‖M_ii‖,
   // where CHOLMOD may still find tiny positive pivots. Elastic modes lie far above 1e-13 of
   // ‖K_ii‖₁/‖M_ii‖₁ (the square of the mesh's highest frequency).
-  if (modes.eigenvalues[0] < 1e-13 * one_norm(K_ii) / one_norm(M_ii))
+  if (modes.eigenvalues[0] < 1e-13 * support::norm1(K_ii) / support::norm1(M_ii))
     throw std::runtime_error(fmt::format(
         "Craig-Bampton: the interior stiffness K_ii is not positive definite: a fixed-interface mode at "
         "{:.3g} Hz is a rigid-body motion (is some part held neither by the boundary nor by other stiffness?)",

@@ -69,14 +69,6 @@ void check_inputs(const preload::PreloadModel& model, const preload::PreloadResu
     throw std::invalid_argument("fe time integration: " + msg);
 }
 
-SpMat bolt_stiffness(const preload::PreloadModel& model, int n) {
-  std::vector<Eigen::Triplet<double>> t;
-  preload::add_bolt_stiffness(model.bolts, t);
-  SpMat k(n, n);
-  k.setFromTriplets(t.begin(), t.end());
-  return k;
-}
-
 // Contact quantities at one trial displacement.
 struct ContactEvaluation {
   Vec force;                                        // Δf_c = Σ Gᵀ A (t − t_pre), full DOFs
@@ -104,7 +96,7 @@ class FeStepper {
         c0_(1.0 / (beta_ * dt_ * dt_)),
         c1_(gamma_ / (beta_ * dt_)) {
     const double w = 1.0 + alpha_;
-    k_linear_ = model.structure.stiffness + bolt_stiffness(model, n_);
+    k_linear_ = model.structure.stiffness + preload::bolt_stiffness(model.bolts, n_);
     damping_ = options.mass_damping * model.structure.mass +
                options.stiffness_damping * preload.dynamic_stiffness;
     has_damping_ = options.mass_damping > 0.0 || options.stiffness_damping > 0.0;

@@ -166,10 +166,7 @@ Lap build_lap(const MeshSize& size) {
   lap.model.structure = fe::assemble(lap.c.mesh, lap.c.material_per_part);
   lap.model.interfaces = lap.c.interfaces;
   lap.model.bolts = lap.c.bolts;
-  std::vector<Eigen::Triplet<double>> t;
-  preload::add_bolt_stiffness(lap.c.bolts, t);
-  lap.bolt_springs.resize(lap.c.mesh.num_dofs(), lap.c.mesh.num_dofs());
-  lap.bolt_springs.setFromTriplets(t.begin(), t.end());
+  lap.bolt_springs = preload::bolt_stiffness(lap.c.bolts, lap.c.mesh.num_dofs());
   // Nodal integration: each point sits on one corner node of its facet (shape function 1 there).
   const fe::Interface& g = lap.c.interfaces.at(0).geometry;
   for (const fe::InterfacePoint& p : g.points) {

@@ -62,6 +62,9 @@ struct Bolt {
 void add_bolt_stiffness(const std::vector<Bolt>& bolts,
                         std::vector<Eigen::Triplet<double>>& triplets);
 
+/// Σ k_b b bᵀ, eq. (B-3), as a num_dofs × num_dofs sparse matrix.
+[[nodiscard]] Eigen::SparseMatrix<double> bolt_stiffness(const std::vector<Bolt>& bolts, int num_dofs);
+
 /// −Σ s P_b b_b, eq. (B-2), at load factor s (num_dofs).
 [[nodiscard]] Eigen::VectorXd bolt_load(const std::vector<Bolt>& bolts, int num_dofs,
                                         double load_factor = 1.0);

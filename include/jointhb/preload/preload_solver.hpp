@@ -129,6 +129,11 @@ void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> 
 /// rotation about AB. Throws std::invalid_argument when the nodes are collinear.
 [[nodiscard]] std::vector<int> statically_determinate_support(const fe::Mesh& mesh);
 
+/// The stuck tangent C_p = diag(k_T, k_T, λ p_N) of eq. (P-2) at every point of an interface,
+/// for its gaps (3P, local frames, as fe::gaps returns them).
+[[nodiscard]] std::vector<Eigen::Matrix3d> stuck_tangents(const ContactInterface& interface,
+                                                          const Eigen::VectorXd& gaps);
+
 /// The stuck dynamic tangent of eq. (P-2), full DOFs.
 [[nodiscard]] Eigen::SparseMatrix<double> dynamic_stiffness(const PreloadModel& model,
                                                              const Eigen::VectorXd& displacement);
