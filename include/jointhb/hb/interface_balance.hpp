@@ -1,0 +1,117 @@
+#pragma once
+// Multi-harmonic balance of a preloaded finite-element joint in the modal/interface form of
+// hb/interface_model.hpp (docs/theory.md §11, eq. T-26 to T-29).
+//
+// Unknowns y = [η; δg]: the harmonic coefficients (hb/fourier.hpp, basis with the mean) of the
+// n_s kept modal coordinates and of the 3P interface gaps (relative displacements, local frames
+// t1, t2, n per point), DOF-major as in hb/harmonic_balance.hpp:
+//   y[j·m + c] = coefficient c of η_j,    y[(n_s + 3p + d)·m + c] = coefficient c of δg_{p,d}.
+// With N = ΔT(δg) − C_pre δg per point (the contact traction beyond the stuck tangent, by the AFT
+// of hb/contact_point_aft.hpp) and the load shape f scaled by the excitation coefficients F_k:
+//   modal rows:  D_j(kΩ, ξ) η_jk + (Gφ_j)ᵀ A N_k − (φ_jᵀ f) F_k = 0                       (T-26)
+//   gap rows:    δg_k − Σ_j Gφ_j η_jk + R_k(Ω, ξ) A N_k − r_k(Ω, ξ) F_k = 0                (T-27)
+// D_j: ω_j² on the mean; [ω_j² − (kΩ)², kΩ(c_j − ξ); −kΩ(c_j − ξ), ω_j² − (kΩ)²] on (a_k, b_k);
+// R_k = R0/β − (w/β²) R1 and r_k likewise from the load residuals (eq. T-23): complex numbers act
+// on (a_k, b_k) through X = a_k − i b_k. ξ is the EPMC's negative mass-proportional damping
+// (0 for forced response). Rigid-body modes (ω_j = 0) have no static equation: their mean is held
+// at zero (η_j0 = 0).
+//
+// Mean tangential traction (T-28): with `static_mean_tangential` (default), the mean of the
+// tangential traction follows the preloaded tangent, ΔT_T,0 = C_pre,TT δg_T,0, and only the
+// harmonics k ≥ 1 of t_T come from the hysteretic periodic state. The periodic state alone leaves
+// the mean undetermined or drifting (Gaul–Mayer relaxes any preloaded t_T to zero, T-21): the
+// creep of a joint is a slow process outside a periodic steady state, and this closes the mean
+// equation with the static stiffness that holds the joint in place.
+//
+// Row scaling: modal rows are divided by ω_ref² and gap rows by g_ref (the largest |Gφ| of the
+// first elastic kept mode), so that every row is in units of a modal coordinate.
+//
+// Jacobian (exact): modal/modal D(Ω, ξ); gap/modal −Gφ per coefficient; the contact columns
+// B_p = A_p ∂N_p/∂δg_p (3m × 3m per point, harmonics coupled only within the point) enter as
+// (Gφ)ᵀ B_p (modal rows) and I + R B_p (gap rows); assembled per point in parallel (OpenMP,
+// result independent of the thread count).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "jointhb/hb/fourier.hpp"
+#include "jointhb/hb/interface_model.hpp"
+
+namespace jointhb::hb {
+
+struct InterfaceBalanceOptions {
+  int harmonics = 3;                  ///< H ≥ 1 (all harmonics 0..H are kept: the mean is needed)
+  int time_samples = 64;              ///< N_t ≥ 2H + 2
+  double periodic_tolerance = 1e-12;  ///< (0, 1e-3]: contact periodic-state tolerance
+  int max_periodic_iterations = 200;  ///< ≥ 1
+  bool static_mean_tangential = true; ///< eq. (T-28)
+  [[nodiscard]] std::string validate() const;  ///< empty when valid; names the field
+};
+
+struct InterfaceBalanceEvaluation {
+  Eigen::VectorXd residual;   ///< scaled residual (size unknowns())
+  Eigen::MatrixXd jacobian;   ///< ∂residual/∂y (when requested)
+  Eigen::VectorXd d_omega;    ///< ∂residual/∂Ω (when requested)
+  Eigen::VectorXd d_xi;       ///< ∂residual/∂ξ (when requested)
+  Eigen::MatrixXd contact_force;  ///< A N: m × 3P (coefficients of the force beyond stuck)
+  double dissipation = 0.0;   ///< Σ_p A_p W_D,p over one period [J]
+  int open_points = 0;        ///< points open throughout the period
+  int slipping_points = 0;    ///< points that are neither stuck nor open
+  bool ok = true;             ///< false: a contact's periodic state did not converge
+  std::string message;
+};
+
+struct InterfaceBalanceTimings {
+  double aft = 0.0, assembly = 0.0;
+  int evaluations = 0, jacobians = 0;
+};
+
+class InterfaceBalance {
+ public:
+  /// Throws std::invalid_argument on an invalid model or options (the message names the field).
+  InterfaceBalance(InterfaceModel model, InterfaceBalanceOptions options);
+  ~InterfaceBalance();
+  InterfaceBalance(InterfaceBalance&&) noexcept;
+  InterfaceBalance& operator=(InterfaceBalance&&) noexcept;
+
+  [[nodiscard]] const InterfaceModel& model() const;
+  [[nodiscard]] const FourierBasis& basis() const;
+  [[nodiscard]] const InterfaceBalanceOptions& options() const;
+  [[nodiscard]] int modes() const;
+  [[nodiscard]] int points() const;
+  [[nodiscard]] Eigen::Index unknowns() const;  ///< (n_s + 3P)·m
+  [[nodiscard]] Eigen::Index modal_index(int mode, int coefficient) const;
+  [[nodiscard]] Eigen::Index gap_index(int point, int component, int coefficient) const;
+  /// ω_ref (first elastic kept mode) and g_ref (largest |Gφ| of it): the row scales.
+  [[nodiscard]] double reference_omega() const;
+  [[nodiscard]] double reference_gap() const;
+  /// Typical magnitude of each unknown per unit modal coordinate (1 for η, g_ref for δg).
+  [[nodiscard]] Eigen::VectorXd unknown_scale() const;
+
+  /// Residual at (y, Ω, ξ) with the load coefficients F (size m, or empty: no load).
+  void evaluate(const Eigen::VectorXd& y, double omega, double xi, const Eigen::VectorXd& load,
+                bool jacobian, InterfaceBalanceEvaluation& out) const;
+
+  /// The stuck linear solution (N ≡ 0) for the load F at Ω (ξ = 0).
+  [[nodiscard]] Eigen::VectorXd linear_solution(double omega, const Eigen::VectorXd& load) const;
+
+  /// Coefficients (m) of output o at the solution y, with `contact_force` the A N of an evaluation
+  /// at y (eq. T-25 with the output's residual parts).
+  [[nodiscard]] Eigen::VectorXd output_coefficients(int output, const Eigen::VectorXd& y,
+                                                    double omega, double xi,
+                                                    const Eigen::VectorXd& load,
+                                                    const Eigen::MatrixXd& contact_force) const;
+
+  /// Load coefficients (m) of F(t) = amplitude · cos Ωt.
+  [[nodiscard]] Eigen::VectorXd cosine_load(double amplitude) const;
+
+  [[nodiscard]] InterfaceBalanceTimings timings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace jointhb::hb

@@ -1,0 +1,425 @@
+// Harmonic balance of a preloaded FE joint in modal/interface form (interface_balance.hpp;
+// docs/theory.md §11).
+#include "jointhb/hb/interface_balance.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <complex>
+#include <span>
+#include <stdexcept>
+
+#include "../support/stopwatch.hpp"
+
+namespace jointhb::hb {
+namespace {
+
+using cd = std::complex<double>;
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// The residual-mode coefficients of harmonic k (eq. T-23): h ≈ c0/μ + c1/μ², with their
+// derivatives in Ω and ξ.
+struct ResidualCoefficients {
+  cd c0, c1, c0_omega, c1_omega, c0_xi, c1_xi;
+};
+
+ResidualCoefficients residual_coefficients(const InterfaceModel& m, int k, double omega,
+                                           double xi) {
+  const double kw = k * omega;
+  const double s = m.residual_shift, a = m.rayleigh_mass, b = m.rayleigh_stiffness;
+  const cd i(0.0, 1.0);
+  const cd beta = 1.0 + i * kw * b;
+  const cd w = s * beta - kw * kw + i * kw * (a - xi);
+  const cd beta_omega = i * double(k) * b;
+  const cd w_omega = s * beta_omega - 2.0 * k * kw + i * double(k) * (a - xi);
+  const cd w_xi = -i * kw;
+  ResidualCoefficients r;
+  r.c0 = 1.0 / beta;
+  r.c1 = -w / (beta * beta);
+  r.c0_omega = -beta_omega / (beta * beta);
+  r.c1_omega = -w_omega / (beta * beta) + 2.0 * w * beta_omega / (beta * beta * beta);
+  r.c0_xi = 0.0;
+  r.c1_xi = -w_xi / (beta * beta);
+  return r;
+}
+
+// out(:, ia/ib) += (c0 R0 + c1 R1) applied to the pair (a, b) given as W0 = R0 [a b], W1 = R1 [a b]:
+// X = a − i b, X' = c0 W0 X + c1 W1 X, a' = Re X', b' = −Im X'.
+void add_complex_pair(cd c0, cd c1, const VectorXd& w0a, const VectorXd& w0b, const VectorXd& w1a,
+                      const VectorXd& w1b, Eigen::Ref<VectorXd> out_a, Eigen::Ref<VectorXd> out_b) {
+  // X' = c0 (w0a − i w0b) + c1 (w1a − i w1b)
+  out_a += c0.real() * w0a + c0.imag() * w0b + c1.real() * w1a + c1.imag() * w1b;
+  out_b += -(c0.imag() * w0a - c0.real() * w0b + c1.imag() * w1a - c1.real() * w1b);
+}
+
+}  // namespace
+
+std::string InterfaceBalanceOptions::validate() const {
+  if (harmonics < 1) return fmt::format("harmonics: must be ≥ 1, got {}", harmonics);
+  if (time_samples < 2 * harmonics + 2)
+    return fmt::format("time_samples: must be ≥ 2·harmonics + 2 = {}, got {}", 2 * harmonics + 2,
+                       time_samples);
+  if (!(periodic_tolerance > 0.0 && periodic_tolerance <= 1e-3))
+    return fmt::format("periodic_tolerance: must be in (0, 1e-3], got {}", periodic_tolerance);
+  if (max_periodic_iterations < 1)
+    return fmt::format("max_periodic_iterations: must be ≥ 1, got {}", max_periodic_iterations);
+  return {};
+}
+
+struct InterfaceBalance::Impl {
+  InterfaceModel model;
+  InterfaceBalanceOptions options;
+  FourierBasis basis;
+  int m = 0, ns = 0, P = 0;
+  Index U = 0;
+  double omega_ref = 1.0, g_ref = 1.0;
+  VectorXd modal_damping;  // c_j = a + b ω_j²
+  mutable InterfaceBalanceTimings timings;
+
+  Impl(InterfaceModel mo, InterfaceBalanceOptions op)
+      : model(std::move(mo)), options(op), basis(op.harmonics, op.time_samples, false) {
+    m = basis.size();
+    ns = model.num_modes();
+    P = model.num_points();
+    U = static_cast<Index>(ns + 3 * P) * m;
+    modal_damping = model.rayleigh_mass + model.rayleigh_stiffness * model.omega2.array();
+    if (model.rigid_modes >= ns) throw std::invalid_argument("model: no elastic kept mode");
+    omega_ref = std::sqrt(model.omega2[model.rigid_modes]);
+    g_ref = model.gap_shapes.col(model.rigid_modes).lpNorm<Eigen::Infinity>();
+    if (!(g_ref > 0.0)) g_ref = 1.0;
+  }
+
+  // ΔT − C_pre δg per point (m × 3P, per unit area), with the mean-tangential closure (T-28),
+  // and the per-point Jacobian blocks B_p = A_p ∂N_p/∂δg_p.
+  struct Contact {
+    MatrixXd force;  // A N, m × 3P
+    std::vector<MatrixXd> blocks;
+    double dissipation = 0.0;
+    int open = 0, slipping = 0;
+    bool ok = true;
+    std::string message;
+  };
+
+  Contact contact(const Eigen::Ref<const MatrixXd>& dg, bool jacobian) const {
+    Contact c;
+    c.force.resize(m, 3 * P);
+    if (jacobian) c.blocks.resize(static_cast<std::size_t>(P));
+    ContactPointAftOptions o;
+    o.periodic_tolerance = options.periodic_tolerance;
+    o.max_iterations = options.max_periodic_iterations;
+    o.jacobian = jacobian;
+    const std::span<const ContactPointReference> refs(model.references);
+    const std::span<const double> areas(model.areas.data(), static_cast<std::size_t>(P));
+    for (const InterfaceGroup& g : model.groups) {
+      const InterfaceAftResult r = evaluate_interface_aft(
+          std::span<const contact::ContactPoint>(&g.law, 1), refs.subspan(g.first, g.count), basis,
+          dg.middleCols(3 * g.first, 3 * g.count), o, areas.subspan(g.first, g.count));
+      c.dissipation += r.dissipation;
+      c.open += r.open_points;
+      if (!r.converged && c.ok) {
+        c.ok = false;
+        c.message = fmt::format("interface '{}': {}", g.name, r.message);
+      }
+      for (int q = 0; q < g.count; ++q) {
+        const int p = g.first + q;
+        const ContactPointAftResult& pr = r.points[static_cast<std::size_t>(q)];
+        if (!pr.stuck && pr.shortcut != ContactPointShortcut::open) ++c.slipping;
+        const Eigen::Matrix3d& C = model.stuck_tangents[static_cast<std::size_t>(p)];
+        const double area = model.areas[p];
+        MatrixXd n = pr.traction - dg.middleCols(3 * p, 3) * C.transpose();
+        if (options.static_mean_tangential) n(0, 0) = n(0, 1) = 0.0;
+        c.force.middleCols(3 * p, 3) = area * n;
+        if (jacobian) {
+          MatrixXd b = pr.jacobian;
+          for (int r1 = 0; r1 < 3; ++r1)
+            for (int r2 = 0; r2 < 3; ++r2) b.block(r1 * m, r2 * m, m, m).diagonal().array() -= C(r1, r2);
+          if (options.static_mean_tangential) {
+            b.row(0).setZero();
+            b.row(m).setZero();
+          }
+          c.blocks[static_cast<std::size_t>(p)] = area * b;
+        }
+      }
+    }
+    return c;
+  }
+
+  // Gap rows' residual-mode term R_k(Ω, ξ) V for V = (A N)ᵀ or a derivative (3P × m), into out.
+  // `which`: 0 value, 1 ∂/∂Ω, 2 ∂/∂ξ.
+  void apply_residual(const MatrixXd& v, double omega, double xi, int which, MatrixXd& out) const {
+    const MatrixXd w0 = model.residual_flexibility * v, w1 = model.residual_inertia * v;
+    if (which == 0) out.col(0) += w0.col(0) - model.residual_shift * w1.col(0);
+    for (int k : basis.orders()) {
+      const int ia = basis.cosine_index(k), ib = ia + 1;
+      const ResidualCoefficients rc = residual_coefficients(model, k, omega, xi);
+      const cd c0 = which == 0 ? rc.c0 : which == 1 ? rc.c0_omega : rc.c0_xi;
+      const cd c1 = which == 0 ? rc.c1 : which == 1 ? rc.c1_omega : rc.c1_xi;
+      add_complex_pair(c0, c1, w0.col(ia), w0.col(ib), w1.col(ia), w1.col(ib), out.col(ia), out.col(ib));
+    }
+  }
+
+  // r_k(Ω, ξ) F: the load's residual-mode gaps (3P × m).
+  void apply_load_residual(const VectorXd& load, double omega, double xi, int which, MatrixXd& out) const {
+    if (load.size() == 0) return;
+    const VectorXd& r0 = model.load_residual0;
+    const VectorXd& r1 = model.load_residual1;
+    if (which == 0) out.col(0) += (r0 - model.residual_shift * r1) * load[0];
+    for (int k : basis.orders()) {
+      const int ia = basis.cosine_index(k), ib = ia + 1;
+      const ResidualCoefficients rc = residual_coefficients(model, k, omega, xi);
+      const cd c0 = which == 0 ? rc.c0 : which == 1 ? rc.c0_omega : rc.c0_xi;
+      const cd c1 = which == 0 ? rc.c1 : which == 1 ? rc.c1_omega : rc.c1_xi;
+      add_complex_pair(c0, c1, r0 * load[ia], r0 * load[ib], r1 * load[ia], r1 * load[ib], out.col(ia),
+                       out.col(ib));
+    }
+  }
+
+  // D_j(kΩ, ξ) on η_j's coefficients, or its derivative (which = 1: Ω, 2: ξ).
+  void apply_modal(const MatrixXd& eta, double omega, double xi, int which, MatrixXd& out) const {
+    for (int j = 0; j < ns; ++j) {
+      const double w2 = model.omega2[j], c = modal_damping[j] - xi;
+      if (which == 0) out(0, j) += j < model.rigid_modes ? omega_ref * omega_ref * eta(0, j) : w2 * eta(0, j);
+      for (int k : basis.orders()) {
+        const int ia = basis.cosine_index(k), ib = ia + 1;
+        const double a = eta(ia, j), b = eta(ib, j), kw = k * omega;
+        if (which == 0) {
+          out(ia, j) += (w2 - kw * kw) * a + kw * c * b;
+          out(ib, j) += (w2 - kw * kw) * b - kw * c * a;
+        } else if (which == 1) {
+          out(ia, j) += -2.0 * k * kw * a + k * c * b;
+          out(ib, j) += -2.0 * k * kw * b - k * c * a;
+        } else {
+          out(ia, j) += -kw * b;
+          out(ib, j) += kw * a;
+        }
+      }
+    }
+  }
+};
+
+InterfaceBalance::InterfaceBalance(InterfaceModel model, InterfaceBalanceOptions options) {
+  if (const std::string msg = options.validate(); !msg.empty()) throw std::invalid_argument(msg);
+  if (const std::string msg = model.validate(); !msg.empty())
+    throw std::invalid_argument("interface model: " + msg);
+  impl_ = std::make_unique<Impl>(std::move(model), options);
+}
+InterfaceBalance::~InterfaceBalance() = default;
+InterfaceBalance::InterfaceBalance(InterfaceBalance&&) noexcept = default;
+InterfaceBalance& InterfaceBalance::operator=(InterfaceBalance&&) noexcept = default;
+
+const InterfaceModel& InterfaceBalance::model() const { return impl_->model; }
+const FourierBasis& InterfaceBalance::basis() const { return impl_->basis; }
+const InterfaceBalanceOptions& InterfaceBalance::options() const { return impl_->options; }
+int InterfaceBalance::modes() const { return impl_->ns; }
+int InterfaceBalance::points() const { return impl_->P; }
+Index InterfaceBalance::unknowns() const { return impl_->U; }
+Index InterfaceBalance::modal_index(int mode, int coefficient) const {
+  return static_cast<Index>(mode) * impl_->m + coefficient;
+}
+Index InterfaceBalance::gap_index(int point, int component, int coefficient) const {
+  return static_cast<Index>(impl_->ns + 3 * point + component) * impl_->m + coefficient;
+}
+double InterfaceBalance::reference_omega() const { return impl_->omega_ref; }
+double InterfaceBalance::reference_gap() const { return impl_->g_ref; }
+VectorXd InterfaceBalance::unknown_scale() const {
+  VectorXd s = VectorXd::Ones(impl_->U);
+  s.tail(impl_->U - static_cast<Index>(impl_->ns) * impl_->m).setConstant(impl_->g_ref);
+  return s;
+}
+InterfaceBalanceTimings InterfaceBalance::timings() const { return impl_->timings; }
+
+VectorXd InterfaceBalance::cosine_load(double amplitude) const {
+  VectorXd f = VectorXd::Zero(impl_->m);
+  f[impl_->basis.cosine_index(1)] = amplitude;
+  return f;
+}
+
+void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, const VectorXd& load,
+                                bool jacobian, InterfaceBalanceEvaluation& out) const {
+  const Impl& d = *impl_;
+  if (y.size() != d.U)
+    throw std::invalid_argument(fmt::format("InterfaceBalance::evaluate: {} unknowns, expected {}", y.size(), d.U));
+  if (load.size() != 0 && load.size() != d.m)
+    throw std::invalid_argument(fmt::format("InterfaceBalance::evaluate: load has {} coefficients, expected {}", load.size(), d.m));
+  const int m = d.m, ns = d.ns, P = d.P;
+  const auto t0 = support::Clock::now();
+  const Eigen::Map<const MatrixXd> eta(y.data(), m, ns);
+  const Eigen::Map<const MatrixXd> dg(y.data() + static_cast<Index>(ns) * m, m, 3 * P);
+  const Impl::Contact c = d.contact(dg, jacobian);
+  const auto t1 = support::Clock::now();
+  d.timings.aft += support::seconds_between(t0, t1);
+  ++d.timings.evaluations;
+  out.ok = c.ok;
+  out.message = c.message;
+  out.dissipation = c.dissipation;
+  out.open_points = c.open;
+  out.slipping_points = c.slipping;
+  out.contact_force = c.force;
+
+  const MatrixXd& phi_g = d.model.gap_shapes;  // 3P × ns
+  const double row_modal = 1.0 / (d.omega_ref * d.omega_ref), row_gap = 1.0 / d.g_ref;
+  // Modal rows (m × ns), eq. (T-26).
+  MatrixXd rm = c.force * phi_g;
+  if (load.size() != 0) rm -= load * d.model.load_modal.transpose();
+  d.apply_modal(eta, omega, xi, 0, rm);
+  for (int j = 0; j < d.model.rigid_modes; ++j) rm(0, j) = d.omega_ref * d.omega_ref * eta(0, j);
+  // Gap rows (3P × m), eq. (T-27).
+  MatrixXd rg = dg.transpose() - phi_g * eta.transpose();
+  d.apply_residual(c.force.transpose(), omega, xi, 0, rg);
+  MatrixXd load_gap = MatrixXd::Zero(3 * P, m);
+  d.apply_load_residual(load, omega, xi, 0, load_gap);
+  rg -= load_gap;
+  out.residual.resize(d.U);
+  Eigen::Map<MatrixXd>(out.residual.data(), m, ns) = row_modal * rm;
+  Eigen::Map<MatrixXd>(out.residual.data() + static_cast<Index>(ns) * m, m, 3 * P) = row_gap * rg.transpose();
+  if (!jacobian) {
+    d.timings.assembly += support::seconds_since(t1);
+    return;
+  }
+  ++d.timings.jacobians;
+
+  // ∂/∂Ω and ∂/∂ξ.
+  for (int which = 1; which <= 2; ++which) {
+    MatrixXd dm = MatrixXd::Zero(m, ns);
+    d.apply_modal(eta, omega, xi, which, dm);
+    for (int j = 0; j < d.model.rigid_modes; ++j) dm(0, j) = 0.0;
+    MatrixXd dgap = MatrixXd::Zero(3 * P, m);
+    d.apply_residual(c.force.transpose(), omega, xi, which, dgap);
+    MatrixXd dl = MatrixXd::Zero(3 * P, m);
+    d.apply_load_residual(load, omega, xi, which, dl);
+    dgap -= dl;
+    VectorXd& v = which == 1 ? out.d_omega : out.d_xi;
+    v.resize(d.U);
+    Eigen::Map<MatrixXd>(v.data(), m, ns) = row_modal * dm;
+    Eigen::Map<MatrixXd>(v.data() + static_cast<Index>(ns) * m, m, 3 * P) = row_gap * dgap.transpose();
+  }
+
+  MatrixXd& J = out.jacobian;
+  J.setZero(d.U, d.U);
+  const Index g0 = static_cast<Index>(ns) * m;  // first gap unknown
+  // Modal/modal: D_j.
+  for (int j = 0; j < ns; ++j) {
+    const Index r = static_cast<Index>(j) * m;
+    const double w2 = d.model.omega2[j], cj = d.modal_damping[j] - xi;
+    J(r, r) = j < d.model.rigid_modes ? d.omega_ref * d.omega_ref : w2;
+    for (int k : d.basis.orders()) {
+      const int ia = d.basis.cosine_index(k), ib = ia + 1;
+      const double kw = k * omega;
+      J(r + ia, r + ia) = w2 - kw * kw;
+      J(r + ia, r + ib) = kw * cj;
+      J(r + ib, r + ib) = w2 - kw * kw;
+      J(r + ib, r + ia) = -kw * cj;
+    }
+  }
+  // Gap/modal: −Gφ_j per coefficient; gap/gap identity.
+  for (int i = 0; i < 3 * P; ++i)
+    for (int cc = 0; cc < m; ++cc) {
+      const Index r = g0 + static_cast<Index>(i) * m + cc;
+      for (int j = 0; j < ns; ++j) J(r, static_cast<Index>(j) * m + cc) = -phi_g(i, j);
+      J(r, r) = 1.0;
+    }
+  // Contact columns, point by point: (Gφ)ᵀ B_p on the modal rows, R B_p on the gap rows.
+  std::vector<ResidualCoefficients> rcs;
+  for (int k : d.basis.orders()) rcs.push_back(residual_coefficients(d.model, k, omega, xi));
+  const MatrixXd& R0 = d.model.residual_flexibility;
+  const MatrixXd& R1 = d.model.residual_inertia;
+  const double s = d.model.residual_shift;
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int p = 0; p < P; ++p) {
+    const MatrixXd& B = c.blocks[static_cast<std::size_t>(p)];
+    const Index col = g0 + static_cast<Index>(3 * p) * m;
+    // Rows of B for coefficient cc of the three components (3 × 3m).
+    auto rows_of = [&](int cc) {
+      MatrixXd r(3, 3 * m);
+      for (int dd = 0; dd < 3; ++dd) r.row(dd) = B.row(dd * m + cc);
+      return r;
+    };
+    const MatrixXd phi_p = phi_g.middleRows(3 * p, 3);  // 3 × ns
+    for (int cc = 0; cc < m; ++cc) {
+      const MatrixXd t = phi_p.transpose() * rows_of(cc);  // ns × 3m
+      for (int j = 0; j < ns; ++j) {
+        if (j < d.model.rigid_modes && cc == 0) continue;
+        J.block(static_cast<Index>(j) * m + cc, col, 1, 3 * m) += t.row(j);
+      }
+    }
+    const MatrixXd r0p = R0.middleCols(3 * p, 3), r1p = R1.middleCols(3 * p, 3);
+    {
+      const MatrixXd t = (r0p - s * r1p) * rows_of(0);  // 3P × 3m
+      for (int i = 0; i < 3 * P; ++i) J.block(g0 + static_cast<Index>(i) * m, col, 1, 3 * m) += t.row(i);
+    }
+    std::size_t h = 0;
+    for (int k : d.basis.orders()) {
+      const int ia = d.basis.cosine_index(k), ib = ia + 1;
+      const ResidualCoefficients& rc = rcs[h++];
+      const MatrixXd rr = rc.c0.real() * r0p + rc.c1.real() * r1p;
+      const MatrixXd ri = rc.c0.imag() * r0p + rc.c1.imag() * r1p;
+      const MatrixXd ba = rows_of(ia), bb = rows_of(ib);
+      const MatrixXd ta = rr * ba + ri * bb, tb = rr * bb - ri * ba;
+      for (int i = 0; i < 3 * P; ++i) {
+        const Index r = g0 + static_cast<Index>(i) * m;
+        J.block(r + ia, col, 1, 3 * m) += ta.row(i);
+        J.block(r + ib, col, 1, 3 * m) += tb.row(i);
+      }
+    }
+  }
+  J.topRows(g0) *= row_modal;
+  J.bottomRows(d.U - g0) *= row_gap;
+  d.timings.assembly += support::seconds_since(t1);
+}
+
+VectorXd InterfaceBalance::linear_solution(double omega, const VectorXd& load) const {
+  const Impl& d = *impl_;
+  const int m = d.m, ns = d.ns, P = d.P;
+  VectorXd y = VectorXd::Zero(d.U);
+  if (load.size() == 0) return y;
+  Eigen::Map<MatrixXd> eta(y.data(), m, ns);
+  for (int j = 0; j < ns; ++j) {
+    const double fj = d.model.load_modal[j];
+    if (j >= d.model.rigid_modes) eta(0, j) = fj * load[0] / d.model.omega2[j];
+    for (int k : d.basis.orders()) {
+      const int ia = d.basis.cosine_index(k), ib = ia + 1;
+      const double kw = k * omega;
+      const cd h = 1.0 / cd(d.model.omega2[j] - kw * kw, kw * d.modal_damping[j]);
+      const cd x = h * fj * cd(load[ia], -load[ib]);
+      eta(ia, j) = x.real();
+      eta(ib, j) = -x.imag();
+    }
+  }
+  MatrixXd gaps = d.model.gap_shapes * eta.transpose();  // 3P × m
+  d.apply_load_residual(load, omega, 0.0, 0, gaps);
+  Eigen::Map<MatrixXd>(y.data() + static_cast<Index>(ns) * m, m, 3 * P) = gaps.transpose();
+  return y;
+}
+
+VectorXd InterfaceBalance::output_coefficients(int output, const VectorXd& y, double omega,
+                                               double xi, const VectorXd& load,
+                                               const MatrixXd& contact_force) const {
+  const Impl& d = *impl_;
+  if (output < 0 || output >= static_cast<int>(d.model.outputs.size()))
+    throw std::invalid_argument(fmt::format("output_coefficients: no output {}", output));
+  const InterfaceOutput& o = d.model.outputs[static_cast<std::size_t>(output)];
+  const int m = d.m;
+  const Eigen::Map<const MatrixXd> eta(y.data(), m, d.ns);
+  VectorXd u = eta * o.modal;
+  // Residual part: [c0 ρ0 + c1 ρ1]·F − [c0 r0 + c1 r1]ᵀ A N (eq. T-25 for the output functional).
+  const VectorXd v0 = contact_force * o.residual0, v1 = contact_force * o.residual1;  // m
+  VectorXd f0 = VectorXd::Zero(m), f1 = VectorXd::Zero(m);
+  if (load.size() != 0) f0 = o.load_residual0 * load, f1 = o.load_residual1 * load;
+  const VectorXd p0 = f0 - v0, p1 = f1 - v1;  // per coefficient, to be combined per harmonic
+  const double s = d.model.residual_shift;
+  u[0] += p0[0] - s * p1[0];
+  for (int k : d.basis.orders()) {
+    const int ia = d.basis.cosine_index(k), ib = ia + 1;
+    const ResidualCoefficients rc = residual_coefficients(d.model, k, omega, xi);
+    VectorXd a = VectorXd::Zero(1), b = VectorXd::Zero(1);
+    add_complex_pair(rc.c0, rc.c1, p0.segment<1>(ia), p0.segment<1>(ib), p1.segment<1>(ia),
+                     p1.segment<1>(ib), a, b);
+    u[ia] += a[0];
+    u[ib] += b[0];
+  }
+  return u;
+}
+
+}  // namespace jointhb::hb

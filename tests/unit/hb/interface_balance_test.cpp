@@ -1,0 +1,375 @@
+// Harmonic balance in modal/interface form (hb/interface_balance.hpp) against independent
+// references: central differences of the residual (Jacobian, ∂/∂Ω, ∂/∂ξ), the direct complex
+// solve of the stuck linear system, and a plain harmonic balance of the same structure in its
+// physical coordinates (every DOF an unknown, dense Newton) written here from the point AFT alone.
+#include "jointhb/hb/interface_balance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "jointhb/contact/gaul_mayer_law.hpp"
+#include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/hb/contact_point_aft.hpp"
+
+namespace jointhb::hb {
+namespace {
+
+namespace jc = jointhb::contact;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+constexpr double kLambda = 1.0e6;   // 1/m
+constexpr double kP0 = 1.0e6;       // Pa
+constexpr double kPref = 5.0e6;     // Pa, preloaded pressure
+constexpr double kChi = 0.8;
+constexpr double kMu = 0.3;
+constexpr double kArea = 1.0e-5;    // m² per point
+
+jc::ContactPoint make_law(bool gaul_mayer) {
+  jc::ContactPointOptions o;
+  o.normal = {kP0, kLambda, 0.0};
+  o.friction_coefficient = kMu;
+  o.stiffness_model = jc::TangentialStiffnessModel::proportional;
+  o.stiffness_ratio = kChi;
+  o.gap_pressure_ratio = 1e-9;
+  std::shared_ptr<const jc::TangentialLaw> law;
+  if (gaul_mayer) law = std::make_shared<jc::GaulMayerLaw>(1.0 / 3.0);
+  else law = std::make_shared<jc::JenkinsLaw>();
+  return jc::ContactPoint(o, law);
+}
+
+// A small "structure": n DOFs, P contact points whose gaps are differences of DOF triples
+// (upper block minus lower block), a grounded spring chain plus random coupling, lumped masses.
+struct Structure {
+  int n = 0, P = 0;
+  MatrixXd K, M, G;  // K_s (without contact), M, G (3P × n)
+  VectorXd f;        // load shape
+  int output = 0;
+  std::vector<ContactPointReference> refs;
+  std::vector<Eigen::Matrix3d> tangents;
+  MatrixXd Kt;       // K_s + Gᵀ A C G
+  double a = 0.0, b = 0.0;  // Rayleigh
+};
+
+Structure make_structure(int P, int interior, unsigned seed, double t_ref_scale = 0.0) {
+  Structure s;
+  s.P = P;
+  s.n = 6 * P + interior;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.5, 1.5);
+  const int n = s.n;
+  s.K = MatrixXd::Zero(n, n);
+  const double k0 = 2.0e7;
+  // chain springs i—i+1 and to ground at both ends
+  for (int i = 0; i + 1 < n; ++i) {
+    const double k = k0 * u(rng);
+    s.K(i, i) += k; s.K(i + 1, i + 1) += k; s.K(i, i + 1) -= k; s.K(i + 1, i) -= k;
+  }
+  s.K(0, 0) += k0;
+  s.K(n - 1, n - 1) += k0;
+  for (int e = 0; e < 2 * n; ++e) {  // random extra springs
+    const int i = static_cast<int>(rng() % n), j = static_cast<int>(rng() % n);
+    if (i == j) continue;
+    const double k = 0.3 * k0 * u(rng);
+    s.K(i, i) += k; s.K(j, j) += k; s.K(i, j) -= k; s.K(j, i) -= k;
+  }
+  s.M = MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) s.M(i, i) = 0.01 * u(rng);
+  s.G = MatrixXd::Zero(3 * P, n);
+  for (int p = 0; p < P; ++p)
+    for (int d = 0; d < 3; ++d) {
+      s.G(3 * p + d, 3 * p + d) = -1.0;           // lower
+      s.G(3 * p + d, 3 * P + 3 * p + d) = 1.0;    // upper
+    }
+  s.f = VectorXd::Zero(n);
+  s.f(n - 1) = 1.0;
+  s.f(3 * P + 2) = 0.5;
+  s.output = n - 1;
+  const jc::ContactPoint law = make_law(true);
+  const double g_n = law.options().normal.gap_at_pressure(kPref);
+  s.Kt = s.K;
+  for (int p = 0; p < P; ++p) {
+    ContactPointReference r;
+    const double pr = kPref * (1.0 + 0.3 * p);
+    r.gap << 1e-7 * p, -2e-7, law.options().normal.gap_at_pressure(pr);
+    r.traction << t_ref_scale * kMu * pr * 0.3, 0.0, -pr;
+    s.refs.push_back(r);
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    c(0, 0) = c(1, 1) = kChi * kLambda * pr;
+    c(2, 2) = kLambda * pr;
+    s.tangents.push_back(c);
+    s.Kt += s.G.middleRows(3 * p, 3).transpose() * kArea * c * s.G.middleRows(3 * p, 3);
+  }
+  (void)g_n;
+  // Rayleigh damping ~1 % near the first mode.
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const double w1 = std::sqrt(es.eigenvalues()[0]);
+  s.a = 0.01 * w1;
+  s.b = 0.01 / w1;
+  return s;
+}
+
+// The modal/interface model of a Structure keeping n_s modes (all others residual, s = 0).
+InterfaceModel make_model(const Structure& s, int ns, bool gaul_mayer) {
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const VectorXd w2 = es.eigenvalues();
+  const MatrixXd phi = es.eigenvectors();
+  InterfaceModel m;
+  m.omega2 = w2.head(ns);
+  m.gap_shapes = s.G * phi.leftCols(ns);
+  m.rayleigh_mass = s.a;
+  m.rayleigh_stiffness = s.b;
+  m.residual_shift = 0.0;
+  const int n = s.n, P3 = 3 * s.P;
+  m.residual_flexibility = MatrixXd::Zero(P3, P3);
+  m.residual_inertia = MatrixXd::Zero(P3, P3);
+  m.load_residual0 = VectorXd::Zero(P3);
+  m.load_residual1 = VectorXd::Zero(P3);
+  InterfaceOutput out;
+  out.name = "output";
+  out.modal = phi.row(s.output).head(ns).transpose();
+  out.residual0 = VectorXd::Zero(P3);
+  out.residual1 = VectorXd::Zero(P3);
+  for (int r = ns; r < n; ++r) {
+    const VectorXd gr = s.G * phi.col(r);
+    const double mu = w2[r], fr = phi.col(r).dot(s.f), cr = phi(s.output, r);
+    m.residual_flexibility += gr * gr.transpose() / mu;
+    m.residual_inertia += gr * gr.transpose() / (mu * mu);
+    m.load_residual0 += gr * fr / mu;
+    m.load_residual1 += gr * fr / (mu * mu);
+    out.residual0 += gr * cr / mu;
+    out.residual1 += gr * cr / (mu * mu);
+    out.load_residual0 += cr * fr / mu;
+    out.load_residual1 += cr * fr / (mu * mu);
+  }
+  m.groups.push_back({"joint", make_law(gaul_mayer), 0, s.P});
+  m.references = s.refs;
+  m.areas = VectorXd::Constant(s.P, kArea);
+  m.stuck_tangents = s.tangents;
+  m.load_name = "f";
+  m.load_modal = phi.leftCols(ns).transpose() * s.f;
+  m.outputs.push_back(out);
+  return m;
+}
+
+// Plain Newton on the interface balance at fixed (Ω, ξ = 0).
+VectorXd solve(const InterfaceBalance& hb, double omega, const VectorXd& load, double* residual = nullptr) {
+  VectorXd y = hb.linear_solution(omega, load);
+  InterfaceBalanceEvaluation e;
+  for (int it = 0; it < 40; ++it) {
+    hb.evaluate(y, omega, 0.0, load, true, e);
+    EXPECT_TRUE(e.ok) << e.message;
+    const double r = e.residual.lpNorm<Eigen::Infinity>();
+    if (residual) *residual = r;
+    const VectorXd dy = e.jacobian.partialPivLu().solve(-e.residual);
+    y += dy;
+    if (dy.lpNorm<Eigen::Infinity>() < 1e-13 * y.lpNorm<Eigen::Infinity>()) break;
+  }
+  hb.evaluate(y, omega, 0.0, load, false, e);
+  if (residual) *residual = e.residual.lpNorm<Eigen::Infinity>();
+  return y;
+}
+
+// Reference: harmonic balance in physical coordinates Q (n × m),
+//   S(Ω) Q + Gᵀ A ΔT(G Q) = f F,  C = a M + b K_t,
+// ΔT from evaluate_contact_point with the mean tangential traction replaced by C_TT δg_T,0
+// (eq. T-28). Dense Newton with the AFT Jacobian. Returns the gap coefficients (m × 3P).
+MatrixXd physical_reference(const Structure& s, const FourierBasis& basis, bool gaul_mayer,
+                            double omega, const VectorXd& load) {
+  const int n = s.n, m = basis.size(), P = s.P;
+  const MatrixXd C = s.a * s.M + s.b * s.Kt;
+  const jc::ContactPoint law = make_law(gaul_mayer);
+  // Kronecker helpers: DOF-major vec(Q) index i·m + c.
+  auto linear = [&](const MatrixXd& A0, const MatrixXd& A1, const MatrixXd& A2) {
+    // block operator: mean A0; harmonic k: [A0 − (kΩ)² A2, kΩ A1; −kΩ A1, A0 − (kΩ)² A2]
+    MatrixXd S = MatrixXd::Zero(n * m, n * m);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        S(i * m, j * m) = A0(i, j);
+        for (int k : basis.orders()) {
+          const int ia = basis.cosine_index(k), ib = ia + 1;
+          const double kw = k * omega;
+          S(i * m + ia, j * m + ia) = A0(i, j) - kw * kw * A2(i, j);
+          S(i * m + ib, j * m + ib) = A0(i, j) - kw * kw * A2(i, j);
+          S(i * m + ia, j * m + ib) = kw * A1(i, j);
+          S(i * m + ib, j * m + ia) = -kw * A1(i, j);
+        }
+      }
+    return S;
+  };
+  const MatrixXd S = linear(s.K, C, s.M);
+  MatrixXd GK = MatrixXd::Zero(3 * P * m, n * m);  // G ⊗ I_m, rows (3p+d)·m + c
+  for (int r = 0; r < 3 * P; ++r)
+    for (int j = 0; j < n; ++j)
+      if (s.G(r, j) != 0.0)
+        for (int c = 0; c < m; ++c) GK(r * m + c, j * m + c) = s.G(r, j);
+  VectorXd F = VectorXd::Zero(n * m);
+  for (int i = 0; i < n; ++i) F.segment(i * m, m) = s.f[i] * load;
+  // start: stuck linear solution
+  const MatrixXd St = linear(s.Kt, C, s.M);
+  VectorXd q = St.partialPivLu().solve(F);
+  ContactPointAftOptions o;
+  o.jacobian = true;
+  o.periodic_tolerance = 1e-12;
+  for (int it = 0; it < 40; ++it) {
+    const VectorXd g = GK * q;  // (3p+d)·m + c
+    VectorXd T(3 * P * m);
+    MatrixXd JT = MatrixXd::Zero(3 * P * m, 3 * P * m);
+    for (int p = 0; p < P; ++p) {
+      const Eigen::Map<const MatrixXd> dg(g.data() + 3 * p * m, m, 3);
+      ContactPointAftResult r = evaluate_contact_point(law, s.refs[p], basis, dg, o);
+      EXPECT_TRUE(r.converged) << r.message;
+      const Eigen::Matrix3d& c = s.tangents[p];
+      for (int d = 0; d < 2; ++d) {  // T-28
+        r.traction(0, d) = c(d, d) * dg(0, d);
+        r.jacobian.row(d * m).setZero();
+        r.jacobian(d * m, d * m) = c(d, d);
+      }
+      Eigen::Map<MatrixXd>(T.data() + 3 * p * m, m, 3) = kArea * r.traction;
+      JT.block(3 * p * m, 3 * p * m, 3 * m, 3 * m) = kArea * r.jacobian;
+    }
+    const VectorXd R = S * q + GK.transpose() * T - F;
+    const MatrixXd J = S + GK.transpose() * JT * GK;
+    const VectorXd dq = J.partialPivLu().solve(-R);
+    q += dq;
+    if (dq.lpNorm<Eigen::Infinity>() < 1e-13 * q.lpNorm<Eigen::Infinity>()) break;
+  }
+  const VectorXd g = GK * q;
+  return Eigen::Map<const MatrixXd>(g.data(), m, 3 * P);
+}
+
+TEST(InterfaceBalance, JacobianMatchesCentralDifferences) {
+  for (bool gm : {true, false}) {
+    const Structure s = make_structure(3, 4, 7, 0.5);
+    const InterfaceBalance hb(make_model(s, 5, gm), {.harmonics = 2, .time_samples = 32});
+    // A state with slip: the linear solution at a force level that slips, perturbed.
+    const double omega = 1.05 * std::sqrt(hb.model().omega2[0]);
+    const VectorXd load = hb.cosine_load(20.0);
+    VectorXd y = hb.linear_solution(omega, load);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    const VectorXd scale = hb.unknown_scale();
+    for (Eigen::Index i = 0; i < y.size(); ++i) y[i] += 0.05 * y.lpNorm<Eigen::Infinity>() / scale.maxCoeff() * scale[i] * nd(rng);
+    const double xi = 3.0;
+    InterfaceBalanceEvaluation e, ep, em;
+    hb.evaluate(y, omega, xi, load, true, e);
+    ASSERT_TRUE(e.ok);
+    EXPECT_GT(e.slipping_points, 0);
+    MatrixXd fd(y.size(), y.size());
+    for (Eigen::Index j = 0; j < y.size(); ++j) {
+      const double h = 1e-6 * scale[j] * y.cwiseQuotient(scale).lpNorm<Eigen::Infinity>();
+      VectorXd yp = y, ym = y;
+      yp[j] += h;
+      ym[j] -= h;
+      hb.evaluate(yp, omega, xi, load, false, ep);
+      hb.evaluate(ym, omega, xi, load, false, em);
+      fd.col(j) = (ep.residual - em.residual) / (2 * h);
+    }
+    const double err = (fd - e.jacobian).cwiseAbs().maxCoeff() / e.jacobian.cwiseAbs().maxCoeff();
+    std::printf("%s: Jacobian vs central differences %.2e (%d of %d points slip)\n",
+                gm ? "Gaul-Mayer" : "Jenkins", err, e.slipping_points, s.P);
+    EXPECT_LT(err, 1e-6);
+    const double hw = 1e-6 * omega;
+    hb.evaluate(y, omega + hw, xi, load, false, ep);
+    hb.evaluate(y, omega - hw, xi, load, false, em);
+    const VectorXd fdw = (ep.residual - em.residual) / (2 * hw);
+    EXPECT_LT((fdw - e.d_omega).lpNorm<Eigen::Infinity>(), 1e-6 * e.d_omega.lpNorm<Eigen::Infinity>());
+    const double hx = 1e-4;
+    hb.evaluate(y, omega, xi + hx, load, false, ep);
+    hb.evaluate(y, omega, xi - hx, load, false, em);
+    const VectorXd fdx = (ep.residual - em.residual) / (2 * hx);
+    EXPECT_LT((fdx - e.d_xi).lpNorm<Eigen::Infinity>(), 1e-6 * e.d_xi.lpNorm<Eigen::Infinity>());
+  }
+}
+
+// Stuck limit: the linear solution has zero residual at vanishing load, and its output equals
+// the direct complex solve of (K_t − Ω²M + iΩC) u = f, to the residual-mode expansion error.
+TEST(InterfaceBalance, LinearSolutionMatchesDirectSolve) {
+  const Structure s = make_structure(3, 6, 11);
+  const MatrixXd C = s.a * s.M + s.b * s.Kt;
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const double w1 = std::sqrt(es.eigenvalues()[0]);
+  for (int ns : {2, 6, 12}) {
+    const InterfaceBalance hb(make_model(s, ns, true), {.harmonics = 1, .time_samples = 16});
+    double worst = 0.0;
+    for (double r : {0.5, 0.97, 1.4}) {
+      const double omega = r * w1;
+      const Eigen::MatrixXcd D = (s.Kt - omega * omega * s.M).cast<std::complex<double>>() +
+                                 std::complex<double>(0, omega) * C.cast<std::complex<double>>();
+      const Eigen::VectorXcd u = D.partialPivLu().solve(s.f.cast<std::complex<double>>());
+      const VectorXd load = hb.cosine_load(1.0);
+      const VectorXd y = hb.linear_solution(omega, load);
+      const VectorXd uo = hb.output_coefficients(0, y, omega, 0.0, load, MatrixXd::Zero(3, 3 * s.P));
+      // X = a − i b
+      const std::complex<double> x(uo[1], -uo[2]);
+      worst = std::max(worst, std::abs(x - u[s.output]) / std::abs(u[s.output]));
+      // gaps
+      const Eigen::VectorXcd g = s.G.cast<std::complex<double>>() * u;
+      for (int i = 0; i < 3 * s.P; ++i) {
+        const std::complex<double> gi(y[hb.gap_index(i / 3, i % 3, 1)], -y[hb.gap_index(i / 3, i % 3, 2)]);
+        worst = std::max(worst, std::abs(gi - g[i]) / g.cwiseAbs().maxCoeff());
+      }
+    }
+    std::printf("kept %d of %d modes: stuck response error %.2e\n", ns, s.n, worst);
+    if (ns == 12) EXPECT_LT(worst, 1e-4);
+    if (ns == s.n) EXPECT_LT(worst, 1e-12);
+  }
+}
+
+// The nonlinear solution equals plain harmonic balance in physical coordinates: to round-off when
+// every mode is kept, and to the residual-mode expansion error when some are not.
+TEST(InterfaceBalance, MatchesPhysicalCoordinateBalance) {
+  for (bool gm : {true, false}) {
+    const Structure s = make_structure(3, 4, 5, 0.3);
+    const FourierBasis basis(3, 64);
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+    const double omega = 0.98 * std::sqrt(es.eigenvalues()[0]);
+    const double amplitude = 40.0;
+    const InterfaceBalance full(make_model(s, s.n, gm), {.harmonics = 3, .time_samples = 64});
+    const VectorXd load = full.cosine_load(amplitude);
+    const MatrixXd ref = physical_reference(s, basis, gm, omega, load);
+    double res = 0.0;
+    const VectorXd y = solve(full, omega, load, &res);
+    InterfaceBalanceEvaluation e;
+    full.evaluate(y, omega, 0.0, load, false, e);
+    EXPECT_GT(e.slipping_points, 0);
+    const Eigen::Map<const MatrixXd> g(y.data() + full.modes() * basis.size(), basis.size(), 3 * s.P);
+    const double err = (g - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
+    std::printf("%s, all %d modes kept: gaps vs physical HB %.2e (residual %.1e, %d points slip)\n",
+                gm ? "Gaul-Mayer" : "Jenkins", s.n, err, res, e.slipping_points);
+    EXPECT_LT(err, 1e-9);
+    double previous = 1.0;
+    for (int ns : {3, 8, 14}) {
+      const InterfaceBalance part(make_model(s, ns, gm), {.harmonics = 3, .time_samples = 64});
+      const VectorXd yp = solve(part, omega, load);
+      const Eigen::Map<const MatrixXd> gp(yp.data() + part.modes() * basis.size(), basis.size(), 3 * s.P);
+      const double e2 = (gp - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
+      std::printf("  kept %2d modes: %.2e\n", ns, e2);
+      EXPECT_LT(e2, previous * 1.0001);
+      previous = e2;
+    }
+    EXPECT_LT(previous, 1e-3);
+  }
+}
+
+TEST(InterfaceBalance, RejectsBadInput) {
+  const Structure s = make_structure(2, 2, 1);
+  InterfaceModel m = make_model(s, 4, true);
+  EXPECT_THROW(InterfaceBalance(m, {.harmonics = 0}), std::invalid_argument);
+  EXPECT_THROW(InterfaceBalance(m, {.harmonics = 3, .time_samples = 7}), std::invalid_argument);
+  InterfaceModel bad = m;
+  bad.areas[0] = -1.0;
+  EXPECT_THROW(InterfaceBalance(bad, {}), std::invalid_argument);
+  const InterfaceBalance hb(m, {});
+  InterfaceBalanceEvaluation e;
+  EXPECT_THROW(hb.evaluate(VectorXd::Zero(3), 1.0, 0.0, {}, false, e), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace jointhb::hb
