@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <span>
 #include <stdexcept>
 
@@ -257,6 +258,12 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
   out.open_points = c.open;
   out.slipping_points = c.slipping;
   out.contact_force = c.force;
+  out.fourier_dissipation = 0.0;
+  for (int k : d.basis.orders()) {
+    const int ia = d.basis.cosine_index(k), ib = ia + 1;
+    out.fourier_dissipation += std::numbers::pi * k *
+        (c.force.row(ia).dot(dg.row(ib)) - c.force.row(ib).dot(dg.row(ia)));
+  }
 
   const MatrixXd& phi_g = d.model.gap_shapes;  // 3P × ns
   const double row_modal = 1.0 / (d.omega_ref * d.omega_ref), row_gap = 1.0 / d.g_ref;

@@ -45,7 +45,7 @@ struct InterfaceBalanceOptions {
   int harmonics = 3;                  ///< H ≥ 1 (all harmonics 0..H are kept: the mean is needed)
   int time_samples = 64;              ///< N_t ≥ 2H + 2
   double periodic_tolerance = 1e-12;  ///< (0, 1e-3]: contact periodic-state tolerance
-  int max_periodic_iterations = 200;  ///< ≥ 1
+  int max_periodic_iterations = 5000; ///< ≥ 1 (normal-dominated motion with little slip contracts slowly: ~200 periods seen)
   bool static_mean_tangential = true; ///< eq. (T-28)
   [[nodiscard]] std::string validate() const;  ///< empty when valid; names the field
 };
@@ -56,7 +56,10 @@ struct InterfaceBalanceEvaluation {
   Eigen::VectorXd d_omega;    ///< ∂residual/∂Ω (when requested)
   Eigen::VectorXd d_xi;       ///< ∂residual/∂ξ (when requested)
   Eigen::MatrixXd contact_force;  ///< A N: m × 3P (coefficients of the force beyond stuck)
-  double dissipation = 0.0;   ///< Σ_p A_p W_D,p over one period [J]
+  double dissipation = 0.0;   ///< Σ_p A_p W_D,p over one period [J] (sampled path, exact)
+  /// The work of the truncated contact forces, π Σ_p Σ_k k (a_k^F b_k^g − b_k^F a_k^g) (NUMERICS
+  /// §3): what harmonic balance balances; → dissipation as H grows.
+  double fourier_dissipation = 0.0;
   int open_points = 0;        ///< points open throughout the period
   int slipping_points = 0;    ///< points that are neither stuck nor open
   bool ok = true;             ///< false: a contact's periodic state did not converge

@@ -1,0 +1,95 @@
+#pragma once
+// Damping curves and frequency responses of a preloaded FE joint (hb/interface_mode.hpp,
+// hb/interface_balance.hpp) by pseudo-arclength continuation (continuation/pseudo_arclength.hpp):
+// the backbone over λ = log10 q, the FRF over Ω at a fixed load amplitude.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/hb/interface_mode.hpp"
+
+namespace jointhb::continuation {
+
+struct InterfaceTimings {
+  double aft = 0.0;           ///< contact AFT and its Jacobian [s]
+  double assembly = 0.0;      ///< residual and Jacobian assembly [s]
+  double linear_solve = 0.0;  ///< LU factorisations and solves [s]
+  double total = 0.0;
+  int evaluations = 0, jacobians = 0;
+};
+
+struct InterfaceBackboneOptions {
+  hb::InterfaceModeOptions mode;
+  double log10_amplitude_start = -6.0;  ///< λ of the first point (linear range)
+  double log10_amplitude_end = -3.0;    ///< ≠ start
+  Options continuation = [] {
+    Options o;
+    o.residual_tolerance = 1e-10;
+    o.initial_step = 0.05;
+    o.max_step = 0.3;
+    return o;
+  }();
+  [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
+};
+
+struct InterfaceBackbonePoint {
+  hb::InterfaceModeState state;
+  int iterations = 0;
+  Eigen::VectorXd unknowns;  ///< Ŷ = (ŷ, Ω, ξ)
+};
+
+struct InterfaceBackbone {
+  std::vector<InterfaceBackbonePoint> points;
+  StopReason reason = StopReason::start_failed;
+  std::string message;
+  int newton_iterations = 0, rejected_steps = 0;
+  double linear_omega = 0.0, linear_damping_ratio = 0.0;
+  Eigen::Index unknowns = 0;
+  InterfaceTimings timings;
+  [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+};
+
+/// Throws std::invalid_argument on invalid options or model; numerical failures end the curve
+/// with a message, keeping every accepted point.
+InterfaceBackbone trace_interface_backbone(
+    const hb::InterfaceModel& model, const InterfaceBackboneOptions& options,
+    const std::function<bool(const InterfaceBackbonePoint&)>& on_point = {});
+
+struct InterfaceFrfOptions {
+  double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s], > 0, different
+  double load_amplitude = 1.0;                 ///< F(t) = amplitude · cos Ωt times the load shape
+  int output = 0;                              ///< index into model.outputs
+  hb::InterfaceBalanceOptions balance;
+  Options continuation = [] {
+    Options o;
+    o.residual_tolerance = 1e-10;
+    return o;
+  }();
+  [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
+};
+
+struct InterfaceFrfPoint {
+  double omega = 0.0;
+  double amplitude_h1 = 0.0;   ///< |fundamental| of the output
+  double amplitude_max = 0.0;  ///< max_t |u_o(t)|
+  double dissipation = 0.0;    ///< Σ A_p W_D [J]
+  int open_points = 0, slipping_points = 0, iterations = 0;
+  Eigen::VectorXd unknowns;
+};
+
+struct InterfaceFrf {
+  std::vector<InterfaceFrfPoint> points;
+  StopReason reason = StopReason::start_failed;
+  std::string message;
+  int newton_iterations = 0, rejected_steps = 0;
+  Eigen::Index unknowns = 0;
+  InterfaceTimings timings;
+  [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+};
+
+InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const InterfaceFrfOptions& options,
+                                 const std::function<bool(const InterfaceFrfPoint&)>& on_point = {});
+
+}  // namespace jointhb::continuation

@@ -1,0 +1,168 @@
+// Damping curves and FRFs of a preloaded FE joint (interface_response.hpp).
+#include "jointhb/continuation/interface_response.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "../support/stopwatch.hpp"
+
+namespace jointhb::continuation {
+
+std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) const {
+  if (std::string msg = mode.validate(model); !msg.empty()) return msg;
+  if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
+    return "log10_amplitude: must be finite";
+  if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
+  return {};
+}
+
+InterfaceBackbone trace_interface_backbone(
+    const hb::InterfaceModel& model, const InterfaceBackboneOptions& options,
+    const std::function<bool(const InterfaceBackbonePoint&)>& on_point) {
+  const auto start = support::Clock::now();
+  if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
+  const hb::InterfaceModeResidual epmc(model, options.mode);
+  InterfaceBackbone curve;
+  curve.linear_omega = epmc.linear_omega();
+  curve.linear_damping_ratio = epmc.linear_damping_ratio();
+  curve.unknowns = epmc.unknowns();
+
+  Options c = options.continuation;
+  c.parameter_start = options.log10_amplitude_start;
+  c.parameter_end = options.log10_amplitude_end;
+  c.direction = c.parameter_end > c.parameter_start ? 1 : -1;
+  c.parameter_scale = std::abs(c.parameter_end - c.parameter_start);
+  const Eigen::Index U = epmc.balance().unknowns();
+  c.state_scale.resize(U + 2);
+  c.state_scale.head(U) = epmc.balance().unknown_scale();
+  c.state_scale[U] = epmc.linear_omega();
+  c.state_scale[U + 1] = 0.1 * epmc.linear_omega();
+  c.residual_scale = 1.0;  // rows are in units of the (unit) modal amplitude
+
+  hb::InterfaceModeResidual::Evaluation last;
+  Eigen::VectorXd last_y;
+  double last_lambda = std::numeric_limits<double>::quiet_NaN();
+  const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
+    last_y.resize(0);
+    epmc.evaluate(y, lambda, jacobian, last);
+    last_y = y;
+    last_lambda = lambda;
+    Evaluation out;
+    out.ok = last.ok;
+    out.message = last.message;
+    out.residual = last.residual;
+    if (jacobian) {
+      out.d_state = std::move(last.d_state);
+      out.d_parameter = std::move(last.d_parameter);
+    }
+    return out;
+  };
+  const AcceptCallback accept = [&](const Point& p) {
+    InterfaceBackbonePoint b;
+    const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
+    b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
+    b.iterations = p.iterations;
+    b.unknowns = p.x;
+    curve.points.push_back(b);
+    return on_point ? on_point(b) : true;
+  };
+  const Result r = trace(residual, epmc.linear_start(), c, accept);
+  curve.reason = r.reason;
+  curve.message = r.message;
+  curve.newton_iterations = r.corrector_iterations;
+  curve.rejected_steps = r.rejected_steps;
+  const hb::InterfaceBalanceTimings t = epmc.balance().timings();
+  curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
+                   t.jacobians};
+  return curve;
+}
+
+std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const {
+  if (!(omega_start > 0.0) || !std::isfinite(omega_start))
+    return fmt::format("omega_start: must be finite and > 0, got {}", omega_start);
+  if (!(omega_end > 0.0) || !std::isfinite(omega_end))
+    return fmt::format("omega_end: must be finite and > 0, got {}", omega_end);
+  if (omega_start == omega_end) return "omega_end: must differ from omega_start";
+  if (!std::isfinite(load_amplitude) || load_amplitude == 0.0)
+    return fmt::format("load_amplitude: must be finite and ≠ 0, got {}", load_amplitude);
+  if (output < 0 || output >= static_cast<int>(model.outputs.size()))
+    return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
+  return balance.validate();
+}
+
+InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const InterfaceFrfOptions& options,
+                                 const std::function<bool(const InterfaceFrfPoint&)>& on_point) {
+  const auto start = support::Clock::now();
+  if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
+  const hb::InterfaceBalance balance(model, options.balance);
+  const Eigen::VectorXd load = balance.cosine_load(options.load_amplitude);
+  InterfaceFrf curve;
+  curve.unknowns = balance.unknowns();
+
+  Options c = options.continuation;
+  c.parameter_start = options.omega_start;
+  c.parameter_end = options.omega_end;
+  c.direction = options.omega_end > options.omega_start ? 1 : -1;
+  c.parameter_scale = std::abs(options.omega_end - options.omega_start);
+  // Scales: the static modal response |φᵀf| F / ω_ref² (rows and η), g_ref per unit η for gaps.
+  const double w2 = balance.reference_omega() * balance.reference_omega();
+  const double eta = std::abs(options.load_amplitude) *
+                     std::max(model.load_modal.lpNorm<Eigen::Infinity>(), 1e-300) / w2;
+  // Near resonance the response is the static one amplified by about 1/(2ζ) of the first elastic
+  // mode: scale the state by that, so that the arclength is not dominated by it.
+  const int e = model.rigid_modes;
+  const double zeta = std::max(
+      (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[e]) / (2.0 * std::sqrt(model.omega2[e])), 1e-4);
+  c.state_scale = eta / (2.0 * zeta) * balance.unknown_scale();
+  c.residual_scale = eta;
+
+  hb::InterfaceBalanceEvaluation last;
+  Eigen::VectorXd last_x;
+  double last_omega = std::numeric_limits<double>::quiet_NaN();
+  const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    last_x.resize(0);
+    balance.evaluate(x, omega, 0.0, load, jacobian, last);
+    last_x = x;
+    last_omega = omega;
+    Evaluation e;
+    e.ok = last.ok;
+    e.message = last.message;
+    e.residual = last.residual;
+    if (jacobian) {
+      e.d_state = std::move(last.jacobian);
+      e.d_parameter = last.d_omega;
+    }
+    return e;
+  };
+  const AcceptCallback accept = [&](const Point& p) {
+    if (p.lambda != last_omega || p.x.size() != last_x.size() || p.x != last_x)
+      balance.evaluate(p.x, p.lambda, 0.0, load, false, last);
+    InterfaceFrfPoint f;
+    f.omega = p.lambda;
+    const Eigen::VectorXd u = balance.output_coefficients(options.output, p.x, p.lambda, 0.0, load, last.contact_force);
+    const int a1 = balance.basis().cosine_index(1);
+    f.amplitude_h1 = std::hypot(u[a1], u[a1 + 1]);
+    f.amplitude_max = balance.basis().peak_magnitude(u);
+    f.dissipation = last.dissipation;
+    f.open_points = last.open_points;
+    f.slipping_points = last.slipping_points;
+    f.iterations = p.iterations;
+    f.unknowns = p.x;
+    curve.points.push_back(f);
+    return on_point ? on_point(f) : true;
+  };
+  const Result r = trace(residual, balance.linear_solution(options.omega_start, load), c, accept);
+  curve.reason = r.reason;
+  curve.message = r.message;
+  curve.newton_iterations = r.corrector_iterations;
+  curve.rejected_steps = r.rejected_steps;
+  const hb::InterfaceBalanceTimings t = balance.timings();
+  curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
+                   t.jacobians};
+  return curve;
+}
+
+}  // namespace jointhb::continuation

@@ -1,0 +1,160 @@
+#pragma once
+// A small synthetic preloaded joint for the tests of hb/interface_balance.hpp and
+// continuation/interface_response.hpp: n DOFs, P contact points whose gaps are differences of DOF
+// triples, and its modal/interface model built by dense eigen-decomposition.
+#include <Eigen/Dense>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "jointhb/contact/gaul_mayer_law.hpp"
+#include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/hb/interface_model.hpp"
+
+namespace jointhb::hb::testing {
+
+namespace jc = jointhb::contact;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+inline constexpr double kLambda = 1.0e6;   // 1/m
+inline constexpr double kP0 = 1.0e6;       // Pa
+inline constexpr double kPref = 5.0e6;     // Pa, preloaded pressure
+inline constexpr double kChi = 0.8;
+inline constexpr double kMu = 0.3;
+inline constexpr double kArea = 1.0e-5;    // m² per point
+
+inline jc::ContactPoint make_law(bool gaul_mayer) {
+  jc::ContactPointOptions o;
+  o.normal = {kP0, kLambda, 0.0};
+  o.friction_coefficient = kMu;
+  // Gaul–Mayer: k_T = χ λ p_N; Jenkins: a constant k_T (with k_T ∝ p_N it ratchets, T-21).
+  o.stiffness_model = gaul_mayer ? jc::TangentialStiffnessModel::proportional
+                                 : jc::TangentialStiffnessModel::constant;
+  o.stiffness_ratio = kChi;
+  o.tangential_stiffness = kChi * kLambda * kPref;
+  o.gap_pressure_ratio = 1e-9;
+  std::shared_ptr<const jc::TangentialLaw> law;
+  if (gaul_mayer) law = std::make_shared<jc::GaulMayerLaw>(1.0 / 3.0);
+  else law = std::make_shared<jc::JenkinsLaw>();
+  return jc::ContactPoint(o, law);
+}
+
+// A small "structure": n DOFs, P contact points whose gaps are differences of DOF triples
+// (upper block minus lower block), a grounded spring chain plus random coupling, lumped masses.
+struct Structure {
+  int n = 0, P = 0;
+  MatrixXd K, M, G;  // K_s (without contact), M, G (3P × n)
+  VectorXd f;        // load shape
+  int output = 0;
+  std::vector<ContactPointReference> refs;
+  std::vector<Eigen::Matrix3d> tangents;
+  MatrixXd Kt;       // K_s + Gᵀ A C G
+  double a = 0.0, b = 0.0;  // Rayleigh
+};
+
+inline Structure make_structure(int P, int interior, unsigned seed, double t_ref_scale = 0.0,
+                                bool gaul_mayer = true) {
+  Structure s;
+  s.P = P;
+  s.n = 6 * P + interior;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.5, 1.5);
+  const int n = s.n;
+  s.K = MatrixXd::Zero(n, n);
+  const double k0 = 2.0e7;
+  // chain springs i—i+1 and to ground at both ends
+  for (int i = 0; i + 1 < n; ++i) {
+    const double k = k0 * u(rng);
+    s.K(i, i) += k; s.K(i + 1, i + 1) += k; s.K(i, i + 1) -= k; s.K(i + 1, i) -= k;
+  }
+  s.K(0, 0) += k0;
+  s.K(n - 1, n - 1) += k0;
+  for (int e = 0; e < 2 * n; ++e) {  // random extra springs
+    const int i = static_cast<int>(rng() % n), j = static_cast<int>(rng() % n);
+    if (i == j) continue;
+    const double k = 0.3 * k0 * u(rng);
+    s.K(i, i) += k; s.K(j, j) += k; s.K(i, j) -= k; s.K(j, i) -= k;
+  }
+  s.M = MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) s.M(i, i) = 0.01 * u(rng);
+  s.G = MatrixXd::Zero(3 * P, n);
+  for (int p = 0; p < P; ++p)
+    for (int d = 0; d < 3; ++d) {
+      s.G(3 * p + d, 3 * p + d) = -1.0;           // lower
+      s.G(3 * p + d, 3 * P + 3 * p + d) = 1.0;    // upper
+    }
+  s.f = VectorXd::Zero(n);
+  s.f(n - 1) = 1.0;
+  s.f(3 * P + 2) = 0.5;
+  s.output = n - 1;
+  const jc::ContactPoint law = make_law(true);
+  const double g_n = law.options().normal.gap_at_pressure(kPref);
+  s.Kt = s.K;
+  for (int p = 0; p < P; ++p) {
+    ContactPointReference r;
+    const double pr = kPref * (1.0 + 0.3 * p);
+    r.gap << 1e-7 * p, -2e-7, law.options().normal.gap_at_pressure(pr);
+    r.traction << t_ref_scale * kMu * pr * 0.3, 0.0, -pr;
+    s.refs.push_back(r);
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    c(0, 0) = c(1, 1) = kChi * kLambda * (gaul_mayer ? pr : kPref);
+    c(2, 2) = kLambda * pr;
+    s.tangents.push_back(c);
+    s.Kt += s.G.middleRows(3 * p, 3).transpose() * kArea * c * s.G.middleRows(3 * p, 3);
+  }
+  (void)g_n;
+  // Rayleigh damping ~1 % near the first mode.
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const double w1 = std::sqrt(es.eigenvalues()[0]);
+  s.a = 0.01 * w1;
+  s.b = 0.01 / w1;
+  return s;
+}
+
+// The modal/interface model of a Structure keeping n_s modes (all others residual, s = 0).
+inline InterfaceModel make_model(const Structure& s, int ns, bool gaul_mayer) {
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const VectorXd w2 = es.eigenvalues();
+  const MatrixXd phi = es.eigenvectors();
+  InterfaceModel m;
+  m.omega2 = w2.head(ns);
+  m.gap_shapes = s.G * phi.leftCols(ns);
+  m.rayleigh_mass = s.a;
+  m.rayleigh_stiffness = s.b;
+  m.residual_shift = 0.0;
+  const int n = s.n, P3 = 3 * s.P;
+  m.residual_flexibility = MatrixXd::Zero(P3, P3);
+  m.residual_inertia = MatrixXd::Zero(P3, P3);
+  m.load_residual0 = VectorXd::Zero(P3);
+  m.load_residual1 = VectorXd::Zero(P3);
+  InterfaceOutput out;
+  out.name = "output";
+  out.modal = phi.row(s.output).head(ns).transpose();
+  out.residual0 = VectorXd::Zero(P3);
+  out.residual1 = VectorXd::Zero(P3);
+  for (int r = ns; r < n; ++r) {
+    const VectorXd gr = s.G * phi.col(r);
+    const double mu = w2[r], fr = phi.col(r).dot(s.f), cr = phi(s.output, r);
+    m.residual_flexibility += gr * gr.transpose() / mu;
+    m.residual_inertia += gr * gr.transpose() / (mu * mu);
+    m.load_residual0 += gr * fr / mu;
+    m.load_residual1 += gr * fr / (mu * mu);
+    out.residual0 += gr * cr / mu;
+    out.residual1 += gr * cr / (mu * mu);
+    out.load_residual0 += cr * fr / mu;
+    out.load_residual1 += cr * fr / (mu * mu);
+  }
+  m.groups.push_back({"joint", make_law(gaul_mayer), 0, s.P});
+  m.references = s.refs;
+  m.areas = VectorXd::Constant(s.P, kArea);
+  m.stuck_tangents = s.tangents;
+  m.load_name = "f";
+  m.load_modal = phi.leftCols(ns).transpose() * s.f;
+  m.outputs.push_back(out);
+  return m;
+}
+
+
+}  // namespace jointhb::hb::testing
