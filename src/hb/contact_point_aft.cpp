@@ -223,6 +223,10 @@ std::string ContactPointAftOptions::validate() const {
     return fmt::format("periodic_tolerance must lie in (0, 1e-3], got {}", periodic_tolerance);
   }
   if (max_iterations < 1) return fmt::format("max_iterations must be >= 1, got {}", max_iterations);
+  if (!(drift_limit >= 0.0) || !std::isfinite(drift_limit))
+    return fmt::format("drift_limit must be finite and >= 0, got {}", drift_limit);
+  if (!(drift_ratio >= 0.0 && drift_ratio <= 0.1))
+    return fmt::format("drift_ratio must be in [0, 0.1], got {}", drift_ratio);
   return {};
 }
 
@@ -284,7 +288,14 @@ ContactPointAftResult evaluate_contact_point(const contact::ContactPoint& point,
     r.stuck = state.tangential.stuck;
     r.iterations = state.tangential.iterations;
     r.converged = state.tangential.status == contact::PeriodicStatus::converged;
-    r.message = state.tangential.message;
+    r.drift = state.tangential.residual;
+    if (!r.converged && (options.drift_limit > 0.0 || options.drift_ratio > 0.0)) {
+      const Eigen::MatrixXd t = r.traction_samples.leftCols<2>();
+      const double loop = (t.rowwise() - t.colwise().mean()).rowwise().norm().maxCoeff();
+      r.drifting = r.drift <= options.drift_limit + options.drift_ratio * loop;
+      r.converged = r.drifting;
+    }
+    if (!r.converged) r.message = state.tangential.message;
     if (options.jacobian) r.jacobian = periodic_jacobian(basis, state);
   }
   r.traction = basis.to_frequency(r.traction_samples);

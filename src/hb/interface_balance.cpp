@@ -66,6 +66,10 @@ std::string InterfaceBalanceOptions::validate() const {
     return fmt::format("periodic_tolerance: must be in (0, 1e-3], got {}", periodic_tolerance);
   if (max_periodic_iterations < 1)
     return fmt::format("max_periodic_iterations: must be ≥ 1, got {}", max_periodic_iterations);
+  if (!(drift_tolerance >= 0.0 && drift_tolerance <= 1e-3))
+    return fmt::format("drift_tolerance: must be in [0, 1e-3], got {}", drift_tolerance);
+  if (!(drift_ratio >= 0.0 && drift_ratio <= 0.1))
+    return fmt::format("drift_ratio: must be in [0, 0.1], got {}", drift_ratio);
   return {};
 }
 
@@ -98,7 +102,7 @@ struct InterfaceBalance::Impl {
     MatrixXd force;  // A N, m × 3P
     std::vector<MatrixXd> blocks;
     double dissipation = 0.0;
-    int open = 0, slipping = 0;
+    int open = 0, slipping = 0, drifting = 0;
     bool ok = true;
     std::string message;
   };
@@ -114,6 +118,11 @@ struct InterfaceBalance::Impl {
     const std::span<const ContactPointReference> refs(model.references);
     const std::span<const double> areas(model.areas.data(), static_cast<std::size_t>(P));
     for (const InterfaceGroup& g : model.groups) {
+      // drift limit: drift_tolerance × the group's largest preloaded slip limit μ p_N
+      double p_max = 0.0;
+      for (int q = 0; q < g.count; ++q) p_max = std::max(p_max, -model.references[static_cast<std::size_t>(g.first + q)].traction.z());
+      o.drift_limit = options.drift_tolerance * g.law.options().friction_coefficient * p_max;
+      o.drift_ratio = options.drift_ratio;
       const InterfaceAftResult r = evaluate_interface_aft(
           std::span<const contact::ContactPoint>(&g.law, 1), refs.subspan(g.first, g.count), basis,
           dg.middleCols(3 * g.first, 3 * g.count), o, areas.subspan(g.first, g.count));
@@ -127,6 +136,7 @@ struct InterfaceBalance::Impl {
         const int p = g.first + q;
         const ContactPointAftResult& pr = r.points[static_cast<std::size_t>(q)];
         if (!pr.stuck && pr.shortcut != ContactPointShortcut::open) ++c.slipping;
+        if (pr.drifting) ++c.drifting;
         const Eigen::Matrix3d& C = model.stuck_tangents[static_cast<std::size_t>(p)];
         const double area = model.areas[p];
         MatrixXd n = pr.traction - dg.middleCols(3 * p, 3) * C.transpose();
@@ -257,6 +267,7 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
   out.dissipation = c.dissipation;
   out.open_points = c.open;
   out.slipping_points = c.slipping;
+  out.drifting_points = c.drifting;
   out.contact_force = c.force;
   out.fourier_dissipation = 0.0;
   for (int k : d.basis.orders()) {

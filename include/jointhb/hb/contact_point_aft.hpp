@@ -58,6 +58,14 @@ struct ContactPointAftOptions {
   double periodic_tolerance = 1e-14;  ///< (0, 1e-3]: periodicity tolerance (PeriodicStateOptions)
   int max_iterations = 200;           ///< ≥ 1: periods of the periodic solve
   bool use_shortcuts = true;  ///< the exact shortcuts above (open; Jenkins stuck, constant k)
+  /// A periodic solve that does not converge within max_iterations is accepted when its drift per
+  /// period |t_0 − Φ_N(t_0)| is at most drift_limit + drift_ratio · max_i |t_T,i − t̄_T| (traction
+  /// units; the second term relative to the loop's own amplitude): the ratchet of T-21 under
+  /// out-of-phase normal motion, a creep far slower than the vibration whose mean the caller
+  /// closes otherwise (hb/interface_balance.hpp, T-28). The traction is then the best state's, its
+  /// harmonics in error by about the drift (`drift` reports it). 0 and 0: never accepted.
+  double drift_limit = 0.0;
+  double drift_ratio = 0.0;
   bool jacobian = false;      ///< compute ∂ΔT/∂δG
 
   /// Empty when valid, otherwise the field and the violated constraint.
@@ -79,6 +87,8 @@ struct ContactPointAftResult {
   bool stuck = true;                 ///< every tangential step elastic (no slip, never open)
   ContactPointShortcut shortcut = ContactPointShortcut::none;
   bool converged = true;  ///< periodic state converged (always true for a shortcut)
+  double drift = 0.0;     ///< |t_0 − Φ_N(t_0)| of the returned state, per unit area
+  bool drifting = false;  ///< not periodic, accepted by drift_tolerance
   int iterations = 0;     ///< periods evaluated by the periodic solve
   std::string message;    ///< why not converged
 };

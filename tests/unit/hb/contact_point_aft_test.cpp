@@ -360,6 +360,34 @@ TEST(ContactPointAft, StuckJenkinsRatchetWithProportionalStiffnessIsReported) {
   EXPECT_NE(all.message.find("points[0]"), std::string::npos) << all.message;
 }
 
+// The drift acceptance (ContactPointAftOptions::drift_limit/drift_ratio): the same ratcheting
+// point is accepted only when its drift per period is within the stated bound, and then reports
+// the drift and the flag; a bound just below the drift still rejects it.
+TEST(ContactPointAft, RatchetIsAcceptedOnlyWithinTheDriftBound) {
+  const FourierBasis basis(3, 128);
+  const auto point = make_point(false, Model::proportional);
+  const auto ref = reference(point);
+  Eigen::MatrixXd dg = Eigen::MatrixXd::Zero(basis.size(), 3);
+  dg(basis.cosine_index(1), 0) = 1e-3 * kGmax;
+  dg(basis.cosine_index(1) + 1, 2) = 1e-3 / kLambda;
+  const auto strict = evaluate_contact_point(point, ref, basis, dg);
+  ASSERT_FALSE(strict.converged);
+  ASSERT_GT(strict.drift, 0.0);
+  ContactPointAftOptions o;
+  o.drift_limit = 1.01 * strict.drift;
+  const auto loose = evaluate_contact_point(point, ref, basis, dg, o);
+  EXPECT_TRUE(loose.converged);
+  EXPECT_TRUE(loose.drifting);
+  EXPECT_NEAR(loose.drift, strict.drift, 1e-12 * strict.drift);
+  EXPECT_TRUE(loose.traction.allFinite());
+  o.drift_limit = 0.99 * strict.drift;
+  const auto tight = evaluate_contact_point(point, ref, basis, dg, o);
+  EXPECT_FALSE(tight.converged);
+  EXPECT_FALSE(tight.drifting);
+  o.drift_limit = -1.0;
+  EXPECT_THROW(evaluate_contact_point(point, ref, basis, dg, o), std::invalid_argument);
+}
+
 // Pure normal motion δg_N = a cos θ: p(θ) = p_ref exp(−λa cos θ)
 //   = p_ref [I_0(λa) + 2 Σ_k (−1)^k I_k(λa) cos kθ],
 // so Δt_N has the mean −p_ref (I_0(λa) − 1) (the rectified normal force: the mean pressure rises),
