@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <optional>
 
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/csv_writer.hpp"
+#include "jointhb/io/stage_cache.hpp"
 #include "jointhb/io/vtk_writer.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
@@ -82,7 +84,8 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
 
 }  // namespace
 
-int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start) {
+int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start,
+                const FeRunOptions& run_options) {
   const bool tty = isatty(fileno(stderr)) != 0;
   for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   ordered_json summary;
@@ -93,6 +96,9 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                       {"dofs", c.mesh.num_dofs()},
                       {"parts", c.mesh.parts}};
   int code = 0;
+  io::StageCache cache(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
+                       run_options.use_cache);
+  summary["cache"] = {{"enabled", cache.enabled()}, {"directory", cache.directory().string()}};
 
   // ---- structure -------------------------------------------------------------------------
   preload::PreloadModel model;
@@ -120,9 +126,34 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
         std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
       };
     }
-    const preload::PreloadResult p = preload::solve_preload(model, options);
-    if (tty) std::fprintf(stderr, "\n");
-    std::fprintf(stderr, "preload: %s (%.2f s)\n", p.message.c_str(), p.seconds);
+    const auto cache_start = Clock::now();
+    std::optional<preload::PreloadResult> cached = cache.load_preload(c.fingerprints.preload);
+    if (cached && (cached->interfaces.size() != c.interfaces.size() ||
+                   cached->bolt_forces.size() != c.bolts.size() ||
+                   cached->displacement.size() != c.mesh.num_dofs())) {
+      std::fprintf(stderr, "warning: stage cache: %s does not fit this model; recomputing preload\n",
+                   cache.file("preload", c.fingerprints.preload).string().c_str());
+      cached.reset();
+    }
+    const bool hit = cached.has_value();
+    preload::PreloadResult p;
+    double cache_seconds = 0.0;
+    if (hit) {
+      p = std::move(*cached);
+      cache_seconds = seconds_since(cache_start);
+      std::fprintf(stderr, "preload: from cache (%s): %s (solved in %.2f s, read in %.3f s)\n",
+                   cache.file("preload", c.fingerprints.preload).string().c_str(), p.message.c_str(),
+                   p.seconds, cache_seconds);
+    } else {
+      p = preload::solve_preload(model, options);
+      if (tty) std::fprintf(stderr, "\n");
+      std::fprintf(stderr, "preload: %s (%.2f s)\n", p.message.c_str(), p.seconds);
+      if (p.converged) {
+        const auto store_start = Clock::now();
+        cache.store_preload(c.fingerprints.preload, p);
+        cache_seconds = seconds_since(store_start);
+      }
+    }
     {
       io::CsvWriter steps(dir / "preload_steps.csv",
                           {"step", "load_factor", "iterations", "line_search_cuts", "residual", "converged"});
@@ -164,6 +195,8 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     }
     pj["seconds"] = {{"total", p.seconds}, {"contact", p.contact_seconds},
                      {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
+    pj["cache"] = hit ? "hit" : "miss";
+    pj["cache_seconds"] = cache_seconds;
     summary["preload"] = pj;
     io::VtkData data;
     data.add_point_dofs("displacement", p.displacement);
@@ -174,10 +207,33 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
 
   // ---- modes -----------------------------------------------------------------------------
   if (c.modes && code == 0) {
-    const Eigen::SparseMatrix<double> K = dofs.restrict(stiffness);
-    const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
-    const modal::ModalResult m = modal::compute_modes(K, M, *c.modes);
-    std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
+    const auto cache_start = Clock::now();
+    std::optional<modal::ModalResult> cached = cache.load_modes(c.fingerprints.modes);
+    if (cached && cached->shapes.rows() != dofs.num_free()) {
+      std::fprintf(stderr, "warning: stage cache: %s does not fit this model; recomputing modes\n",
+                   cache.file("modes", c.fingerprints.modes).string().c_str());
+      cached.reset();
+    }
+    const bool hit = cached.has_value();
+    modal::ModalResult m;
+    double cache_seconds = 0.0;
+    if (hit) {
+      m = std::move(*cached);
+      cache_seconds = seconds_since(cache_start);
+      std::fprintf(stderr, "modes: from cache (%s): %s (read in %.3f s)\n",
+                   cache.file("modes", c.fingerprints.modes).string().c_str(), m.brief().c_str(),
+                   cache_seconds);
+    } else {
+      const Eigen::SparseMatrix<double> K = dofs.restrict(stiffness);
+      const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
+      m = modal::compute_modes(K, M, *c.modes);
+      std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
+      if (m.status == modal::ModalStatus::converged) {
+        const auto store_start = Clock::now();
+        cache.store_modes(c.fingerprints.modes, m);
+        cache_seconds = seconds_since(store_start);
+      }
+    }
     io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual", "backward_error"});
     io::VtkData data;
     std::vector<std::pair<double, std::filesystem::path>> collection;
@@ -196,6 +252,8 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     mj["shift"] = m.shift;
     mj["iterations"] = m.iterations;
     mj["seconds"] = m.seconds;
+    mj["cache"] = hit ? "hit" : "miss";
+    mj["cache_seconds"] = cache_seconds;
     summary["modes"] = mj;
     if (m.status != modal::ModalStatus::converged) code = 1;
   }

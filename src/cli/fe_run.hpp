@@ -8,6 +8,15 @@
 //   DIR/modes.csv              mode, frequency_hz, residual
 //   DIR/modes.vtu              the mesh with every mode shape as a point array
 //   DIR/summary.json           inputs, per-stage results and timings
+//
+// Stage cache (io/stage_cache.hpp): the preload and the modes are stored in CACHE_DIR (default
+// DIR/.cache; `--cache-dir`, off with `--no-cache`) as preload-<key>.bin and modes-<key>.bin, the
+// keys being io::FeCase::fingerprints (the model and mesh files, plus analysis.preload, plus
+// analysis.modes). A second run whose model and those settings are unchanged reads the stages
+// instead of solving them ("preload: from cache (FILE)") and writes every output as the first
+// did; summary.json says "cache": "hit" or "miss" per stage, with the original solve time in
+// "seconds" and the read or write time in "cache_seconds". Only converged stages are stored. A
+// damaged cache file is a warning and a miss; a cache that cannot be written is a warning.
 #include <filesystem>
 
 #include "jointhb/io/fe_case.hpp"
@@ -15,7 +24,13 @@
 
 namespace jointhb::cli {
 
+struct FeRunOptions {
+  std::filesystem::path cache_dir;  ///< empty: DIR/.cache
+  bool use_cache = true;            ///< false: neither read nor write the stage cache
+};
+
 /// Returns 0, or 1 when a stage failed (what it computed is kept and written).
-int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start);
+int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start,
+                const FeRunOptions& options = {});
 
 }  // namespace jointhb::cli

@@ -39,6 +39,12 @@ RunCommand::RunCommand(CLI::App& parent) {
       "--plot", plot_,
       "after the run, draw DIR/frf.png and DIR/backbone.png (needs /usr/bin/python3 with "
       "matplotlib; a missing one is reported, not an error)");
+  app_->add_option("--cache-dir", cache_dir_,
+                   "stage cache of finite-element cases (preload, modes), reused when the model "
+                   "and the stage's settings are unchanged; default DIR/.cache")
+      ->type_name("CACHE_DIR");
+  app_->add_flag("--no-cache", no_cache_,
+                 "neither read nor write the stage cache: every stage is computed");
   app_->footer(
       "Exit codes: 0 ok, 1 a point or curve failed (rows so far kept, summary.json status\n"
       "\"failed\"), 2 invalid case file or options.\n"
@@ -57,7 +63,12 @@ int RunCommand::run() const {
   if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
     return run_loop_sweep(*sweep, dir, start);
   }
-  if (const auto* fe_case = std::get_if<io::FeCase>(&c)) return run_fe_case(*fe_case, dir, start);
+  if (const auto* fe_case = std::get_if<io::FeCase>(&c)) {
+    FeRunOptions options;
+    options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
+    options.use_cache = !no_cache_;
+    return run_fe_case(*fe_case, dir, start, options);
+  }
   const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
   if (plot_) plot_results(dir);
   return code;

@@ -23,6 +23,8 @@ class RunCommand {
   std::string case_path_;
   std::string output_dir_ = "jointhb-out";
   bool plot_ = false;
+  std::string cache_dir_;  ///< empty: OUTPUT/.cache
+  bool no_cache_ = false;
 };
 
 }  // namespace jointhb::cli

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "jointhb/contact/harmonic_loop.hpp"
 #include "jointhb/fe/box_mesh.hpp"
@@ -16,6 +17,7 @@
 #include "jointhb/fe/mesh_checks.hpp"
 #include "jointhb/fe/mesh_file_error.hpp"
 #include "jointhb/io/input_error.hpp"
+#include "jointhb/io/stage_cache.hpp"
 #include "jointhb/io/value_checks.hpp"
 #include "yaml_support.hpp"
 
@@ -24,6 +26,37 @@ namespace {
 
 using yaml::Fields;
 using yaml::item_path;
+
+// The YAML tree as the reader sees it: node kinds, scalars' text, sequence and mapping order.
+// Comments, quoting and flow/block style do not enter.
+void add_yaml(Fingerprint& f, const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Scalar:
+      f.add(1).add(node.Scalar());
+      break;
+    case YAML::NodeType::Sequence:
+      f.add(2).add(static_cast<int>(node.size()));
+      for (const YAML::Node& item : node) add_yaml(f, item);
+      break;
+    case YAML::NodeType::Map:
+      f.add(3).add(static_cast<int>(node.size()));
+      for (auto it = node.begin(); it != node.end(); ++it) {
+        add_yaml(f, it->first);
+        add_yaml(f, it->second);
+      }
+      break;
+    case YAML::NodeType::Null:
+      f.add(4);
+      break;
+    case YAML::NodeType::Undefined:
+      f.add(0);
+      break;
+  }
+}
+
+#ifndef JOINTHB_VERSION
+#define JOINTHB_VERSION "unknown"
+#endif
 
 class FeCaseReader {
  public:
@@ -37,7 +70,14 @@ class FeCaseReader {
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
-    if (const auto* analysis = top.find("analysis")) read_analysis(analysis->value, c);
+    std::optional<YAML::Node> preload_node, modes_node;
+    if (const auto* analysis = top.find("analysis")) {
+      read_analysis(analysis->value, c);
+      const Fields f = reader_.fields(analysis->value, "analysis", {"preload", "modes"});
+      if (const auto* p = f.find("preload")) preload_node = p->value;
+      if (const auto* m = f.find("modes")) modes_node = m->value;
+    }
+    fingerprint(model->value, preload_node, modes_node, c);
     return c;
   }
 
@@ -45,6 +85,24 @@ class FeCaseReader {
   yaml::Reader reader_;
   std::filesystem::path directory_;
   std::map<std::string, fe::Material> materials_;
+  std::vector<std::pair<std::string, std::filesystem::path>> mesh_files_;  ///< as written, resolved
+
+  void fingerprint(const YAML::Node& model, const std::optional<YAML::Node>& preload,
+                   const std::optional<YAML::Node>& modes, FeCase& c) const {
+    Fingerprint m;
+    m.add("jointhb fe model").add(fe_fingerprint_version).add(JOINTHB_VERSION);
+    add_yaml(m, model);
+    for (const auto& [name, file] : mesh_files_) m.add(name).add_file(file);
+    c.fingerprints.model = m.hex();
+    Fingerprint p = Fingerprint::chain(c.fingerprints.model);
+    p.add("analysis.preload");
+    if (preload) add_yaml(p, *preload); else p.add("defaults");
+    c.fingerprints.preload = p.hex();
+    Fingerprint d = Fingerprint::chain(c.fingerprints.preload);
+    d.add("analysis.modes");
+    if (modes) add_yaml(d, *modes); else d.add("absent");
+    c.fingerprints.modes = d.hex();
+  }
 
   double positive(const Fields& f, const char* name) const {
     const YAML::Node v = f.find(name)->value;
@@ -162,6 +220,7 @@ class FeCaseReader {
       } else {
         const auto* m = f.find("mesh");
         const std::filesystem::path file = directory_ / reader_.text(m->value, f.path_of("mesh"));
+        mesh_files_.emplace_back(reader_.text(m->value, f.path_of("mesh")), file);
         try {
           const std::string ext = file.extension().string();
           if (ext == ".inp") {

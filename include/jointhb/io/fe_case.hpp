@@ -57,7 +57,21 @@ struct FeCase {
   std::optional<modal::ModalOptions> modes;      ///< analysis.modes
   std::vector<std::string> warnings;             ///< e.g. mesh cards that were skipped
   std::string source;
+  /// Keys of the stage cache (io/stage_cache.hpp), 32 hex digits each, computed by the reader:
+  ///   model   = the `model:` node (its YAML tree: keys, values, order; not comments, quoting or
+  ///             flow/block style) + the bytes of every imported mesh file + fe_fingerprint_version
+  ///             + the program version;
+  ///   preload = model + the `analysis.preload` node (or "defaults" when absent);
+  ///   modes   = preload + the `analysis.modes` node (or "absent").
+  /// Other analysis keys (the dynamic stages) do not enter them.
+  struct Fingerprints {
+    std::string model, preload, modes;
+  } fingerprints;
 };
+
+/// Part of every FE stage key: bump when the reader or a solver computes something different for
+/// the same case file (so that results cached by an older build are not reused).
+inline constexpr int fe_fingerprint_version = 1;
 
 /// Reads an FE case. Throws InputError "FILE:LINE:COL: key 'a.b': constraint" for every problem
 /// of the case file, including those found while building the model (an unknown surface, meshes

@@ -1,0 +1,137 @@
+#pragma once
+// Results of the finite-element pipeline's stages (preload, modes, the interface model of the
+// dynamic stage) kept on disk under a hash of their inputs, so that a run whose stage inputs are
+// unchanged (e.g. only the dynamic settings were edited) reads the stage instead of recomputing it.
+//
+// Keys. A stage's key is a Fingerprint of everything the stage reads: the model (the case file's
+// `model:` node and the bytes of every imported mesh file, io::FeCase::fingerprints), the stage's
+// own settings and, by Fingerprint::chain, the key of the stage it builds on (modes ← preload ←
+// model). What is not in a key must not change the stage's result; what is in it may change it.
+// The solver code is not hashed: a change of what a stage computes for the same input must bump
+// io::fe_fingerprint_version (fe_case.hpp) — or run with --no-cache.
+//
+// Files. DIR/<stage>-<key>.bin, little-endian:
+//   "JHBC"  u32 format version (stage_cache_format)  str stage  str key
+//   u64 payload length   payload   u64 FNV-1a-64 checksum of the payload
+// (str = u64 length + bytes; doubles as their IEEE bit patterns, so a round trip is bit-identical).
+// Written to a temporary file in DIR and renamed, so a reader never sees a partial file. A
+// missing file is a silent miss; a truncated or corrupted file (bad magic, length, checksum,
+// stage or key, or a payload that does not parse) and a file of another format version are a miss
+// with a one-line warning on stderr. Failing to create DIR or to write a file (disk full, no
+// permission) is a warning; the run goes on without the cache. Never a crash, never a wrong result
+// (short of a 128-bit hash collision or a stale fe_fingerprint_version).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jointhb/contact/contact_point.hpp"
+#include "jointhb/modal/modes.hpp"
+#include "jointhb/preload/preload_solver.hpp"
+
+// The interface model of the dynamic stage lives in a header written in parallel; its cache
+// functions exist once that header does.
+#if __has_include("jointhb/hb/interface_model.hpp")
+#include "jointhb/hb/interface_model.hpp"
+#define JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL 1
+#else
+#define JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL 0
+#endif
+
+namespace jointhb::io {
+
+/// Layout version of the cache files; bump when a serialised type gains, loses or changes a field.
+inline constexpr std::uint32_t stage_cache_format = 1;
+
+/// A 128-bit FNV-1a hash (Fowler–Noll–Vo; prime 2^88 + 2^8 + 0x3b, offset basis
+/// 0x6c62272e07bb014262b821756295c58d) built from typed values. Every value is preceded by a type
+/// tag and strings and vectors by their length, so ("ab", "c") and ("a", "bc") differ.
+class Fingerprint {
+ public:
+  Fingerprint();
+  /// A fingerprint that starts with the key of the stage it builds on (its hex()).
+  [[nodiscard]] static Fingerprint chain(std::string_view parent_hex);
+
+  Fingerprint& add(std::string_view text);
+  Fingerprint& add(const char* text) { return add(std::string_view(text)); }
+  Fingerprint& add(double value);  ///< the bit pattern (0.0 and −0.0 differ)
+  Fingerprint& add(int value);
+  Fingerprint& add(std::int64_t value);
+  Fingerprint& add(std::uint64_t value);
+  Fingerprint& add(bool value);
+  Fingerprint& add(const Eigen::VectorXd& values);
+  /// The file's bytes (and its size). Throws std::runtime_error naming the file when unreadable.
+  Fingerprint& add_file(const std::filesystem::path& file);
+  /// Raw bytes with a length prefix.
+  Fingerprint& add_bytes(const void* data, std::size_t size);
+
+  /// 32 lower-case hex digits.
+  [[nodiscard]] std::string hex() const;
+
+ private:
+  void mix(const void* data, std::size_t size);
+  void tag(char t) { mix(&t, 1); }
+  std::uint64_t high_, low_;  ///< the 128-bit state
+};
+
+/// The on-disk cache of stage results. All load_* return std::nullopt on a miss; store_* never
+/// throw (a failure is a warning). With enabled = false every load misses and store does nothing.
+class StageCache {
+ public:
+  StageCache(std::filesystem::path dir, bool enabled);
+
+  [[nodiscard]] bool enabled() const { return enabled_; }
+  [[nodiscard]] const std::filesystem::path& directory() const { return dir_; }
+  /// DIR/<stage>-<key>.bin
+  [[nodiscard]] std::filesystem::path file(std::string_view stage, std::string_view key) const;
+
+  [[nodiscard]] std::optional<preload::PreloadResult> load_preload(const std::string& key);
+  void store_preload(const std::string& key, const preload::PreloadResult& result);
+
+  [[nodiscard]] std::optional<modal::ModalResult> load_modes(const std::string& key);
+  void store_modes(const std::string& key, const modal::ModalResult& result);
+
+#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
+  /// The contact laws (contact::ContactPoint: a law object, not plain data) are not stored: the
+  /// file keeps each group's name, first point and count, and the caller passes the laws, one
+  /// per group in group order — the laws the model was built with, which the key already covers
+  /// (they come from the case's model node). A count that differs from the stored groups is a miss
+  /// with a warning.
+  [[nodiscard]] std::optional<hb::InterfaceModel> load_interface_model(
+      const std::string& key, const std::vector<contact::ContactPoint>& laws);
+  void store_interface_model(const std::string& key, const hb::InterfaceModel& model);
+#endif
+
+  /// The warnings printed so far (each also went to stderr as one line "warning: ...").
+  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  /// The payload of DIR/<stage>-<key>.bin when the file exists and its header, length and
+  /// checksum are right; otherwise nullopt (with a warning unless the file is missing).
+  std::optional<std::string> read_payload(std::string_view stage, const std::string& key);
+  void write_payload(std::string_view stage, const std::string& key, const std::string& payload);
+  void warn(const std::string& message);
+
+  std::filesystem::path dir_;
+  bool enabled_;
+  std::vector<std::string> warnings_;
+};
+
+/// The payload encoding on its own (no header), for tests and for other containers. decode_*
+/// throw std::runtime_error when the bytes do not parse (truncated, inconsistent sizes, trailing
+/// bytes).
+std::string encode_preload(const preload::PreloadResult& result);
+preload::PreloadResult decode_preload(std::string_view payload);
+std::string encode_modes(const modal::ModalResult& result);
+modal::ModalResult decode_modes(std::string_view payload);
+#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
+std::string encode_interface_model(const hb::InterfaceModel& model);
+hb::InterfaceModel decode_interface_model(std::string_view payload,
+                                          const std::vector<contact::ContactPoint>& laws);
+#endif
+
+}  // namespace jointhb::io

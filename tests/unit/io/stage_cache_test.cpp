@@ -1,0 +1,469 @@
+// The stage cache (io/stage_cache.hpp): bit-identical round trips of the cached stage results, a
+// damaged or foreign file is a miss (never a crash), a cache that cannot be written is a warning,
+// and the FE case keys (io::FeCase::fingerprints) change exactly when their inputs change.
+#include "jointhb/io/stage_cache.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/fe/assembly.hpp"
+#include "jointhb/io/fe_case.hpp"
+
+namespace io = jointhb::io;
+namespace pl = jointhb::preload;
+namespace modal = jointhb::modal;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A directory in the system temp directory, unique to this process and test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() / ("jointhb-" + std::to_string(::getpid()) + "-" +
+                                         info->test_suite_name() + "-" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+void write_bytes(const fs::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+bool same_bits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         (a.size() == 0 || std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(double)) == 0);
+}
+
+// The coarse lap of cases/05 (10 mm elements, Jenkins contact), with `analysis` appended.
+std::string lap_yaml(const std::string& analysis) {
+  return R"(# two plates and two bolts
+model:
+  type: fe
+  materials:
+    aluminium: {youngs_modulus: 70.0e9, poissons_ratio: 0.33, density: 2700.0}
+  parts:
+    - {name: lower, material: aluminium, element: C3D8I,
+       box: {origin: [0.0, 0.0, 0.0], size: [0.100, 0.030, 0.004], divisions: [10, 3, 2]}}
+    - {name: upper, material: aluminium, element: C3D8I,
+       box: {origin: [0.060, 0.0, 0.004], size: [0.100, 0.030, 0.004], divisions: [10, 3, 2]}}
+  interfaces:
+    - name: lap
+      bottom: lower.zmax
+      top: upper.zmin
+      region: {min: [0.060, 0.0, 0.0039], max: [0.100, 0.030, 0.0041]}
+      integration: nodal
+      contact: {pressure: 1.0e6, decay: 1.0e6, mu: 0.3, law: jenkins, stiffness_ratio: 0.8}
+  bolts:
+    - {name: bolt-1, point: [0.070, 0.015, 0.0], direction: [0.0, 0.0, 1.0],
+       head: {surface: upper.zmax, radius: 0.006}, nut: {surface: lower.zmin, radius: 0.006},
+       stiffness: 5.0e8, preload: 5000.0}
+    - {name: bolt-2, point: [0.090, 0.015, 0.0], direction: [0.0, 0.0, 1.0],
+       head: {surface: upper.zmax, radius: 0.006}, nut: {surface: lower.zmin, radius: 0.006},
+       stiffness: 5.0e8, preload: 5000.0}
+)" + analysis;
+}
+
+const char* const kAnalysis = R"(analysis:
+  preload: {load_steps: 4, tolerance: 1.0e-9}
+  modes: {count: 10, shift_hz: -10.0}
+)";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in the text");
+  return text.replace(at, from.size(), to);
+}
+
+io::FeCase::Fingerprints keys_of(const std::string& text) {
+  return io::parse_fe_case(text, "lap.yaml").fingerprints;
+}
+
+const pl::PreloadResult& lap_preload() {
+  static const pl::PreloadResult result = [] {
+    const io::FeCase c = io::parse_fe_case(lap_yaml(kAnalysis), "lap.yaml");
+    pl::PreloadModel model;
+    model.mesh = &c.mesh;
+    model.structure = jointhb::fe::assemble(c.mesh, c.material_per_part);
+    model.interfaces = c.interfaces;
+    model.bolts = c.bolts;
+    return pl::solve_preload(model, c.preload);
+  }();
+  return result;
+}
+
+modal::ModalResult hand_made_modes() {
+  modal::ModalResult m;
+  m.status = modal::ModalStatus::not_converged;
+  m.message = "2 of 3 modes converged";
+  m.eigenvalues = Eigen::Vector3d(-0.0, 1.0e-300, std::numbers::pi * 1e6);
+  m.frequencies_hz = Eigen::Vector3d(-std::numeric_limits<double>::denorm_min(), 1.0, 159.0);
+  m.shapes = Eigen::MatrixXd::Random(7, 3);
+  m.residuals = Eigen::Vector3d(1e-12, 2e-13, 3e-14);
+  m.backward_errors = Eigen::Vector3d(1e-17, 2e-17, 3e-17);
+  m.shift = -39.47841760435743;
+  m.requested = 3;
+  m.iterations = 5;
+  m.operator_applications = 41;
+  m.mass_applications = 43;
+  m.ncv = 6;
+  m.factor.rows = 7;
+  m.factor.matrix_nonzeros = 19;
+  m.factor.factor_nonzeros = 22.0;
+  m.factor.factor_entries = 25;
+  m.factor.factor_flops = 123.5;
+  m.factor.ordering = "AMD";
+  m.factor.factorizations = 1;
+  m.factor.analyze_seconds = 0.001;
+  m.factor.factorize_seconds = 0.002;
+  m.factor_seconds = 0.003;
+  m.lanczos_seconds = 0.004;
+  m.seconds = 0.0071;
+  return m;
+}
+
+void expect_same(const modal::ModalResult& a, const modal::ModalResult& b) {
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_TRUE(same_bits(a.eigenvalues, b.eigenvalues));
+  EXPECT_TRUE(same_bits(a.frequencies_hz, b.frequencies_hz));
+  EXPECT_TRUE(same_bits(a.shapes, b.shapes));
+  EXPECT_TRUE(same_bits(a.residuals, b.residuals));
+  EXPECT_TRUE(same_bits(a.backward_errors, b.backward_errors));
+  EXPECT_EQ(a.shift, b.shift);
+  EXPECT_EQ(a.requested, b.requested);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.operator_applications, b.operator_applications);
+  EXPECT_EQ(a.mass_applications, b.mass_applications);
+  EXPECT_EQ(a.ncv, b.ncv);
+  EXPECT_EQ(a.factor.ordering, b.factor.ordering);
+  EXPECT_EQ(a.factor.factor_flops, b.factor.factor_flops);
+  EXPECT_EQ(a.factor.factorizations, b.factor.factorizations);
+  EXPECT_EQ(a.seconds, b.seconds);
+  EXPECT_EQ(io::encode_modes(a), io::encode_modes(b));
+}
+
+}  // namespace
+
+// ---- Fingerprint ---------------------------------------------------------------------------------
+
+TEST(Fingerprint, SameInputSameKeyAndOneDoubleChangesIt) {
+  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(50, 0.0, 1.0);
+  const std::string a = io::Fingerprint().add("x").add(1.5).add(3).add(v).hex();
+  EXPECT_EQ(a.size(), 32u);
+  EXPECT_EQ(a, io::Fingerprint().add("x").add(1.5).add(3).add(v).hex());
+  EXPECT_NE(a, io::Fingerprint().add("x").add(std::nextafter(1.5, 2.0)).add(3).add(v).hex());
+  EXPECT_NE(io::Fingerprint().add(0.0).hex(), io::Fingerprint().add(-0.0).hex());
+  Eigen::VectorXd w = v;
+  w[17] = std::nextafter(w[17], 1.0);
+  EXPECT_NE(a, io::Fingerprint().add("x").add(1.5).add(3).add(w).hex());
+  EXPECT_NE(a, io::Fingerprint().add("x").add(1.5).add(4).add(v).hex());
+  // Lengths and type tags separate the values.
+  EXPECT_NE(io::Fingerprint().add("ab").add("c").hex(), io::Fingerprint().add("a").add("bc").hex());
+  EXPECT_NE(io::Fingerprint().add(1).hex(), io::Fingerprint().add(1.0).hex());
+  // A chained key depends on its parent.
+  EXPECT_NE(io::Fingerprint::chain(a).add("m").hex(), io::Fingerprint::chain(a + "0").add("m").hex());
+  EXPECT_EQ(io::Fingerprint::chain(a).add("m").hex(), io::Fingerprint::chain(a).add("m").hex());
+}
+
+TEST(Fingerprint, FileContents) {
+  TempDir dir;
+  write_bytes(dir.path() / "a.txt", "some mesh\n");
+  const std::string k1 = io::Fingerprint().add_file(dir.path() / "a.txt").hex();
+  write_bytes(dir.path() / "a.txt", "some mesh.\n");
+  EXPECT_NE(k1, io::Fingerprint().add_file(dir.path() / "a.txt").hex());
+  EXPECT_THROW(io::Fingerprint().add_file(dir.path() / "missing.txt"), std::runtime_error);
+}
+
+// ---- round trips ---------------------------------------------------------------------------------
+
+TEST(StageCache, PreloadRoundTripIsBitIdentical) {
+  const pl::PreloadResult& p = lap_preload();
+  ASSERT_TRUE(p.converged) << p.message;
+  ASSERT_GT(p.dynamic_stiffness.nonZeros(), 0);
+  ASSERT_EQ(p.interfaces.size(), 1u);
+  TempDir dir;
+  io::StageCache cache(dir.path() / "cache", true);
+  EXPECT_FALSE(cache.load_preload("0123").has_value());
+  cache.store_preload("0123", p);
+  EXPECT_TRUE(fs::exists(dir.path() / "cache" / "preload-0123.bin"));
+  const auto q = cache.load_preload("0123");
+  ASSERT_TRUE(q.has_value());
+  EXPECT_TRUE(cache.warnings().empty());
+  EXPECT_EQ(q->converged, p.converged);
+  EXPECT_EQ(q->message, p.message);
+  ASSERT_EQ(q->steps.size(), p.steps.size());
+  EXPECT_EQ(q->steps.back().iterations, p.steps.back().iterations);
+  EXPECT_EQ(q->steps.back().residual, p.steps.back().residual);
+  EXPECT_TRUE(same_bits(q->displacement, p.displacement));
+  EXPECT_EQ(q->load_factor, p.load_factor);
+  const auto& a = q->interfaces[0];
+  const auto& b = p.interfaces[0];
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_TRUE(same_bits(a.state.gap, b.state.gap));
+  EXPECT_TRUE(same_bits(a.state.traction, b.state.traction));
+  EXPECT_TRUE(same_bits(a.state.pressure, b.state.pressure));
+  EXPECT_TRUE(same_bits(a.state.force, b.state.force));
+  EXPECT_EQ(a.state.open, b.state.open);
+  EXPECT_EQ(a.state.num_open, b.state.num_open);
+  ASSERT_EQ(a.state.tangent.size(), b.state.tangent.size());
+  EXPECT_TRUE(same_bits(a.state.tangent.back(), b.state.tangent.back()));
+  EXPECT_EQ(a.clamping_force, b.clamping_force);
+  EXPECT_EQ(a.closed_area_fraction, b.closed_area_fraction);
+  EXPECT_EQ(a.min_gap, b.min_gap);
+  EXPECT_EQ(q->bolt_forces, p.bolt_forces);
+  EXPECT_EQ(q->support_dofs, p.support_dofs);
+  EXPECT_EQ(q->support_reaction, p.support_reaction);
+  EXPECT_EQ(q->dofs.free_of_full, p.dofs.free_of_full);
+  EXPECT_EQ(q->dofs.full_of_free, p.dofs.full_of_free);
+  ASSERT_EQ(q->dynamic_stiffness.nonZeros(), p.dynamic_stiffness.nonZeros());
+  EXPECT_TRUE(same_bits(Eigen::MatrixXd(q->dynamic_stiffness), Eigen::MatrixXd(p.dynamic_stiffness)));
+  EXPECT_EQ(q->factor_statistics, p.factor_statistics);
+  EXPECT_EQ(q->factor.factorizations, p.factor.factorizations);
+  EXPECT_EQ(q->factor.ordering, p.factor.ordering);
+  EXPECT_EQ(q->total_iterations, p.total_iterations);
+  EXPECT_EQ(q->seconds, p.seconds);
+  EXPECT_EQ(q->contact_seconds, p.contact_seconds);
+  // Every field: the encoding of the copy is the encoding of the original.
+  EXPECT_EQ(io::encode_preload(*q), io::encode_preload(p));
+}
+
+TEST(StageCache, ModesRoundTripIsBitIdentical) {
+  const modal::ModalResult m = hand_made_modes();
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  cache.store_modes("k", m);
+  const auto n = cache.load_modes("k");
+  ASSERT_TRUE(n.has_value());
+  expect_same(*n, m);
+  EXPECT_TRUE(std::signbit(n->eigenvalues[0]));  // −0.0 kept
+  // Another key, another file: a miss.
+  EXPECT_FALSE(cache.load_modes("l").has_value());
+  EXPECT_TRUE(cache.warnings().empty());
+}
+
+#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
+TEST(StageCache, InterfaceModelRoundTripTakesTheLawsFromTheCaller) {
+  const auto law = [](double mu) {
+    jointhb::contact::ContactPointOptions o;
+    o.friction_coefficient = mu;
+    return jointhb::contact::ContactPoint(o, std::make_shared<jointhb::contact::JenkinsLaw>());
+  };
+  jointhb::hb::InterfaceModel m;
+  m.omega2 = Eigen::Vector3d(0.0, 4.0e6, 9.0e6);
+  m.rigid_modes = 1;
+  m.gap_shapes = Eigen::MatrixXd::Random(9, 3);
+  m.rayleigh_mass = 1.5;
+  m.rayleigh_stiffness = 2e-6;
+  m.residual_shift = -39.5;
+  m.residual_flexibility = Eigen::MatrixXd::Random(9, 9);
+  m.residual_inertia = Eigen::MatrixXd::Random(9, 9);
+  m.groups.push_back({"a", law(0.3), 0, 2});
+  m.groups.push_back({"b", law(0.2), 2, 1});
+  for (int p = 0; p < 3; ++p) {
+    jointhb::hb::ContactPointReference r;
+    r.gap = Eigen::Vector3d::Random();
+    r.traction = Eigen::Vector3d::Random();
+    m.references.push_back(r);
+    m.stuck_tangents.push_back(Eigen::Matrix3d::Random());
+  }
+  m.areas = Eigen::Vector3d(1e-6, 2e-6, 3e-6);
+  m.load_name = "node 3 z";
+  m.load_modal = Eigen::Vector3d::Random();
+  m.load_residual0 = Eigen::VectorXd::Random(9);
+  m.load_residual1 = Eigen::VectorXd::Random(9);
+  m.outputs.push_back({"node 7 x", Eigen::Vector3d::Random(), Eigen::VectorXd::Random(9),
+                       Eigen::VectorXd::Random(9), 0.25, -0.5});
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  cache.store_interface_model("k", m);
+  const auto n = cache.load_interface_model("k", {law(0.3), law(0.2)});
+  ASSERT_TRUE(n.has_value());
+  EXPECT_EQ(io::encode_interface_model(*n), io::encode_interface_model(m));
+  ASSERT_EQ(n->groups.size(), 2u);
+  EXPECT_EQ(n->groups[1].name, "b");
+  EXPECT_EQ(n->groups[1].first, 2);
+  EXPECT_EQ(n->groups[1].law.options().friction_coefficient, 0.2);
+  EXPECT_TRUE(same_bits(n->residual_flexibility, m.residual_flexibility));
+  EXPECT_TRUE(same_bits(n->stuck_tangents[2], m.stuck_tangents[2]));
+  EXPECT_TRUE(cache.warnings().empty());
+  // The wrong number of laws: a miss with a warning.
+  EXPECT_FALSE(cache.load_interface_model("k", {law(0.3)}).has_value());
+  EXPECT_EQ(cache.warnings().size(), 1u);
+}
+#endif
+
+// ---- damaged files -------------------------------------------------------------------------------
+
+TEST(StageCache, TruncatedFlippedAndWrongVersionFilesAreMisses) {
+  const modal::ModalResult m = hand_made_modes();
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  cache.store_modes("k", m);
+  const fs::path file = cache.file("modes", "k");
+  const std::string good = read_bytes(file);
+  ASSERT_GT(good.size(), 100u);
+  std::size_t warnings = 0;
+  const auto expect_miss = [&](const std::string& bytes, const char* what) {
+    write_bytes(file, bytes);
+    EXPECT_FALSE(cache.load_modes("k").has_value()) << what;
+    EXPECT_EQ(cache.warnings().size(), ++warnings) << what;
+  };
+  // Truncated anywhere (inside the header, the payload, the checksum), and empty.
+  for (const std::size_t n : {std::size_t{0}, std::size_t{3}, std::size_t{10}, std::size_t{30}, good.size() / 2, good.size() - 1})
+    expect_miss(good.substr(0, n), "truncated");
+  expect_miss(good + "x", "trailing byte");
+  // One flipped bit in every part of the file.
+  for (const std::size_t at : {std::size_t{1}, std::size_t{12}, std::size_t{40}, good.size() / 2, good.size() - 3}) {
+    std::string bad = good;
+    bad[at] = static_cast<char>(bad[at] ^ 0x10);
+    expect_miss(bad, "flipped");
+  }
+  // Another format version (bytes 4..7, little-endian).
+  std::string other = good;
+  other[4] = static_cast<char>(io::stage_cache_format + 1);
+  expect_miss(other, "version");
+  EXPECT_NE(cache.warnings().back().find("format version"), std::string::npos) << cache.warnings().back();
+  // A file of another stage under this name.
+  cache.store_preload("k", lap_preload());
+  write_bytes(file, read_bytes(cache.file("preload", "k")));
+  EXPECT_FALSE(cache.load_modes("k").has_value());
+  // The good file again: a hit.
+  write_bytes(file, good);
+  ASSERT_TRUE(cache.load_modes("k").has_value());
+  expect_same(*cache.load_modes("k"), m);
+}
+
+TEST(StageCache, DisabledAndUnwritableCachesDoNotStopTheRun) {
+  const modal::ModalResult m = hand_made_modes();
+  TempDir dir;
+  io::StageCache off(dir.path() / "off", false);
+  off.store_modes("k", m);
+  EXPECT_FALSE(fs::exists(dir.path() / "off"));
+  EXPECT_FALSE(off.load_modes("k").has_value());
+  // A cache directory below a regular file cannot be created: a warning, no file, no throw.
+  write_bytes(dir.path() / "file", "x");
+  io::StageCache blocked(dir.path() / "file" / "cache", true);
+  EXPECT_NO_THROW(blocked.store_modes("k", m));
+  EXPECT_EQ(blocked.warnings().size(), 1u);
+  EXPECT_FALSE(blocked.load_modes("k").has_value());
+  // Decoding garbage throws (the cache turns that into a miss).
+  EXPECT_THROW((void)io::decode_modes("garbage"), std::runtime_error);
+  EXPECT_THROW((void)io::decode_preload(std::string(64, '\xff')), std::runtime_error);
+}
+
+// ---- the FE case keys ----------------------------------------------------------------------------
+
+TEST(FeCaseFingerprints, ChangeOnlyWithTheirInputs) {
+  const std::string base = lap_yaml(kAnalysis);
+  const auto k = keys_of(base);
+  EXPECT_EQ(k.model.size(), 32u);
+  EXPECT_NE(k.model, k.preload);
+  EXPECT_NE(k.preload, k.modes);
+  const auto same = [&](const std::string& text, const char* what) {
+    const auto o = keys_of(text);
+    EXPECT_EQ(o.model, k.model) << what;
+    EXPECT_EQ(o.preload, k.preload) << what;
+    EXPECT_EQ(o.modes, k.modes) << what;
+  };
+  same(base, "same text");
+  // Comments, blank lines and flow/block style do not matter.
+  same("# another comment\n\n" + replaced(base, "mu: 0.3,", "mu: 0.3,   # friction\n      "), "comments");
+  same(replaced(base, "  preload: {load_steps: 4, tolerance: 1.0e-9}",
+                "  preload:\n    load_steps: 4   # four steps\n    tolerance: 1.0e-9"),
+       "block style");
+  // A single number of the model: every key.
+  {
+    const auto o = keys_of(replaced(base, "preload: 5000.0}", "preload: 5000.5}"));
+    EXPECT_NE(o.model, k.model);
+    EXPECT_NE(o.preload, k.preload);
+    EXPECT_NE(o.modes, k.modes);
+  }
+  // The preload settings: preload and modes, not the model.
+  {
+    const auto o = keys_of(replaced(base, "tolerance: 1.0e-9", "tolerance: 1.0e-10"));
+    EXPECT_EQ(o.model, k.model);
+    EXPECT_NE(o.preload, k.preload);
+    EXPECT_NE(o.modes, k.modes);
+  }
+  // The mode settings: only modes. (Edits of later analyses — the dynamic stages — enter none of
+  // the three keys in the same way: the keys read only model, analysis.preload, analysis.modes.)
+  {
+    const auto o = keys_of(replaced(base, "count: 10", "count: 12"));
+    EXPECT_EQ(o.model, k.model);
+    EXPECT_EQ(o.preload, k.preload);
+    EXPECT_NE(o.modes, k.modes);
+  }
+  {
+    const auto o = keys_of(replaced(base, "  modes: {count: 10, shift_hz: -10.0}\n", ""));
+    EXPECT_EQ(o.model, k.model);
+    EXPECT_EQ(o.preload, k.preload);
+    EXPECT_NE(o.modes, k.modes);
+  }
+  // No analysis.preload (defaults) differs from explicit settings.
+  {
+    const auto o = keys_of(replaced(base, "  preload: {load_steps: 4, tolerance: 1.0e-9}\n", ""));
+    EXPECT_EQ(o.model, k.model);
+    EXPECT_NE(o.preload, k.preload);
+  }
+}
+
+TEST(FeCaseFingerprints, ImportedMeshBytesEnterTheModelKey) {
+  TempDir dir;
+  const std::string brick = R"(*HEADING
+brick
+*NODE
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 1., 1., 0.
+4, 0., 1., 0.
+5, 0., 0., 1.
+6, 1., 0., 1.
+7, 1., 1., 1.
+8, 0., 1., 1.
+*ELEMENT, TYPE=C3D8, ELSET=BLOCK
+1, 1, 2, 3, 4, 5, 6, 7, 8
+)";
+  write_bytes(dir.path() / "brick.inp", brick);
+  write_bytes(dir.path() / "case.yaml", R"(model:
+  type: fe
+  materials: {steel: {youngs_modulus: 2.1e11, poissons_ratio: 0.3, density: 7850.0}}
+  parts:
+    - {mesh: brick.inp, material: steel}
+analysis:
+  modes: {count: 3}
+)");
+  const auto k = io::read_fe_case(dir.path() / "case.yaml").fingerprints;
+  EXPECT_EQ(io::read_fe_case(dir.path() / "case.yaml").fingerprints.model, k.model);
+  write_bytes(dir.path() / "brick.inp", replaced(brick, "8, 0., 1., 1.", "8, 0., 1., 1.01"));
+  const auto o = io::read_fe_case(dir.path() / "case.yaml").fingerprints;
+  EXPECT_NE(o.model, k.model);
+  EXPECT_NE(o.preload, k.preload);
+  EXPECT_NE(o.modes, k.modes);
+}
