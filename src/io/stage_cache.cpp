@@ -276,6 +276,9 @@ static_assert(sizeof(fe::InterfaceContactState) == 208, "InterfaceContactState c
 static_assert(sizeof(preload::PreloadResult) == 456, "PreloadResult changed: update stage_cache.cpp");
 static_assert(sizeof(fe::SparseCholeskyStatistics) == 96, "SparseCholeskyStatistics changed: update stage_cache.cpp");
 static_assert(sizeof(modal::ModalResult) == 280, "ModalResult changed: update stage_cache.cpp");
+static_assert(sizeof(hb::InterfaceModel) == 312, "InterfaceModel changed: update stage_cache.cpp");
+static_assert(sizeof(hb::InterfaceGroup) == 120, "InterfaceGroup changed: update stage_cache.cpp");
+static_assert(sizeof(hb::InterfaceOutput) == 96, "InterfaceOutput changed: update stage_cache.cpp");
 #endif
 
 }  // namespace
@@ -525,7 +528,6 @@ modal::ModalResult decode_modes(std::string_view payload) {
   return m;
 }
 
-#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
 std::string encode_interface_model(const hb::InterfaceModel& m) {
   Writer w;
   w.vec(m.omega2);
@@ -609,7 +611,6 @@ hb::InterfaceModel decode_interface_model(std::string_view payload,
   r.expect_end();
   return m;
 }
-#endif
 
 // ---- StageCache ----------------------------------------------------------------------------------
 
@@ -755,7 +756,6 @@ void StageCache::store_modes(const std::string& key, const modal::ModalResult& r
   write_payload("modes", key, payload);
 }
 
-#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
 std::optional<hb::InterfaceModel> StageCache::load_interface_model(
     const std::string& key, const std::vector<contact::ContactPoint>& laws) {
   const auto payload = read_payload("interface_model", key);
@@ -780,6 +780,5 @@ void StageCache::store_interface_model(const std::string& key, const hb::Interfa
   }
   write_payload("interface_model", key, payload);
 }
-#endif
 
 }  // namespace jointhb::io

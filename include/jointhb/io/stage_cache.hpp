@@ -30,17 +30,10 @@
 #include <vector>
 
 #include "jointhb/contact/contact_point.hpp"
+#include "jointhb/hb/interface_model.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
-// The interface model of the dynamic stage lives in a header written in parallel; its cache
-// functions exist once that header does.
-#if __has_include("jointhb/hb/interface_model.hpp")
-#include "jointhb/hb/interface_model.hpp"
-#define JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL 1
-#else
-#define JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL 0
-#endif
 
 namespace jointhb::io {
 
@@ -95,7 +88,9 @@ class StageCache {
   [[nodiscard]] std::optional<modal::ModalResult> load_modes(const std::string& key);
   void store_modes(const std::string& key, const modal::ModalResult& result);
 
-#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
+  /// The condensation stage (reduction::build_modal_interface) should key it as
+  /// Fingerprint::chain(fingerprints.preload) + its ModalInterfaceOptions (every field, the
+  /// modal options too) + the load and output names and vectors (add(VectorXd)).
   /// The contact laws (contact::ContactPoint: a law object, not plain data) are not stored: the
   /// file keeps each group's name, first point and count, and the caller passes the laws, one
   /// per group in group order — the laws the model was built with, which the key already covers
@@ -104,7 +99,6 @@ class StageCache {
   [[nodiscard]] std::optional<hb::InterfaceModel> load_interface_model(
       const std::string& key, const std::vector<contact::ContactPoint>& laws);
   void store_interface_model(const std::string& key, const hb::InterfaceModel& model);
-#endif
 
   /// The warnings printed so far (each also went to stderr as one line "warning: ...").
   [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
@@ -128,10 +122,8 @@ std::string encode_preload(const preload::PreloadResult& result);
 preload::PreloadResult decode_preload(std::string_view payload);
 std::string encode_modes(const modal::ModalResult& result);
 modal::ModalResult decode_modes(std::string_view payload);
-#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
 std::string encode_interface_model(const hb::InterfaceModel& model);
 hb::InterfaceModel decode_interface_model(std::string_view payload,
                                           const std::vector<contact::ContactPoint>& laws);
-#endif
 
 }  // namespace jointhb::io

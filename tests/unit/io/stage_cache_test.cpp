@@ -268,7 +268,6 @@ TEST(StageCache, ModesRoundTripIsBitIdentical) {
   EXPECT_TRUE(cache.warnings().empty());
 }
 
-#if JOINTHB_STAGE_CACHE_HAS_INTERFACE_MODEL
 TEST(StageCache, InterfaceModelRoundTripTakesTheLawsFromTheCaller) {
   const auto law = [](double mu) {
     jointhb::contact::ContactPointOptions o;
@@ -317,7 +316,6 @@ TEST(StageCache, InterfaceModelRoundTripTakesTheLawsFromTheCaller) {
   EXPECT_FALSE(cache.load_interface_model("k", {law(0.3)}).has_value());
   EXPECT_EQ(cache.warnings().size(), 1u);
 }
-#endif
 
 // ---- damaged files -------------------------------------------------------------------------------
 
