@@ -113,9 +113,9 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
                      std::max(model.load_modal.lpNorm<Eigen::Infinity>(), 1e-300) / w2;
   // Near resonance the response is the static one amplified by about 1/(2ζ) of the first elastic
   // mode: scale the state by that, so that the arclength is not dominated by it.
-  const int e = model.rigid_modes;
+  const int elastic = model.rigid_modes;
   const double zeta = std::max(
-      (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[e]) / (2.0 * std::sqrt(model.omega2[e])), 1e-4);
+      (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[elastic]) / (2.0 * std::sqrt(model.omega2[elastic])), 1e-4);
   c.state_scale = eta / (2.0 * zeta) * balance.unknown_scale();
   c.residual_scale = eta;
 
