@@ -157,10 +157,12 @@ struct InterfaceBalance::Impl {
     return c;
   }
 
-  // Gap rows' residual-mode term R_k(Ω, ξ) V for V = (A N)ᵀ or a derivative (3P × m), into out.
-  // `which`: 0 value, 1 ∂/∂Ω, 2 ∂/∂ξ.
-  void apply_residual(const MatrixXd& v, double omega, double xi, int which, MatrixXd& out) const {
-    const MatrixXd w0 = model.residual_flexibility * v, w1 = model.residual_inertia * v;
+  // The residual-mode combination of eq. (T-23) per harmonic, given W0 = R0 V and W1 = R1 V
+  // (rows × m, coefficients in columns): out += (R0 − s R1) V on the mean and c0 W0 + c1 W1 on
+  // (a_k, b_k). `which`: 0 value, 1 ∂/∂Ω, 2 ∂/∂ξ (the mean does not depend on Ω or ξ).
+  template <class Out>
+  void combine_residual(const MatrixXd& w0, const MatrixXd& w1, double omega, double xi, int which,
+                        Out&& out) const {
     if (which == 0) out.col(0) += w0.col(0) - model.residual_shift * w1.col(0);
     for (int k : basis.orders()) {
       const int ia = basis.cosine_index(k), ib = ia + 1;
@@ -171,20 +173,16 @@ struct InterfaceBalance::Impl {
     }
   }
 
+  // Gap rows' residual-mode term R_k(Ω, ξ) V for V = (A N)ᵀ (3P × m), into out.
+  void apply_residual(const MatrixXd& v, double omega, double xi, int which, MatrixXd& out) const {
+    combine_residual(model.residual_flexibility * v, model.residual_inertia * v, omega, xi, which, out);
+  }
+
   // r_k(Ω, ξ) F: the load's residual-mode gaps (3P × m).
   void apply_load_residual(const VectorXd& load, double omega, double xi, int which, MatrixXd& out) const {
     if (load.size() == 0) return;
-    const VectorXd& r0 = model.load_residual0;
-    const VectorXd& r1 = model.load_residual1;
-    if (which == 0) out.col(0) += (r0 - model.residual_shift * r1) * load[0];
-    for (int k : basis.orders()) {
-      const int ia = basis.cosine_index(k), ib = ia + 1;
-      const ResidualCoefficients rc = residual_coefficients(model, k, omega, xi);
-      const cd c0 = which == 0 ? rc.c0 : which == 1 ? rc.c0_omega : rc.c0_xi;
-      const cd c1 = which == 0 ? rc.c1 : which == 1 ? rc.c1_omega : rc.c1_xi;
-      add_complex_pair(c0, c1, r0 * load[ia], r0 * load[ib], r1 * load[ia], r1 * load[ib], out.col(ia),
-                       out.col(ib));
-    }
+    combine_residual(model.load_residual0 * load.transpose(), model.load_residual1 * load.transpose(),
+                     omega, xi, which, out);
   }
 
   // D_j(kΩ, ξ) on η_j's coefficients, or its derivative (which = 1: Ω, 2: ξ).
@@ -425,18 +423,10 @@ VectorXd InterfaceBalance::output_coefficients(int output, const VectorXd& y, do
   const VectorXd v0 = contact_force * o.residual0, v1 = contact_force * o.residual1;  // m
   VectorXd f0 = VectorXd::Zero(m), f1 = VectorXd::Zero(m);
   if (load.size() != 0) f0 = o.load_residual0 * load, f1 = o.load_residual1 * load;
-  const VectorXd p0 = f0 - v0, p1 = f1 - v1;  // per coefficient, to be combined per harmonic
-  const double s = d.model.residual_shift;
-  u[0] += p0[0] - s * p1[0];
-  for (int k : d.basis.orders()) {
-    const int ia = d.basis.cosine_index(k), ib = ia + 1;
-    const ResidualCoefficients rc = residual_coefficients(d.model, k, omega, xi);
-    VectorXd a = VectorXd::Zero(1), b = VectorXd::Zero(1);
-    add_complex_pair(rc.c0, rc.c1, p0.segment<1>(ia), p0.segment<1>(ib), p1.segment<1>(ia),
-                     p1.segment<1>(ib), a, b);
-    u[ia] += a[0];
-    u[ib] += b[0];
-  }
+  const MatrixXd p0 = (f0 - v0).transpose(), p1 = (f1 - v1).transpose();  // 1 × m
+  MatrixXd residual = MatrixXd::Zero(1, m);
+  d.combine_residual(p0, p1, omega, xi, 0, residual);
+  u += residual.transpose();
   return u;
 }
 

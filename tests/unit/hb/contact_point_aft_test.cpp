@@ -343,13 +343,19 @@ TEST(ContactPointAft, ProportionalStiffnessRatchetsTheMeanOfGaulMayer) {
 // Known limit, reported and not hidden: a Jenkins point with k = χ λ p_N that sticks under
 // elliptical motion drifts by ∮ k dg_T per period (M = I, nothing contracts the offset) until it
 // reaches the limit, far beyond the solver's periods at small amplitude (docs/theory.md §10).
+// Tangential cos θ and normal sin θ motion (a quarter period out of phase): the T-21 ratchet.
+Eigen::MatrixXd ratcheting_motion(const FourierBasis& basis) {
+  Eigen::MatrixXd dg = Eigen::MatrixXd::Zero(basis.size(), 3);
+  dg(basis.cosine_index(1), 0) = 1e-3 * kGmax;
+  dg(basis.cosine_index(1) + 1, 2) = 1e-3 / kLambda;
+  return dg;
+}
+
 TEST(ContactPointAft, StuckJenkinsRatchetWithProportionalStiffnessIsReported) {
   const FourierBasis basis(3, 128);
   const auto point = make_point(false, Model::proportional);
   const auto ref = reference(point);
-  Eigen::MatrixXd dg = Eigen::MatrixXd::Zero(basis.size(), 3);
-  dg(basis.cosine_index(1), 0) = 1e-3 * kGmax;
-  dg(basis.cosine_index(1) + 1, 2) = 1e-3 / kLambda;
+  const Eigen::MatrixXd dg = ratcheting_motion(basis);
   const auto r = evaluate_contact_point(point, ref, basis, dg);
   EXPECT_FALSE(r.converged);
   EXPECT_FALSE(r.message.empty());
@@ -367,9 +373,7 @@ TEST(ContactPointAft, RatchetIsAcceptedOnlyWithinTheDriftBound) {
   const FourierBasis basis(3, 128);
   const auto point = make_point(false, Model::proportional);
   const auto ref = reference(point);
-  Eigen::MatrixXd dg = Eigen::MatrixXd::Zero(basis.size(), 3);
-  dg(basis.cosine_index(1), 0) = 1e-3 * kGmax;
-  dg(basis.cosine_index(1) + 1, 2) = 1e-3 / kLambda;
+  const Eigen::MatrixXd dg = ratcheting_motion(basis);
   const auto strict = evaluate_contact_point(point, ref, basis, dg);
   ASSERT_FALSE(strict.converged);
   ASSERT_GT(strict.drift, 0.0);
