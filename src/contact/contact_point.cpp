@@ -34,6 +34,13 @@ ContactPoint::ContactPoint(ContactPointOptions options, std::shared_ptr<const Ta
   }
 }
 
+ContactPoint ContactPoint::with_constant_stiffness(double stiffness) const {
+  ContactPointOptions o = options_;
+  o.stiffness_model = TangentialStiffnessModel::constant;
+  o.tangential_stiffness = stiffness;
+  return ContactPoint(std::move(o), law_);
+}
+
 TangentialState ContactPoint::tangential_state(double gap) const {
   TangentialState s;
   const auto& o = options_;

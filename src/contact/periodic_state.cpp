@@ -121,16 +121,18 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   Vec2 t = clamp_to(options.reference_traction + result.anchor_stiffness * result.anchor_offset,
                     path.limits[0].slip_limit);
 
+  // Damped Newton on r(t) = Φ_N(t) − t with the exact monodromy: the full step first, then
+  // halved steps while the residual does not fall (the map is only piecewise smooth: a step that
+  // crosses a stick/slip change of some sample overshoots), and a fixed-point step t ← Φ_N(t)
+  // when no damped step helps. Every trial is one period, counted against max_iterations.
+  Sweep s = sweep(law, path, t, nullptr);
+  ++result.iterations;
+  double residual = (s.end - t).norm();
   double previous_residual = std::numeric_limits<double>::infinity();
-  Vec2 previous_end = t;
-  bool last_was_newton = false;
   int newton_steps = 0;
   double best_residual = std::numeric_limits<double>::infinity();
   Vec2 best_t = t;
-  for (int it = 0; it < options.max_iterations; ++it) {
-    const Sweep s = sweep(law, path, t, nullptr);
-    ++result.iterations;
-    const double residual = (s.end - t).norm();
+  while (true) {
     // Converged relative to the loop's own traction scale (not the limit: at small amplitude
     // max|t| ≪ F_s), or at the round-off floor of one period of steps. The rounding of one period
     // is measured at 0.1–0.3 ε√N max|t|; a looser floor stops Newton before the conditioning
@@ -147,19 +149,33 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
       best_residual = residual;
       best_t = t;
     }
-    if (last_was_newton && residual >= previous_residual) {
-      // Newton did not reduce the residual: fall back to a fixed-point step from the last state.
-      t = previous_end;
-      last_was_newton = false;
-      continue;
-    }
+    if (result.iterations >= options.max_iterations) break;
     previous_residual = residual;
-    previous_end = s.end;
     const PeriodicSolve solve = periodic_solve(s.monodromy);
-    const Vec2 newton = t + solve.pseudo_inverse * (s.end - t);
-    last_was_newton = (newton - t).norm() > 0.0;
-    newton_steps += last_was_newton ? 1 : 0;
-    t = clamp_to(last_was_newton ? newton : s.end, path.limits[0].slip_limit);
+    const Vec2 direction = solve.pseudo_inverse * (s.end - t);
+    bool accepted = false;
+    if (direction.norm() > 0.0) {
+      for (double alpha = 1.0; alpha >= 1.0 / 64.0 && result.iterations < options.max_iterations; alpha *= 0.5) {
+        const Vec2 trial = clamp_to(t + alpha * direction, path.limits[0].slip_limit);
+        const Sweep st = sweep(law, path, trial, nullptr);
+        ++result.iterations;
+        const double r = (st.end - trial).norm();
+        if (r < (1.0 - 1e-4 * alpha) * residual) {
+          t = trial;
+          s = st;
+          residual = r;
+          accepted = true;
+          ++newton_steps;
+          break;
+        }
+      }
+    }
+    if (!accepted && result.iterations < options.max_iterations) {  // fixed-point step
+      t = clamp_to(s.end, path.limits[0].slip_limit);
+      s = sweep(law, path, t, nullptr);
+      ++result.iterations;
+      residual = (s.end - t).norm();
+    }
   }
   if (result.status != PeriodicStatus::converged) t = best_t;  // the best state found
 

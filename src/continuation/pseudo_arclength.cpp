@@ -10,6 +10,7 @@
 //   τ_kᵀ (y - y_k) = s (arclength, Keller 1977):  c = τ_k,  d = τ_kᵀ y_k + s.
 #include "jointhb/continuation/pseudo_arclength.hpp"
 
+#include "../support/lapack_lu.hpp"
 #include "../support/stopwatch.hpp"
 
 #include <fmt/format.h>
@@ -284,11 +285,11 @@ class Tracer {
     return {};
   }
 
-  // Dense LU with partial pivoting; numerically singular (reciprocal condition estimate below ε:
+  // Dense LU with partial pivoting (LAPACK, support/lapack_lu.hpp); numerically singular (reciprocal condition estimate below ε:
   // the solution would carry no correct digit) or a non-finite solution is a failure.
   std::string solve(const MatrixXd& a, const VectorXd& b, VectorXd& out) {
     const auto start = Clock::now();
-    const Eigen::PartialPivLU<MatrixXd> lu(a);
+    const support::LapackLu lu(a);
     const double rcond = lu.rcond();
     std::string why;
     if (!(rcond >= kEps)) {

@@ -81,6 +81,9 @@ struct InterfaceBalance::Impl {
   Index U = 0;
   double omega_ref = 1.0, g_ref = 1.0;
   VectorXd modal_damping;  // c_j = a + b ω_j²
+  // One contact point per point when the tangential stiffness is frozen at its preloaded value
+  // (eq. T-30); empty: the groups' laws.
+  std::vector<contact::ContactPoint> frozen;
   mutable InterfaceBalanceTimings timings;
 
   Impl(InterfaceModel mo, InterfaceBalanceOptions op)
@@ -94,6 +97,32 @@ struct InterfaceBalance::Impl {
     omega_ref = std::sqrt(model.omega2[model.rigid_modes]);
     g_ref = model.gap_shapes.col(model.rigid_modes).lpNorm<Eigen::Infinity>();
     if (!(g_ref > 0.0)) g_ref = 1.0;
+    if (options.preloaded_tangential_stiffness) freeze_tangential_stiffness();
+  }
+
+  // k_T,p = k_T(p_pre,p) (eq. T-30), floored at the stiffness of the gapping floor pressure so
+  // that a point open in the preloaded state stays a valid (constant-model) point.
+  void freeze_tangential_stiffness() {
+    bool any = false;
+    for (const InterfaceGroup& g : model.groups)
+      any = any || g.law.options().stiffness_model == contact::TangentialStiffnessModel::proportional;
+    if (!any) return;
+    frozen.reserve(static_cast<std::size_t>(P));
+    for (const InterfaceGroup& g : model.groups) {
+      const contact::ContactPointOptions& o = g.law.options();
+      const bool proportional = o.stiffness_model == contact::TangentialStiffnessModel::proportional;
+      const double floor = o.stiffness_ratio * o.normal.decay *
+                           std::max(o.gap_pressure_ratio, 1e-300) * o.normal.reference_pressure;
+      for (int q = 0; q < g.count; ++q) {
+        if (!proportional) {
+          frozen.push_back(g.law);
+          continue;
+        }
+        const double gap = model.references[static_cast<std::size_t>(g.first + q)].gap.z();
+        const double k = g.law.tangential_state(gap).limits.stiffness;
+        frozen.push_back(g.law.with_constant_stiffness(std::max(k, floor)));
+      }
+    }
   }
 
   // ΔT − C_pre δg per point (m × 3P, per unit area), with the mean-tangential closure (T-28),
@@ -123,8 +152,12 @@ struct InterfaceBalance::Impl {
       for (int q = 0; q < g.count; ++q) p_max = std::max(p_max, -model.references[static_cast<std::size_t>(g.first + q)].traction.z());
       o.drift_limit = options.drift_tolerance * g.law.options().friction_coefficient * p_max;
       o.drift_ratio = options.drift_ratio;
+      const std::span<const contact::ContactPoint> laws =
+          frozen.empty() ? std::span<const contact::ContactPoint>(&g.law, 1)
+                         : std::span<const contact::ContactPoint>(frozen).subspan(
+                               static_cast<std::size_t>(g.first), static_cast<std::size_t>(g.count));
       const InterfaceAftResult r = evaluate_interface_aft(
-          std::span<const contact::ContactPoint>(&g.law, 1), refs.subspan(g.first, g.count), basis,
+          laws, refs.subspan(g.first, g.count), basis,
           dg.middleCols(3 * g.first, 3 * g.count), o, areas.subspan(g.first, g.count));
       c.dissipation += r.dissipation;
       c.open += r.open_points;

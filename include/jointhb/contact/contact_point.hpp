@@ -77,6 +77,10 @@ class ContactPoint {
   [[nodiscard]] const ContactPointOptions& options() const { return options_; }
   [[nodiscard]] const TangentialLaw& law() const { return *law_; }
 
+  /// The same point with the constant stiffness model k_T = `stiffness` (> 0; same law, normal
+  /// law, μ and gapping floor): the frozen-stiffness point of hb/interface_balance.hpp (T-30).
+  [[nodiscard]] ContactPoint with_constant_stiffness(double stiffness) const;
+
   [[nodiscard]] TangentialState tangential_state(double gap) const;
 
   /// Increment from (t_T0, g_0) to g_1.

@@ -47,6 +47,13 @@ struct InterfaceBalanceOptions {
   double periodic_tolerance = 1e-12;  ///< (0, 1e-3]: contact periodic-state tolerance
   int max_periodic_iterations = 400;  ///< ≥ 1 (normal-dominated motion with little slip contracts slowly: ~200 periods seen)
   bool static_mean_tangential = true; ///< eq. (T-28)
+  /// Tangential stiffness of the hysteretic law during the vibration (eq. T-30): frozen per point
+  /// at its preloaded value k_T(p_pre) (the stiffness inside K_t) — the slip limit μ p_N(t) still
+  /// follows the pressure, so opening still frees the point — or, when false, following the
+  /// instantaneous pressure k_T = χ λ p_N(t) of the proportional model, whose elastic increments
+  /// do not telescope and ratchet the mean traction under out-of-phase normal motion (T-21): no
+  /// periodic state at low-pressure points. Points of the constant model are unaffected.
+  bool preloaded_tangential_stiffness = true;
   /// Accept a point without a periodic state (the T-21 ratchet) when its drift per period is below
   /// drift_tolerance × (μ max p_pre of its interface) + drift_ratio × its loop amplitude
   /// (ContactPointAftOptions::drift_limit/drift_ratio; counted in drifting_points).
