@@ -1,5 +1,7 @@
 #include "fe_run.hpp"
 
+#include "fe_dynamics_run.hpp"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -118,7 +120,15 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   // ---- preload ---------------------------------------------------------------------------
   Eigen::SparseMatrix<double> stiffness = structure.stiffness;
   fe::DofMap dofs = fe::DofMap::from_fixed_nodes(c.mesh.num_nodes(), c.constraints);
-  const bool needs_preload = c.preload_requested || (c.modes && (!c.interfaces.empty() || !c.bolts.empty()));
+  // The dynamic stage needs the preloaded state and the modes about it (defaults when the case
+  // does not give analysis.preload / analysis.modes).
+  const bool dynamics = c.dynamics.has_value();
+  const std::optional<modal::ModalOptions> modal_options =
+      c.modes ? c.modes : (dynamics ? std::optional<modal::ModalOptions>(modal::ModalOptions{}) : std::nullopt);
+  const bool needs_preload =
+      c.preload_requested || ((modal_options || dynamics) && (!c.interfaces.empty() || !c.bolts.empty()));
+  preload::PreloadResult p;
+  modal::ModalResult m;
   if (needs_preload) {
     preload::PreloadOptions options = c.preload;
     if (tty) {
@@ -136,7 +146,6 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
       cached.reset();
     }
     const bool hit = cached.has_value();
-    preload::PreloadResult p;
     double cache_seconds = 0.0;
     if (hit) {
       p = std::move(*cached);
@@ -206,7 +215,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   }
 
   // ---- modes -----------------------------------------------------------------------------
-  if (c.modes && code == 0) {
+  if (modal_options && code == 0) {
     const auto cache_start = Clock::now();
     std::optional<modal::ModalResult> cached = cache.load_modes(c.fingerprints.modes);
     if (cached && cached->shapes.rows() != dofs.num_free()) {
@@ -215,7 +224,6 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
       cached.reset();
     }
     const bool hit = cached.has_value();
-    modal::ModalResult m;
     double cache_seconds = 0.0;
     if (hit) {
       m = std::move(*cached);
@@ -226,7 +234,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     } else {
       const Eigen::SparseMatrix<double> K = dofs.restrict(stiffness);
       const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
-      m = modal::compute_modes(K, M, *c.modes);
+      m = modal::compute_modes(K, M, *modal_options);
       std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
       if (m.status == modal::ModalStatus::converged) {
         const auto store_start = Clock::now();
@@ -256,6 +264,23 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     mj["cache_seconds"] = cache_seconds;
     summary["modes"] = mj;
     if (m.status != modal::ModalStatus::converged) code = 1;
+  }
+
+  // ---- condensation, damping curves, FRFs ---------------------------------------------------
+  if (dynamics && code == 0) {
+    if (c.interfaces.empty()) {
+      std::fprintf(stderr, "error: analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)\n");
+      code = 1;
+    } else {
+      write_summary(dir / "summary.json", summary);
+      try {
+        code = run_fe_dynamics(c, model, p, m, dir, cache, summary);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        summary["message"] = e.what();
+        code = 1;
+      }
+    }
   }
   summary["status"] = code == 0 ? "ok" : "failed";
   summary["seconds"] = seconds_since(start);

@@ -28,6 +28,10 @@ RunCommand::RunCommand(CLI::App& parent) {
       "  analysis.preload     preloaded state of a finite-element case (model.type fe)\n"
       "                       -> DIR/preload_steps.csv, contact_<interface>.csv/.vtu\n"
       "  analysis.modes       modes about the preloaded state -> DIR/modes.csv, modes.vtu\n"
+      "  analysis.nonlinear_modes / frf of an FE case: condensation to the interface, damping\n"
+      "                       curves and FRFs by harmonic balance -> DIR/backbone.csv, frf.csv\n"
+      "Without a case: the built-in default case, the bolted lap's preload, modes and first\n"
+      "damping curve, with plots (docs/case-files.md).\n"
       "Rows are flushed as they are computed; DIR/summary.json echoes the inputs and gives\n"
       "per-curve results, iteration counts and timings.");
   app_->add_option("case", case_path_, "case file (YAML); omitted: the built-in default case")
@@ -37,8 +41,8 @@ RunCommand::RunCommand(CLI::App& parent) {
       ->capture_default_str();
   app_->add_flag(
       "--plot", plot_,
-      "after the run, draw DIR/frf.png and DIR/backbone.png (needs /usr/bin/python3 with "
-      "matplotlib; a missing one is reported, not an error)");
+      "after the run, draw DIR/frf.png and DIR/backbone.png (always for the built-in default "
+      "case; needs /usr/bin/python3 with matplotlib; a missing one is reported, not an error)");
   app_->add_option("--cache-dir", cache_dir_,
                    "stage cache of finite-element cases (preload, modes), reused when the model "
                    "and the stage's settings are unchanged; default DIR/.cache")
@@ -56,8 +60,9 @@ bool RunCommand::selected() const { return app_->parsed(); }
 int RunCommand::run() const {
   const auto start = Clock::now();
   // The case is read before anything is created, so bad input leaves no output behind.
-  const io::CaseFile c = case_path_.empty() ? io::CaseFile(io::default_loop_sweep_case())
-                                            : io::read_case_file(case_path_);
+  const bool built_in = case_path_.empty();
+  const io::CaseFile c = built_in ? io::parse_case_file(io::default_case_text(), "built-in default case")
+                                  : io::read_case_file(case_path_);
   const fs::path dir(output_dir_);
   create_output_directory(dir);
   if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
@@ -67,7 +72,9 @@ int RunCommand::run() const {
     FeRunOptions options;
     options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
     options.use_cache = !no_cache_;
-    return run_fe_case(*fe_case, dir, start, options);
+    const int code = run_fe_case(*fe_case, dir, start, options);
+    if (plot_ || built_in) plot_results(dir);
+    return code;
   }
   const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
   if (plot_) plot_results(dir);

@@ -1,5 +1,7 @@
 #include "jointhb/io/case_file.hpp"
 
+#include "default_case_text.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include "yaml_support.hpp"
@@ -54,6 +56,12 @@ CaseFile parse_case_file(const std::string& text, const std::string& file_name) 
 
 CaseFile read_case_file(const std::filesystem::path& file) {
   return parse_case_file(yaml::read_text_file(file), file.string());
+}
+
+const std::string& default_case_text() {
+  // cases/08-lap-damping/case.yaml, embedded at configure time (default_case_text.hpp.in).
+  static const std::string text = kDefaultCaseText;
+  return text;
 }
 
 }  // namespace jointhb::io

@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <set>
 
 #include "jointhb/contact/harmonic_loop.hpp"
 #include "jointhb/fe/box_mesh.hpp"
@@ -19,6 +20,7 @@
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "fe_dynamics_keys.hpp"
 #include "yaml_support.hpp"
 
 namespace jointhb::io {
@@ -58,6 +60,9 @@ void add_yaml(Fingerprint& f, const YAML::Node& node) {
 #define JOINTHB_VERSION "unknown"
 #endif
 
+const std::set<std::string> kAnalysisKeys = {"preload",    "modes",   "damping",         "reduction",
+                                             "excitation", "outputs", "nonlinear_modes", "frf"};
+
 class FeCaseReader {
  public:
   FeCaseReader(std::string file_name, std::filesystem::path directory)
@@ -73,9 +78,14 @@ class FeCaseReader {
     std::optional<YAML::Node> preload_node, modes_node;
     if (const auto* analysis = top.find("analysis")) {
       read_analysis(analysis->value, c);
-      const Fields f = reader_.fields(analysis->value, "analysis", {"preload", "modes"});
+      const Fields f = reader_.fields(analysis->value, "analysis", kAnalysisKeys);
       if (const auto* p = f.find("preload")) preload_node = p->value;
       if (const auto* m = f.find("modes")) modes_node = m->value;
+      for (const char* key : {"damping", "reduction", "excitation", "outputs", "nonlinear_modes", "frf"})
+        if (f.has(key)) {
+          c.dynamics = read_fe_dynamics(reader_, f, c.mesh);
+          break;
+        }
     }
     fingerprint(model->value, preload_node, modes_node, c);
     return c;
@@ -415,7 +425,7 @@ class FeCaseReader {
   // ---- analysis ------------------------------------------------------------------------------
 
   void read_analysis(const YAML::Node& node, FeCase& c) {
-    const Fields f = reader_.fields(node, "analysis", {"preload", "modes"});
+    const Fields f = reader_.fields(node, "analysis", kAnalysisKeys);
     if (const auto* p = f.find("preload")) {
       c.preload_requested = true;
       const Fields pf = reader_.fields(p->value, f.path_of("preload"), {"load_steps", "tolerance", "max_iterations", "closed_pressure_fraction"});

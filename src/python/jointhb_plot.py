@@ -42,10 +42,13 @@ def plot_frf(directory):
 
 def plot_backbone(directory):
     rows = read(os.path.join(directory, "backbone.csv"))
+    # Finite-element damping curves also give the amplitude at an output DOF: a physical axis.
+    physical = bool(rows) and "output_amplitude" in rows[0] and all(
+        float(r["output_amplitude"]) > 0.0 for r in rows)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
     for i, mode in enumerate(sorted({r["mode"] for r in rows}, key=float)):
         sel = [r for r in rows if r["mode"] == mode]
-        q = [float(r["amplitude"]) for r in sel]
+        q = [float(r["output_amplitude" if physical else "amplitude"]) for r in sel]
         color = f"C{i}"
         name = f"mode {int(float(mode))}"
         top.semilogx(q, [float(r["frequency_hz"]) for r in sel], color=color, label=name)
@@ -56,7 +59,8 @@ def plot_backbone(directory):
     top.set_ylabel("frequency [Hz]")
     top.set_title("Damping curves (EPMC)")
     bottom.set_ylabel("damping ratio ζ")
-    bottom.set_xlabel("modal amplitude q [m·√kg]")
+    bottom.set_xlabel("amplitude of the fundamental at the output [m]" if physical
+                      else "modal amplitude q [m·√kg]")
     for ax in (top, bottom):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)

@@ -23,4 +23,10 @@ CaseFile read_case_file(const std::filesystem::path& file);
 /// As read_case_file, from text; `file_name` is what the errors call the file.
 CaseFile parse_case_file(const std::string& text, const std::string& file_name);
 
+/// The built-in default case of `jointhb run` without a case file (docs/case-files.md, "The
+/// built-in default case"): the bolted lap of cases/05-bolted-lap on a coarse mesh (20 × 6 × 1
+/// C3D8I per plate, 192 contact points): preload, modes and the damping curve of the first
+/// elastic mode from the linear limit to a 3 % frequency drop, at H = 1.
+const std::string& default_case_text();
+
 }  // namespace jointhb::io

@@ -23,6 +23,7 @@
 //   analysis:
 //     preload: {load_steps: 4, tolerance: 1e-9}
 //     modes: {count: 10, shift_hz: -1}
+//     nonlinear_modes / frf with damping, reduction, excitation, outputs: fe_dynamics_case.hpp
 
 #include <filesystem>
 #include <optional>
@@ -31,6 +32,7 @@
 
 #include "jointhb/fe/material.hpp"
 #include "jointhb/fe/mesh.hpp"
+#include "jointhb/io/fe_dynamics_case.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
@@ -55,6 +57,9 @@ struct FeCase {
   preload::PreloadOptions preload;               ///< analysis.preload (defaults when absent)
   bool preload_requested = false;                ///< analysis.preload present (or implied by modes)
   std::optional<modal::ModalOptions> modes;      ///< analysis.modes
+  /// analysis.nonlinear_modes / frf with their settings (fe_dynamics_case.hpp); they need the
+  /// preload and the modes, which then run with defaults when not given.
+  std::optional<FeDynamicsSpec> dynamics;
   std::vector<std::string> warnings;             ///< e.g. mesh cards that were skipped
   std::string source;
   /// Keys of the stage cache (io/stage_cache.hpp), 32 hex digits each, computed by the reader:

@@ -1,0 +1,74 @@
+#pragma once
+// The dynamic analyses of a finite-element case (docs/case-files.md, "Finite-element cases:
+// dynamics"): damping curves (EPMC) and nonlinear FRFs of the preloaded joint by harmonic balance
+// in modal/interface form (docs/theory.md §11), with the settings of the condensation stage.
+//
+//   analysis:
+//     damping: {ratio: 0.005}                 # or {ratio: ζ, frequency_hz: f} or
+//                                             #    {rayleigh: {alpha: a [1/s], beta: b [s]}}
+//     reduction: {cutoff_factor: 20}          # or {cutoff_hz: 25000}
+//     excitation: {point: [0.16, 0.015, 0.008], direction: [0, 0, 1]}
+//     outputs: [{name: tip, point: [0.16, 0.015, 0.008], direction: [0, 0, 1]}]
+//     nonlinear_modes: {mode: 1, log10_amplitude: [-9, -4], frequency_drop: 0.05, harmonics: 1}
+//     frf: {frequency_hz: [900, 1000], force: [1, 5, 20], harmonics: 1}
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/hb/interface_balance.hpp"
+
+namespace jointhb::io {
+
+/// A direction at a mesh node: the unit load of the excitation, or an output u_o = dᵀ u_node.
+struct FeNodeDirection {
+  std::string name;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< as written [m]
+  int node = 0;                                         ///< the mesh node nearest to `point`
+  double distance = 0.0;                                ///< |x_node − point| [m]
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  ///< unit vector
+
+  /// The functional over the full mesh DOFs (3 per node): `direction` at `node`.
+  [[nodiscard]] Eigen::VectorXd functional(int num_dofs) const;
+};
+
+struct FeNonlinearModesSpec {
+  std::vector<int> modes{1};  ///< elastic modes followed (1 = the lowest elastic mode), ascending
+  double log10_amplitude_start = -9.0, log10_amplitude_end = -4.0;  ///< λ = log10 q [m √kg]
+  /// > 0: stop a curve once its frequency has fallen by this fraction of the linear one (the
+  /// joint is then in macroslip); 0: run to log10_amplitude_end.
+  double frequency_drop = 0.0;
+  hb::InterfaceBalanceOptions balance;
+  continuation::Options continuation;
+};
+
+struct FeFrfSpec {
+  double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s]
+  std::vector<double> forces;                 ///< F [N] of F cos Ωt along the excitation, one curve each
+  int output = 0;                             ///< index into FeDynamicsSpec::outputs
+  hb::InterfaceBalanceOptions balance;
+  continuation::Options continuation;
+};
+
+struct FeDynamicsSpec {
+  // ---- analysis.damping: C = a M + b K_t ---------------------------------------------------
+  double rayleigh_mass = 0.0;       ///< a [1/s]
+  double rayleigh_stiffness = 0.0;  ///< b [s]
+  /// > 0: b = 2ζ/ω at damping_frequency_hz (0: at the first followed mode's linear frequency, or
+  /// the first elastic mode for an FRF-only case); a = 0.
+  double damping_ratio = 0.0;
+  double damping_frequency_hz = 0.0;
+  // ---- analysis.reduction: modes of K_t kept up to the cutoff ----------------------------------
+  double cutoff_hz = 0.0;       ///< > 0: explicit cutoff
+  double cutoff_factor = 20.0;  ///< else cutoff = factor × the highest frequency of interest
+  // ---- load shape and outputs --------------------------------------------------------------------
+  FeNodeDirection excitation;
+  std::vector<FeNodeDirection> outputs;  ///< at least one (default: the excitation point)
+  // ---- analyses ----------------------------------------------------------------------------------
+  std::optional<FeNonlinearModesSpec> nonlinear_modes;
+  std::optional<FeFrfSpec> frf;
+};
+
+}  // namespace jointhb::io

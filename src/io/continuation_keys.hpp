@@ -1,0 +1,17 @@
+#pragma once
+// The `continuation:` mapping of an analysis (docs/case-files.md, "analysis.frf.continuation"),
+// shared by the discrete-model and finite-element readers (private to the io layer).
+
+#include <string>
+
+#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "yaml_support.hpp"
+
+namespace jointhb::io {
+
+/// Reads initial_step, min_step, max_step, max_points, residual_tolerance into `o` (keys not given
+/// keep o's values) and checks min_step ≤ initial_step ≤ max_step, blaming a value the file gives.
+void read_continuation_keys(const yaml::Reader& reader, const YAML::Node& node,
+                            const std::string& path, continuation::Options& o);
+
+}  // namespace jointhb::io
