@@ -130,7 +130,9 @@ class DynamicsReader {
   }
 
   void read_reduction(const YAML::Node& node, const std::string& path, FeDynamicsSpec& d) const {
-    const Fields f = r_.fields(node, path, {"cutoff_hz", "cutoff_factor"});
+    const Fields f = r_.fields(node, path, {"cutoff_hz", "cutoff_factor", "contact_patch"});
+    if (f.has("contact_patch"))
+      d.contact_patch = number_in(f, "contact_patch", 0.0, std::numeric_limits<double>::infinity(), false, true);
     if (f.has("cutoff_hz") && f.has("cutoff_factor"))
       r_.fail(f.find("cutoff_factor")->key, f.path_of("cutoff_factor"), "give either cutoff_hz or cutoff_factor, not both");
     if (f.has("cutoff_hz")) d.cutoff_hz = number_in(f, "cutoff_hz", 0.0, std::numeric_limits<double>::infinity(), true, true);

@@ -42,7 +42,7 @@ assert max(z) > 2.5 * z[0], (z[0], max(z))                    # friction damping
 # the output amplitude is linear in q at small amplitude (a fixed mode-shape entry)
 assert abs((u[1] / q[1]) / (u[0] / q[0]) - 1) < 1e-3, (u[0] / q[0], u[1] / q[1])
 im = s["interface_model"]
-assert im["contact_points"] == 192 and im["rigid_modes"] == 6, im
+assert im["contact_points"] == 63 and im["contact_patch"]["points_before"] == 192 and im["rigid_modes"] == 6, im
 assert im["cache"] == "miss" and s["preload"]["cache"] == "miss"
 print(f"ok: f {f[0]:.3f} -> {f[-1]:.3f} Hz, zeta {z[0]:.4g} -> {z[-1]:.4g} over {len(rows)} points "
       f"in {b['seconds']['total']:.1f} s (linear solves {b['seconds']['linear_solve']:.1f} s)")

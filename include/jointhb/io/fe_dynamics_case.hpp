@@ -6,7 +6,7 @@
 //   analysis:
 //     damping: {ratio: 0.005}                 # or {ratio: ζ, frequency_hz: f} or
 //                                             #    {rayleigh: {alpha: a [1/s], beta: b [s]}}
-//     reduction: {cutoff_factor: 20}          # or {cutoff_hz: 25000}
+//     reduction: {cutoff_factor: 20, contact_patch: 0}   # or {cutoff_hz: 25000}
 //     excitation: {point: [0.16, 0.015, 0.008], direction: [0, 0, 1]}
 //     outputs: [{name: tip, point: [0.16, 0.015, 0.008], direction: [0, 0, 1]}]
 //     nonlinear_modes: {mode: 1, log10_amplitude: [-9, -4], frequency_drop: 0.05, harmonics: 1}
@@ -63,6 +63,9 @@ struct FeDynamicsSpec {
   // ---- analysis.reduction: modes of K_t kept up to the cutoff ----------------------------------
   double cutoff_hz = 0.0;       ///< > 0: explicit cutoff
   double cutoff_factor = 20.0;  ///< else cutoff = factor × the highest frequency of interest
+  /// [m] ≥ 0: contact points merged into square patches of this size (reduction/contact_patches.hpp,
+  /// eq. T-31); 0: only coincident points (exact: nodal integration's node pairs)
+  double contact_patch = 0.0;
   // ---- load shape and outputs --------------------------------------------------------------------
   FeNodeDirection excitation;
   std::vector<FeNodeDirection> outputs;  ///< at least one (default: the excitation point)
