@@ -105,13 +105,21 @@ ContactPatchResult merge_contact_patches(const hb::InterfaceModel& model, const 
   m.load_name = model.load_name;
   m.load_modal = model.load_modal;
   m.areas.resize(Pc);
+  // Load weights ω_p = A_p p_p (area weights where a whole patch carries no pressure).
   std::vector<Eigen::Triplet<double>> w;
+  std::vector<double> weight(static_cast<std::size_t>(P));
   for (int c = 0; c < Pc; ++c) {
-    double area = 0.0;
-    for (int p : members[static_cast<std::size_t>(c)]) area += model.areas[p];
+    double area = 0.0, load = 0.0;
+    for (int p : members[static_cast<std::size_t>(c)]) {
+      area += model.areas[p];
+      load += model.areas[p] * std::max(-model.references[static_cast<std::size_t>(p)].traction.z(), 0.0);
+    }
     m.areas[c] = area;
-    for (int p : members[static_cast<std::size_t>(c)])
-      for (int d = 0; d < 3; ++d) w.emplace_back(3 * c + d, 3 * p + d, model.areas[p] / area);
+    for (int p : members[static_cast<std::size_t>(c)]) {
+      const double pressure = std::max(-model.references[static_cast<std::size_t>(p)].traction.z(), 0.0);
+      weight[static_cast<std::size_t>(p)] = load > 0.0 ? model.areas[p] * pressure / load : model.areas[p] / area;
+      for (int d = 0; d < 3; ++d) w.emplace_back(3 * c + d, 3 * p + d, weight[static_cast<std::size_t>(p)]);
+    }
   }
   SpMat W(3 * Pc, 3 * P);
   W.setFromTriplets(w.begin(), w.end());
@@ -145,9 +153,8 @@ ContactPatchResult merge_contact_patches(const hb::InterfaceModel& model, const 
     const contact::ContactPoint& law = model.groups[static_cast<std::size_t>(patch_group[static_cast<std::size_t>(c)])].law;
     hb::ContactPointReference ref;
     for (int p : members[static_cast<std::size_t>(c)]) {
-      const double share = model.areas[p] / m.areas[c];
-      ref.traction += share * model.references[static_cast<std::size_t>(p)].traction;
-      ref.gap += share * model.references[static_cast<std::size_t>(p)].gap;
+      ref.traction += model.areas[p] / m.areas[c] * model.references[static_cast<std::size_t>(p)].traction;
+      ref.gap += weight[static_cast<std::size_t>(p)] * model.references[static_cast<std::size_t>(p)].gap;
     }
     const double pressure = -ref.traction.z();
     if (pressure > 0.0) ref.gap.z() = law.options().normal.gap_at_pressure(pressure);

@@ -25,9 +25,14 @@
 // of low-pressure points: no periodic state), which this study also records.
 //
 //   lap_damping [--ci] OUTPUT_PREFIX
-// --ci: 20 × 6 × 1 C3D8I per plate (192 contact points), H = 1; full: also H = 3 and the
-// 40 × 12 × 1 mesh (768 points). Tables: PREFIX_backbone_<label>.csv (one row per point),
-// PREFIX_summary.csv (one row per run), PREFIX_frf_peaks.csv (one row per force level).
+// The 192 nodal contact points of the coarse mesh are merged into their 63 node pairs (exact,
+// eq. T-31); the patch runs measure the interface reduction's error against them.
+// --ci: 20 × 6 × 1 C3D8I per plate, H = 1, node pairs and 10 mm patches, one FRF; full: also all
+// 192 points, 5 and 20 mm patches, k_T following p_N(t), H = 3 and 5, cutoffs 10 and 40 × f_1, and
+// the 40 × 12 × 1 mesh. Tables: PREFIX_backbone_<label>.csv (one row per point),
+// PREFIX_summary.csv (one row per run), PREFIX_frf_peaks.csv (one row per force level),
+// PREFIX_deviation.csv (each run on the coarse mesh against the first: the largest deviation of
+// the frequency drop, relative to the curve's total drop, and of ζ, relative).
 
 #include <fmt/format.h>
 
@@ -44,6 +49,7 @@
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
 #include "study_arguments.hpp"
@@ -67,6 +73,7 @@ struct Run {
   double cutoff_factor = 20.0;  // cutoff = factor × f_1
   std::vector<double> forces;   // FRF force levels [N] whose peaks are checked against the backbone
   double frf_range[2] = {0.95, 1.003};  // × f_1
+  double patch = 0.0;           // contact patches [m] (T-31); 0: node pairs (exact); < 0: all points
 };
 
 struct PeakCheck {
@@ -118,9 +125,37 @@ PeakCheck frf_peak(const hb::InterfaceModel& model, const continuation::Interfac
   return c;
 }
 
+struct CurvePoint {
+  double q, f, zeta;
+};
+
+// Largest relative deviation of `curve` from `reference` in frequency shift f_lin − f and in ζ,
+// over the points of `curve` inside the reference's amplitude range (log-linear interpolation).
+std::pair<double, double> curve_deviation(const std::vector<CurvePoint>& curve, const std::vector<CurvePoint>& reference) {
+  double df = 0.0, dz = 0.0;
+  const double f_lin = reference.front().f;
+  double shift_max = 0.0;
+  for (const auto& c : reference) shift_max = std::max(shift_max, f_lin - c.f);
+  for (const auto& c : curve) {
+    for (std::size_t i = 1; i < reference.size(); ++i) {
+      const auto& a = reference[i - 1];
+      const auto& b = reference[i];
+      if (c.q < a.q || c.q > b.q) continue;
+      const double t = std::log(c.q / a.q) / std::log(b.q / a.q);
+      const double f = (1 - t) * a.f + t * b.f, z = (1 - t) * a.zeta + t * b.zeta;
+      df = std::max(df, std::abs(c.f - f) / shift_max);  // relative to the largest frequency drop
+      dz = std::max(dz, std::abs(c.zeta / z - 1.0));
+      break;
+    }
+  }
+  return {df, dz};
+}
+
 struct Outcome {
   std::string label, reason;
   std::vector<PeakCheck> peaks;
+  std::vector<CurvePoint> curve;
+  int fine_points = 0;
   int points = 0, contact_points = 0, kept_modes = 0, unknowns = 0, newton = 0;
   double f1 = 0, zeta_linear = 0, linear_f_error = 0, linear_zeta_error = 0, energy_error = 0,
          truncation = 0,
@@ -158,7 +193,9 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
   // Rayleigh damping: 0.5 % at f_1 from the stiffness term alone.
   const double zeta_target = 0.005;
   mo.rayleigh_stiffness = 2.0 * zeta_target / (kTwoPi * f1);
-  const reduction::ModalInterfaceResult mi = reduction::build_modal_interface(model, p, load, outputs, mo);
+  reduction::ModalInterfaceResult mi = reduction::build_modal_interface(model, p, load, outputs, mo);
+  out.fine_points = mi.model.num_points();
+  if (r.patch >= 0.0) mi.model = reduction::merge_contact_patches(mi.model, model, {.size = r.patch}).model;
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.contact_points = mi.model.num_points();
   out.kept_modes = mi.kept_modes;
@@ -188,6 +225,7 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
                        s.slipping_points, pt.iterations);
           std::fflush(csv);
         }
+        out.curve.push_back({s.amplitude, f, s.damping_ratio});
         worst_energy = std::max(worst_energy, std::abs(s.viscous_dissipation + s.fourier_dissipation -
                                                        s.injected_energy) / s.injected_energy);
         worst_truncation = std::max(worst_truncation, std::abs(s.damping_ratio_energy / s.damping_ratio - 1.0));
@@ -231,11 +269,20 @@ int main(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const double drop = 0.03;
-  std::vector<Run> runs{{"20x6x1_H1", 20, 6, 1, 1, true, 20.0, {0.5}, {0.99, 0.999}}};
+  // The first run is the reference of the curve comparisons (node pairs, H = 1).
+  std::vector<Run> runs{{"20x6x1_H1", 20, 6, 1, 1, true, 20.0, {0.5}, {0.99, 0.999}, 0.0},
+                        {"20x6x1_H1_patch5mm", 20, 6, 1, 1, true, 20.0, {}, {0.95, 1.003}, 0.005}};
   if (!args.ci) {
     runs.front().forces = {0.2, 0.5, 1.0};
-    runs.push_back({"20x6x1_H1_instantaneous_kT", 20, 6, 1, 1, false, 20.0, {}});
-    runs.push_back({"20x6x1_H3", 20, 6, 1, 3, true, 20.0, {}});
+    runs.push_back({"20x6x1_H1_all_points", 20, 6, 1, 1, true, 20.0, {}, {0.95, 1.003}, -1.0});
+    runs.push_back({"20x6x1_H1_patch10mm", 20, 6, 1, 1, true, 20.0, {}, {0.95, 1.003}, 0.01});
+    runs.push_back({"20x6x1_H1_patch20mm", 20, 6, 1, 1, true, 20.0, {}, {0.95, 1.003}, 0.02});
+    runs.push_back({"20x6x1_H1_instantaneous_kT", 20, 6, 1, 1, false, 20.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"20x6x1_H3", 20, 6, 1, 3, true, 20.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"20x6x1_H5", 20, 6, 1, 5, true, 20.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"20x6x1_H1_cutoff10", 20, 6, 1, 1, true, 10.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"20x6x1_H1_cutoff40", 20, 6, 1, 1, true, 40.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"40x12x1_H1", 40, 12, 1, 1, true, 20.0, {}, {0.95, 1.003}, 0.0});
   }
   std::FILE* summary = std::fopen((args.prefix + "_summary.csv").c_str(), "w");
   if (summary)
@@ -243,13 +290,26 @@ int main(int argc, char** argv) {
                           "linear_zeta_error,energy_error,zeta_vs_loop_energy,final_drop,q_end,zeta_max,build_s,backbone_s,lu_s,aft_s,stop\n");
   std::FILE* peaks = std::fopen((args.prefix + "_frf_peaks.csv").c_str(), "w");
   if (peaks) std::fprintf(peaks, "run,force_N,q,peak_hz,backbone_hz,relative_error,frf_points,frf_s\n");
+  std::FILE* deviations = std::fopen((args.prefix + "_deviation.csv").c_str(), "w");
+  if (deviations) std::fprintf(deviations, "run,contact_points,unknowns,frequency_shift_deviation,damping_deviation,backbone_s\n");
   bool ok = true;
+  std::vector<CurvePoint> reference;
   for (const Run& r : runs) {
     const Outcome o = run(r, args.prefix, drop);
-    std::printf("%-28s P=%d modes=%d U=%d f1=%.3f Hz: %d points (%d Newton), linear f %.1e zeta %.1e, energy %.1e "
+    if (reference.empty()) {
+      reference = o.curve;
+    } else if (r.nx == runs.front().nx && !o.curve.empty()) {  // same mesh: against the reference curve
+      const auto [df, dz] = curve_deviation(o.curve, reference);
+      std::printf("  vs %s: frequency shift %.2e, damping %.2e\n", runs.front().label.c_str(), df, dz);
+      if (deviations)
+        std::fprintf(deviations, "%s,%d,%d,%.3e,%.3e,%.2f\n", o.label.c_str(), o.contact_points, o.unknowns, df, dz, o.seconds);
+      if (r.patch < 0.0) ok = ok && df < 1e-6 && dz < 1e-6;  // node pairs are exact
+      // Patches approximate the slip (reported, not bounded); their linear limit is exact (below).
+    }
+    std::printf("%-28s P=%d (of %d) modes=%d U=%d f1=%.3f Hz: %d points (%d Newton), linear f %.1e zeta %.1e, energy %.1e "
                 "(zeta vs loop W_D %.1e), "
                 "drop %.3f at q=%.2e, zeta_max %.4f; build %.1f s, backbone %.1f s (LU %.1f, AFT %.1f)\n  stop: %s\n",
-                o.label.c_str(), o.contact_points, o.kept_modes, o.unknowns, o.f1, o.points, o.newton,
+                o.label.c_str(), o.contact_points, o.fine_points, o.kept_modes, o.unknowns, o.f1, o.points, o.newton,
                 o.linear_f_error, o.linear_zeta_error, o.energy_error, o.truncation, o.final_drop, o.q_end,
                 o.zeta_max, o.build_seconds, o.seconds, o.lu_seconds, o.aft_seconds, o.reason.c_str());
     if (summary)
@@ -258,8 +318,8 @@ int main(int argc, char** argv) {
                    o.newton, o.linear_f_error, o.linear_zeta_error, o.energy_error, o.truncation, o.final_drop, o.q_end,
                    o.zeta_max, o.build_seconds, o.seconds, o.lu_seconds, o.aft_seconds, o.reason.c_str());
     if (r.frozen) {
-      ok = ok && o.linear_f_error < 1e-6 && o.linear_zeta_error < 1e-4 &&
-           o.truncation < (r.harmonics == 1 ? 0.05 : 0.02) && o.final_drop >= drop;
+      ok = ok && o.linear_f_error < 1e-6 && o.linear_zeta_error < 2e-4;
+      if (r.patch <= 0.0) ok = ok && o.truncation < (r.harmonics == 1 ? 0.05 : 0.02) && o.final_drop >= drop;
       for (const PeakCheck& k : o.peaks) ok = ok && k.q > 0.0 && k.error < 1e-3;
     }
     if (peaks)
@@ -269,6 +329,7 @@ int main(int argc, char** argv) {
   }
   if (summary) std::fclose(summary);
   if (peaks) std::fclose(peaks);
+  if (deviations) std::fclose(deviations);
   std::printf("%s\n", ok ? "lap_damping: all bounds met" : "lap_damping: a bound was exceeded");
   return ok ? 0 : 1;
 }

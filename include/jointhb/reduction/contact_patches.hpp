@@ -5,20 +5,24 @@
 // (m Fourier coefficients), and its LU costs O((3 P m)³): merging k points per patch divides that
 // by k³ while the structure, the preloaded state and the linear (stuck) model stay exact.
 //
-// With W (3P_c × 3P) the area-weighted average over a patch, W(3c+d, 3p+d) = A_p / A_c for p in
-// patch c (A_c = Σ A_p), the patch's gap is g_c = W g and its traction acts uniformly over its
-// points, A N_fine = Wᵀ A_c N_c (the same virtual work). Every linear term of the model follows:
+// With W (3P_c × 3P) the load-weighted mean over a patch, W(3c+d, 3p+d) = ω_p = A_p p_p / Σ A p
+// (the preloaded pressure p_p; area weights where a patch carries no pressure), the patch's gap is
+// g_c = W g and its traction is shared in proportion to the pressure, A N = Wᵀ A_c N_c (the same
+// virtual work; A_c = Σ A_p). Area weights were tried first: a patch that holds an opening edge
+// point and a pressed neighbour then "opens" under the mean of their normal motions, and on the
+// lap 5 mm patches softened ten times too early; with load weights the points that carry no
+// load do not move the patch. Every linear term of the model follows:
 //   gap_shapes_c = W Gφ,   R0_c = W R0 Wᵀ,   R1_c = W R1 Wᵀ,   load_residual_c = W load_residual,
 //   output residual_c = W residual,   areas_c = A_c,                                        (T-31)
-// and the patch's reference state is the area average of its points' preloaded tractions (so the
+// and the patch's reference state is the area mean of its points' preloaded tractions (so the
 // patch carries the same static force) with the normal gap at which the law gives that mean
-// pressure, p_N(g_ref,c) = p̄_c, and the tangential gap averaged. Its stuck tangent C_c is the
-// law's at that reference. The linear part of the balance keeps the fine K_t (the modes and
+// pressure, p_N(g_ref,c) = p̄_c, and the tangential gap averaged with W. Its stuck tangent C_c is
+// the law's at that reference. The linear part of the balance keeps the fine K_t (the modes and
 // residual flexibilities are not recomputed), so at small amplitude the reduced model is the fine
 // one exactly (N_c = ΔT_c − C_c δg_c → 0); what is approximated is the nonlinear deviation, which
 // a patch evaluates once at its mean gap and mean pressure instead of at each point: slip that
 // starts at the low-pressure rim of a patch is smeared over it. The error is measured against the
-// unreduced model (validation/fe/lap_damping, tests/unit/reduction/contact_patches_test.cpp).
+// node pairs (validation/fe/lap_damping, tests/unit/reduction/contact_patches_test.cpp).
 //
 // Patches: per interface (group), the square cells of edge `size` in the (t1, t2) coordinates of
 // the points' local frames, from the interface's smallest coordinates. Points of one patch must

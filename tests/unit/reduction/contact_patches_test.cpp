@@ -1,8 +1,8 @@
 // Interface reduction by contact patches (reduction/contact_patches.hpp) on the preloaded coarse
-// lap (192 contact points): patches smaller than the point spacing reproduce the model; larger
-// ones keep the static force of every patch, conserve the virtual work of the contact forces
-// (A N_fine = Wᵀ A_c N_c), and give the fine model's linear limit; patches that mix local frames
-// are refused.
+// lap (192 contact points): coincident points (node pairs) merge exactly; larger patches keep the
+// static force of every patch, conserve the virtual work of the contact forces
+// (A N_fine = Wᵀ A_c N_c with load weights), and give the fine model's linear limit; patches that
+// mix local frames are refused.
 #include "jointhb/reduction/contact_patches.hpp"
 
 #include <gtest/gtest.h>
@@ -109,11 +109,21 @@ TEST(ContactPatches, PatchesKeepTheStaticForceAndTheVirtualWork) {
   for (int p = 0; p < fine.num_points(); ++p) fine_force += fine.areas[p] * fine.references[static_cast<std::size_t>(p)].traction;
   for (int c = 0; c < r.patches; ++c) patch_force += r.model.areas[c] * r.model.references[static_cast<std::size_t>(c)].traction;
   EXPECT_NEAR((patch_force - fine_force).norm(), 0.0, 1e-10 * fine_force.norm());
-  // gap_shapes_c = W Gφ: the modal force of a uniform patch traction equals the fine one.
+  // Load weights ω_p = A_p p_p / Σ_patch A p (T-31): the patch gap is Σ ω_p g_p and its force
+  // A_c N_c is shared as ω_p A_c N_c.
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(r.patches), weight(fine.num_points());
+  for (int p = 0; p < fine.num_points(); ++p)
+    load[r.patch_of_point[static_cast<std::size_t>(p)]] += fine.areas[p] * -fine.references[static_cast<std::size_t>(p)].traction.z();
+  for (int p = 0; p < fine.num_points(); ++p)
+    weight[p] = fine.areas[p] * -fine.references[static_cast<std::size_t>(p)].traction.z() /
+                load[r.patch_of_point[static_cast<std::size_t>(p)]];
+  // gap_shapes_c = W Gφ: the modal force of the patch forces equals that of the shared fine forces.
   Eigen::VectorXd tc = Eigen::VectorXd::LinSpaced(3 * r.patches, -1.0, 2.0);  // any patch tractions
   Eigen::VectorXd fine_traction(3 * fine.num_points());
-  for (int p = 0; p < fine.num_points(); ++p)
-    fine_traction.segment<3>(3 * p) = fine.areas[p] * tc.segment<3>(3 * r.patch_of_point[static_cast<std::size_t>(p)]);
+  for (int p = 0; p < fine.num_points(); ++p) {
+    const int c = r.patch_of_point[static_cast<std::size_t>(p)];
+    fine_traction.segment<3>(3 * p) = weight[p] * r.model.areas[c] * tc.segment<3>(3 * c);
+  }
   Eigen::VectorXd patch_traction(3 * r.patches);
   for (int c = 0; c < r.patches; ++c) patch_traction.segment<3>(3 * c) = r.model.areas[c] * tc.segment<3>(3 * c);
   EXPECT_LT(relative(r.model.gap_shapes.transpose() * patch_traction, fine.gap_shapes.transpose() * fine_traction), 1e-12);
@@ -122,7 +132,7 @@ TEST(ContactPatches, PatchesKeepTheStaticForceAndTheVirtualWork) {
   Eigen::VectorXd mean_gap = Eigen::VectorXd::Zero(3 * r.patches);
   for (int p = 0; p < fine.num_points(); ++p) {
     const int c = r.patch_of_point[static_cast<std::size_t>(p)];
-    mean_gap.segment<3>(3 * c) += fine.areas[p] / r.model.areas[c] * fine_gap.segment<3>(3 * p);
+    mean_gap.segment<3>(3 * c) += weight[p] * fine_gap.segment<3>(3 * p);
   }
   EXPECT_LT(relative(r.model.residual_flexibility * patch_traction, mean_gap), 1e-12);
 }
