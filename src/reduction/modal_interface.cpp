@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <map>
+#include <utility>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -59,6 +62,28 @@ SpMat stacked_gap_operator(const preload::PreloadModel& model, const fe::DofMap&
 
 bool finite(const Eigen::VectorXd& v) { return v.array().isFinite().all(); }
 
+// The distinct rows of G (exact equality of their entries) and, per row, the index of its distinct
+// representative. Nodal integration gives every element a point at each of its nodes: the points
+// of one node pair have identical rows, so the residual terms need only the distinct ones.
+std::pair<SpMat, std::vector<int>> distinct_rows(const SpMat& G) {
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = G;
+  std::map<std::vector<std::pair<int, double>>, int> seen;
+  std::vector<int> representative(static_cast<std::size_t>(rows.rows()));
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int r = 0; r < rows.outerSize(); ++r) {
+    std::vector<std::pair<int, double>> key;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, r); it; ++it)
+      if (it.value() != 0.0) key.emplace_back(static_cast<int>(it.col()), it.value());
+    const auto [where, inserted] = seen.emplace(std::move(key), static_cast<int>(seen.size()));
+    representative[static_cast<std::size_t>(r)] = where->second;
+    if (inserted)
+      for (const auto& [col, value] : where->first) entries.emplace_back(where->second, col, value);
+  }
+  SpMat distinct(static_cast<Eigen::Index>(seen.size()), G.cols());
+  distinct.setFromTriplets(entries.begin(), entries.end());
+  return {distinct, representative};
+}
+
 }  // namespace
 
 std::string ModalInterfaceOptions::validate() const {
@@ -78,12 +103,13 @@ std::string ModalInterfaceOptions::validate() const {
 
 std::string ModalInterfaceResult::brief() const {
   const hb::InterfaceModel& m = model;
-  return fmt::format("{} kept modes ({} rigid) of {} computed{}{}, {} contact points in {} groups, {} outputs, "
-                     "{:.2f} s (modes {:.2f}, factor {:.2f}, residual {:.2f})",
+  return fmt::format("{} kept modes ({} rigid) of {} computed{}{}, {} contact points ({} distinct) in {} groups, {} "
+                     "outputs, {:.2f} s (modes {:.2f}, factor {:.2f}, residual {:.2f})",
                      kept_modes, m.rigid_modes, modes.eigenvalues.size(),
                      kept_modes > 0 ? fmt::format(", up to {:.6g} Hz", modes.frequencies_hz[kept_modes - 1]) : "",
                      truncated_by_max_modes ? " (max_modes reached before the cutoff)" : "", m.num_points(),
-                     m.groups.size(), m.outputs.size(), seconds, modes_seconds, factor_seconds, residual_seconds);
+                     distinct_gap_rows / 3, m.groups.size(), m.outputs.size(), seconds, modes_seconds,
+                     factor_seconds, residual_seconds);
 }
 
 ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, const preload::PreloadResult& preload,
@@ -218,9 +244,13 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   std::vector<Eigen::VectorXd> c;
   c.reserve(outputs.size());
   for (const ModalOutputSpec& o : outputs) c.push_back(dofs.restrict(o.functional));
-  const Eigen::Index width = rows + 1 + num_out, col_f = rows;
+  // Only the distinct rows of G are solved for; the duplicates are copies (exact).
+  const auto [Gd, rep] = distinct_rows(G);
+  const Eigen::Index distinct = Gd.rows();
+  r.distinct_gap_rows = static_cast<int>(distinct);
+  const Eigen::Index width = distinct + 1 + num_out, col_f = distinct;
   Eigen::MatrixXd B(n, width);
-  B.leftCols(rows) = Eigen::MatrixXd(SpMat(G.transpose()));
+  B.leftCols(distinct) = Eigen::MatrixXd(SpMat(Gd.transpose()));
   B.col(col_f) = f;
   for (Eigen::Index k = 0; k < num_out; ++k) B.col(col_f + 1 + k) = c[static_cast<std::size_t>(k)];
   Eigen::MatrixXd W = factor.solve(B);
@@ -238,19 +268,29 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   gemm(true, false, 1.0, W, MW, 0.0, Q);  // Wᵀ M W: R1, load and output first-order terms
   const Eigen::MatrixXd GW = G * W;       // R0, load and output quasi-static terms
 
-  im.residual_flexibility = 0.5 * (GW.leftCols(rows) + GW.leftCols(rows).transpose());
-  im.residual_inertia = 0.5 * (Q.topLeftCorner(rows, rows) + Q.topLeftCorner(rows, rows).transpose());
+  // Expand the distinct columns: R0 = G Z, R1 = Zᵀ M Z with Z's column j = distinct column rep[j].
+  Eigen::MatrixXd R0(rows, rows), R1(rows, rows);
+  Eigen::VectorXd q_f(rows);
+  for (Eigen::Index j = 0; j < rows; ++j) {
+    const int dj = rep[static_cast<std::size_t>(j)];
+    R0.col(j) = GW.col(dj);
+    q_f[j] = Q(dj, col_f);
+    for (Eigen::Index i = 0; i < rows; ++i) R1(i, j) = Q(rep[static_cast<std::size_t>(i)], dj);
+  }
+  im.residual_flexibility = 0.5 * (R0 + R0.transpose());
+  im.residual_inertia = 0.5 * (R1 + R1.transpose());
   im.load_name = load.name;
   im.load_modal = Phi.transpose() * f;
   im.load_residual0 = GW.col(col_f);
-  im.load_residual1 = Q.col(col_f).head(rows);
+  im.load_residual1 = q_f;
   for (Eigen::Index k = 0; k < num_out; ++k) {
     const Eigen::Index col = col_f + 1 + k;
     hb::InterfaceOutput o;
     o.name = outputs[static_cast<std::size_t>(k)].name;
     o.modal = Phi.transpose() * c[static_cast<std::size_t>(k)];
     o.residual0 = GW.col(col);
-    o.residual1 = Q.col(col).head(rows);
+    o.residual1.resize(rows);
+    for (Eigen::Index i = 0; i < rows; ++i) o.residual1[i] = Q(rep[static_cast<std::size_t>(i)], col);
     o.load_residual0 = c[static_cast<std::size_t>(k)].dot(W.col(col_f));
     o.load_residual1 = Q(col, col_f);
     im.outputs.push_back(std::move(o));

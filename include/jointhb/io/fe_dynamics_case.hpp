@@ -37,8 +37,8 @@ struct FeNodeDirection {
 struct FeNonlinearModesSpec {
   std::vector<int> modes{1};  ///< elastic modes followed (1 = the lowest elastic mode), ascending
   double log10_amplitude_start = -9.0, log10_amplitude_end = -4.0;  ///< λ = log10 q [m √kg]
-  /// > 0: stop a curve once its frequency has fallen by this fraction of the linear one (the
-  /// joint is then in macroslip); 0: run to log10_amplitude_end.
+  /// > 0: stop a curve once its frequency has moved by this fraction of the linear one (it falls
+  /// into macroslip; it rises where open regions clap); 0: run to log10_amplitude_end.
   double frequency_drop = 0.0;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation;

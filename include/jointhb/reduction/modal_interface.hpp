@@ -29,8 +29,9 @@
 // kept modes, so zeroing the rigid-body ω² afterwards changes nothing in the residual terms.
 // Accuracy: the neglected term of (T-23) is w²/(β³μ_r³): the error of a receptance below the
 // cutoff falls roughly like (Ω²/μ_cutoff)² relative to the residual part (tested).
-// Cost: modes + one factorisation of S + (3P + 1 + outputs) solves + O(n (3P)²) for R1 (BLAS);
-// memory: two dense n × 3P blocks.
+// Cost: modes + one factorisation of S + (3P_d + 1 + outputs) solves + O(n (3P_d)²) for R1 (BLAS),
+// P_d the distinct points (G's identical rows, the node pairs of nodal integration, are solved
+// once: a third to a quarter of P); memory: two dense n × 3P_d blocks.
 
 #include <Eigen/Core>
 #include <string>
@@ -80,6 +81,9 @@ struct ModalInterfaceResult {
   modal::ModalResult modes;  ///< every computed mode (frequencies, residuals) for reporting
   int kept_modes = 0;
   bool truncated_by_max_modes = false;  ///< max_modes reached before a mode above the cutoff
+  /// Distinct rows of G solved for (3 per node pair with nodal integration: the points of one node
+  /// pair have identical rows, and their residual terms are copies).
+  int distinct_gap_rows = 0;
   double modes_seconds = 0, factor_seconds = 0, residual_seconds = 0, seconds = 0;
 
   /// One line: kept modes (rigid), frequency range, points, timings.

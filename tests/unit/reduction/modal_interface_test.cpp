@@ -260,6 +260,27 @@ TEST(ModalInterface, RejectsInvalidOptionsAndSizesNamingTheField) {
                std::runtime_error);
 }
 
+// Nodal integration: the 192 points are 63 node pairs with identical gap rows; only those are
+// solved for, and the residual terms of coincident points are exact copies.
+TEST(ModalInterface, CoincidentPointsShareTheirResidualTerms) {
+  const rd::ModalInterfaceResult r = build(2000.0);
+  EXPECT_EQ(r.model.num_points(), 192);
+  EXPECT_EQ(r.distinct_gap_rows, 3 * 63);
+  const Eigen::MatrixXd G = Eigen::MatrixXd(lap().G);
+  int pairs = 0;
+  for (int p = 0; p < 192; ++p)
+    for (int q = p + 1; q < 192; ++q)
+      if ((G.middleRows(3 * p, 3) - G.middleRows(3 * q, 3)).cwiseAbs().maxCoeff() == 0.0) {
+        ++pairs;
+        EXPECT_EQ((r.model.residual_flexibility.middleRows(3 * p, 3) - r.model.residual_flexibility.middleRows(3 * q, 3))
+                      .cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_EQ((r.model.residual_inertia.middleRows(3 * p, 3) - r.model.residual_inertia.middleRows(3 * q, 3))
+                      .cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_EQ((r.model.load_residual1.segment<3>(3 * p) - r.model.load_residual1.segment<3>(3 * q)).cwiseAbs().maxCoeff(), 0.0);
+      }
+  EXPECT_GT(pairs, 100);
+}
+
 TEST(ModalInterface, FreeFreeLapHasSixRigidModesThatOpenNoGap) {
   const rd::ModalInterfaceResult r = build(4.0 * first_elastic_hz());
   const hb::InterfaceModel& m = r.model;
