@@ -488,8 +488,12 @@ int main(int argc, char** argv) {
     // Bounds (README: measured 10 × 3 × 1, H = 3 at resonance: |X1| 6.5e-3, phase 2.5e-2 rad,
     // W_ext 4.6e-3, W_D 2.0e-2): HB with the largest H within these of the time-exact Newmark,
     // and closer than H = 1 at every frequency.
-    ok = ok && s.ok && s.worst_hb_amp < 0.02 && s.worst_hb_phase < 0.05 && s.worst_hb_wext < 0.02 &&
-         s.worst_hb_wd < 0.05 && s.worst_hb_amp < s.best_h1_amp;
+    // A configuration run at H = 1 only (the 192-point mesh) is reported, not scored: H = 1 is
+    // 13 % off there (README).
+    ok = ok && s.ok;
+    if (c.harmonics.back() >= 3)
+      ok = ok && s.worst_hb_amp < 0.02 && s.worst_hb_phase < 0.05 && s.worst_hb_wext < 0.02 &&
+           s.worst_hb_wd < 0.05 && s.worst_hb_amp < s.best_h1_amp;
   }
   if (points) std::fclose(points);
   if (summary) std::fclose(summary);
