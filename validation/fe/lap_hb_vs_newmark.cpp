@@ -29,15 +29,16 @@
 // decides when it has settled).
 //
 // Force level: the backbone (EPMC, H = 1) is traced to a frequency drop `drop_target`; at that
-// amplitude q* the phase-resonant force is F = ξ Ω q*/|φ_1ᵀf| (the EPMC damping force supplied by
+// amplitude q* the phase-resonant force is F = ξ Ω q*/|φ_1ᵀf| = 2ζΩ²q*/|φ_1ᵀf| (the EPMC damping force supplied by
 // the excitation), so the forced resonance sits near Ω_bb(q*) with the joint in microslip.
 //
 //   lap_hb_vs_newmark [--ci] OUTPUT_PREFIX
 // --ci: 10 × 3 × 1 C3D8I per plate (48 contact points), H = 1, 3, the resonance frequency only,
 // N = 64 / 128. Full: 10 × 3 × 1 with H = 1, 3, 5, 7 at five frequencies, N = 64 / 128 / 256
 // (the observed order of the scheme), and 20 × 6 × 1 (192 points) with H = 1 at the resonance,
-// N = 64 / 128. Tables: PREFIX_points.csv (one row per frequency and method),
-// PREFIX_summary.csv.
+// N = 64 / 128 (reported, not scored). Tables: PREFIX_points.csv (one row per frequency and
+// method), PREFIX_newmark_order.csv, PREFIX_summary.csv. Measured numbers:
+// README_lap_hb_vs_newmark.md.
 
 #include <fmt/format.h>
 
