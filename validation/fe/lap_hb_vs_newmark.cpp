@@ -29,8 +29,9 @@
 // decides when it has settled).
 //
 // Force level: the backbone (EPMC, H = 1) is traced to a frequency drop `drop_target`; at that
-// amplitude q* the phase-resonant force is F = ξ Ω q*/|φ_1ᵀf| = 2ζΩ²q*/|φ_1ᵀf| (the EPMC damping force supplied by
-// the excitation), so the forced resonance sits near Ω_bb(q*) with the joint in microslip.
+// amplitude q* the phase-resonant force is F = ξ Ω q*/|φ_1ᵀf| = 2ζΩ²q*/|φ_1ᵀf| (the EPMC
+// damping force supplied by the excitation), so the forced resonance sits near Ω_bb(q*) with the
+// joint in microslip.
 //
 //   lap_hb_vs_newmark [--ci] OUTPUT_PREFIX
 // --ci: 10 × 3 × 1 C3D8I per plate (48 contact points), H = 1, 3, the resonance frequency only,
