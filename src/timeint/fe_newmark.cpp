@@ -94,7 +94,8 @@ class FeStepper {
         gamma_(0.5 - options.alpha),
         dt_(options.time_step),
         c0_(1.0 / (beta_ * dt_ * dt_)),
-        c1_(gamma_ / (beta_ * dt_)) {
+        c1_(gamma_ / (beta_ * dt_)),
+        laws_(fe_point_laws(model, preload, options)) {
     const double w = 1.0 + alpha_;
     k_linear_ = model.structure.stiffness + preload::bolt_stiffness(model.bolts, n_);
     damping_ = options.mass_damping * model.structure.mass +
@@ -140,8 +141,8 @@ class FeStepper {
       double d = 0.0;
       for (int p = 0; p < ci.geometry.num_points(); ++p) {
         const Eigen::Index k = 3 * p;
-        const contact::ContactStep s = ci.law.step(in.traction[i].segment<2>(k),
-                                                   in.gap[i].segment<3>(k), g.segment<3>(k));
+        const contact::ContactStep s = laws_[i][static_cast<std::size_t>(p)].step(
+            in.traction[i].segment<2>(k), in.gap[i].segment<3>(k), g.segment<3>(k));
         t.segment<3>(k) = s.traction;
         c[static_cast<std::size_t>(p)] = s.tangent;
         d += ci.geometry.points[static_cast<std::size_t>(p)].area * s.dissipation;
@@ -340,6 +341,7 @@ class FeStepper {
   FeNewmarkOptions options_;
   int n_;
   double alpha_, beta_, gamma_, dt_, c0_, c1_;
+  std::vector<std::vector<contact::ContactPoint>> laws_;  // per interface, per point
   SpMat k_linear_, damping_, s_, s_pattern_;
   bool has_damping_ = false;
   fe::DofMap dofs_;
@@ -422,6 +424,35 @@ std::string FeSteadyStateOptions::validate() const {
   return {};
 }
 
+std::vector<std::vector<contact::ContactPoint>> fe_point_laws(const preload::PreloadModel& model,
+                                                             const preload::PreloadResult& preload,
+                                                             const FeNewmarkOptions& options) {
+  check_inputs(model, preload, {});
+  std::vector<std::vector<contact::ContactPoint>> laws(model.interfaces.size());
+  for (std::size_t i = 0; i < model.interfaces.size(); ++i) {
+    const auto& ci = model.interfaces[i];
+    const contact::ContactPointOptions& o = ci.law.options();
+    const int points = ci.geometry.num_points();
+    const bool freeze = options.preloaded_tangential_stiffness &&
+                        o.stiffness_model == contact::TangentialStiffnessModel::proportional;
+    if (!freeze) {
+      laws[i].assign(static_cast<std::size_t>(points), ci.law);
+      continue;
+    }
+    // k_T,p = χ λ p_N(g_pre,p) (eq. T-30), floored as hb/interface_balance.cpp does: a point open
+    // in the preload keeps a valid (positive) constant stiffness and is open anyway.
+    const double floor = o.stiffness_ratio * o.normal.decay *
+                         std::max(o.gap_pressure_ratio, 1e-300) * o.normal.reference_pressure;
+    laws[i].reserve(static_cast<std::size_t>(points));
+    for (int p = 0; p < points; ++p) {
+      const double gap = preload.interfaces[i].state.gap[3 * p + 2];
+      const double k = ci.law.tangential_state(gap).limits.stiffness;
+      laws[i].push_back(ci.law.with_constant_stiffness(std::max(k, floor)));
+    }
+  }
+  return laws;
+}
+
 FeState preloaded_state(const preload::PreloadModel& model, const preload::PreloadResult& preload,
                         double time) {
   const int n = model.mesh->num_dofs();
@@ -472,13 +503,16 @@ std::optional<FeState> stuck_linear_fe_state(const preload::PreloadModel& model,
     s.velocity += dofs.expand((Complex(0.0, omega) * xp).real());
   }
   // Tractions: the exact increment from the preloaded state to the gaps of w.
+  const auto laws = fe_point_laws(model, preload, options);
   for (std::size_t i = 0; i < model.interfaces.size(); ++i) {
     const auto& ci = model.interfaces[i];
     const Vec g = preload.interfaces[i].state.gap + fe::gaps(ci.geometry, s.displacement);
     for (int p = 0; p < ci.geometry.num_points(); ++p) {
       const Eigen::Index k = 3 * p;
       s.traction[i].segment<3>(k) =
-          ci.law.step(s.traction[i].segment<2>(k), s.gap[i].segment<3>(k), g.segment<3>(k)).traction;
+          laws[i][static_cast<std::size_t>(p)]
+              .step(s.traction[i].segment<2>(k), s.gap[i].segment<3>(k), g.segment<3>(k))
+              .traction;
     }
     s.gap[i] = g;
   }

@@ -8,6 +8,12 @@
 // Each point's traction advances by the contact law's exact increment from the last converged
 // step, t_{n+1} = ContactPoint::step(t_T,n, g_n, g_{n+1}) (contact_point.hpp), g = g_pre + G w:
 // the state per point is (t_T, g). No Fourier series, no AFT: independent of the HB code path.
+// Tangential stiffness (`preloaded_tangential_stiffness`, default on, as harmonic balance's eq.
+// T-30, docs/theory.md §11): each point steps with ContactPoint::with_constant_stiffness(k_T,p),
+// k_T,p = k_T(g_pre,p) = χ λ p_pre,p its preloaded stiffness (the stiffness inside K_t), floored
+// at the gapping floor's stiffness for points open in the preload; the slip limit μ p_N(t) still
+// follows the instantaneous pressure. Off: k_T = χ λ p_N(t) of the proportional model. Points of
+// the constant model are unaffected either way.
 //
 // Damping: Rayleigh, C = a M + b K_t with K_t the stuck tangent about the preload, eq. (P-2)
 // (PreloadResult::dynamic_stiffness). A constant matrix, so a Craig–Bampton model reproduces it
@@ -30,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/contact/contact_point.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
 namespace jointhb::timeint {
@@ -58,10 +65,21 @@ struct FeNewmarkOptions {
   double newton_tolerance = 1e-10;
   /// (0, 1): refactor J̃ with the current tangent when ‖r_{k+1}‖∞ > ratio · ‖r_k‖∞
   double refactor_ratio = 0.2;
+  /// Each point's tangential stiffness frozen at its preloaded value k_T(p_pre) (eq. T-30, the
+  /// harmonic balance default hb::InterfaceBalanceOptions::preloaded_tangential_stiffness), the
+  /// slip limit following p_N(t); false: k_T = χ λ p_N(t) (proportional model).
+  bool preloaded_tangential_stiffness = true;
 
   /// Empty when valid, else "field: constraint, got value".
   [[nodiscard]] std::string validate() const;
 };
+
+/// The contact law each point of each interface steps with under `options` (per interface, one
+/// ContactPoint per point): the interface's law, or with preloaded_tangential_stiffness its
+/// constant-stiffness copy at k_T(g_pre,p) (eq. T-30), floored at χ λ ε_gap p_N0.
+std::vector<std::vector<contact::ContactPoint>> fe_point_laws(const preload::PreloadModel& model,
+                                                             const preload::PreloadResult& preload,
+                                                             const FeNewmarkOptions& options);
 
 /// The state at one instant; w = u − u_pre.
 struct FeState {
