@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 #include <numbers>
 
 #include "jointhb/contact/closed_forms.hpp"
 #include "jointhb/contact/gaul_mayer_law.hpp"
 #include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/contact/contact_point.hpp"
 #include "jointhb/contact/periodic_state.hpp"
+#include "lap_h3_path.hpp"
 
 namespace jc = jointhb::contact;
 using jc::Vec2;
@@ -103,6 +107,36 @@ TEST(PeriodicState, PreloadedTractionAcrossTheMotionRelaxesByDampedNewton) {
   const Vec2 cycled = run_cycles(law, path, o.reference_traction, 20000);
   EXPECT_NEAR((cycled - r.traction[0]).norm(), 0.0, 1e-9 * limit);
   EXPECT_LT(std::abs(r.traction[0].x()), 1.0);  // relaxed from 2.9e4 Pa
+}
+
+TEST(PeriodicState, TranslationLikePeriodMapIsCrossedByExtrapolatedFixedPointSteps) {
+  // A point of the lap at H = 3 (lap_h3_path.hpp): the steady state lies ~53 000 Pa away along a
+  // direction in which each period moves the state by only ~21 Pa, and the monodromy there has an
+  // eigenvalue above 1. The damped Newton alone ended after 400 periods 21 Pa from periodic;
+  // with Newton only where M contracts and the fixed-point step extrapolated along the drift, it
+  // converges in about 15 periods to the state that 20 000 periods of cycling reach.
+  jc::ContactPointOptions o;
+  o.normal = {lap_h3_path::kPressure, lap_h3_path::kDecay, 0.0};
+  o.friction_coefficient = lap_h3_path::kMu;
+  o.stiffness_model = jc::TangentialStiffnessModel::constant;
+  o.tangential_stiffness = lap_h3_path::kStiffness;
+  const jc::ContactPoint point(o, std::make_shared<jc::GaulMayerLaw>(1.0 / 3.0));
+  std::vector<jc::Vec3> path;
+  for (const auto& g : lap_h3_path::kPath) path.emplace_back(g[0], g[1], g[2]);
+  jc::PeriodicStateOptions po;
+  po.tolerance = 1e-12;
+  po.max_iterations = 400;
+  po.reference_traction = Vec2(lap_h3_path::kReferenceTraction[0], lap_h3_path::kReferenceTraction[1]);
+  po.reference_slip = Vec2(lap_h3_path::kReferenceSlip[0], lap_h3_path::kReferenceSlip[1]);
+  const jc::PeriodicContactResult r = point.periodic(path, po);
+  ASSERT_EQ(r.tangential.status, jc::PeriodicStatus::converged) << r.tangential.message;
+  EXPECT_LE(r.tangential.iterations, 30);
+  // Brute force from the anchor: 20 000 periods of exact steps.
+  Vec2 t = po.reference_traction;
+  for (int period = 0; period < 20000; ++period)
+    for (std::size_t i = 0; i < path.size(); ++i)
+      t = point.step(t, path[i], path[(i + 1) % path.size()]).traction.head<2>();
+  EXPECT_NEAR((t - r.tangential.traction[0]).norm(), 0.0, 1e-6 * t.norm());
 }
 
 TEST(PeriodicState, StuckJenkinsContactIsLinearAboutTheReference) {
