@@ -55,6 +55,8 @@ constexpr double kCornerStepFactor = 0.05;
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
+// Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
+constexpr int kMaxRestarts = 4;
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {
@@ -353,20 +355,36 @@ class Tracer {
         z(n_) = zl;
         return z;
       };
-      VectorXd z;
-      const support::GmresOutcome g = support::gmres(apply, precondition, b,
-                                                     options_.krylov_max_iterations,
-                                                     options_.krylov_tolerance, z);
-      result_.krylov_iterations += g.iterations;
-      const double true_residual =
-          z.allFinite() ? (b - apply(z)).norm() : std::numeric_limits<double>::infinity();
-      if (g.converged && true_residual <= options_.krylov_tolerance * b.norm()) {
+      // Restarted GMRES (kMaxRestarts cycles on the true residual b − A z): with an approximate
+      // preconditioner of an ill-conditioned matrix the recursive residual of one cycle can drift
+      // below the true one; a restart from z corrects that (iterative refinement).
+      VectorXd z = VectorXd::Zero(n_ + 1);
+      VectorXd residual = b;
+      double true_residual = b.norm();
+      int iterations = 0;
+      bool converged = true_residual == 0.0;
+      for (int cycle = 0; cycle < kMaxRestarts && !converged; ++cycle) {
+        VectorXd dz;
+        const support::GmresOutcome g = support::gmres(apply, precondition, residual,
+                                                       options_.krylov_max_iterations,
+                                                       options_.krylov_tolerance * b.norm() / true_residual, dz);
+        iterations += g.iterations;
+        if (!dz.allFinite()) break;
+        z += dz;
+        residual = b - apply(z);
+        const double previous = true_residual;
+        true_residual = residual.norm();
+        converged = true_residual <= options_.krylov_tolerance * b.norm();
+        if (!g.converged && true_residual > 0.5 * previous) break;  // stagnation: not worth a restart
+      }
+      result_.krylov_iterations += iterations;
+      if (converged) {
         out = std::move(z);
         why.clear();
         break;
       }
       why = fmt::format("GMRES: relative residual {:.3g} after {} iterations{}",
-                        true_residual / b.norm(), g.iterations,
+                        true_residual / b.norm(), iterations,
                         fresh ? " with a fresh preconditioner" : "");
       if (fresh) break;
     }

@@ -126,8 +126,8 @@ Built build(const Mesh& mesh) {
 struct Limits {
   double dense_limit = 9000;     // unknowns: dense Jacobian and LU (8U² bytes each)
   double lu_limit = 9000;        // unknowns: time one LU
-  double dense_run_limit = 5000; // unknowns: also run the dense_lu reference curve
-  double budget = 900.0;         // s: predicted damping-curve time above which it is not run
+  double dense_run_limit = 4000; // unknowns: also run the dense_lu reference curve
+  double budget = 400.0;         // s: predicted damping-curve time above which it is not run
 };
 
 struct Row {
@@ -143,9 +143,28 @@ struct Row {
   // dense_lu reference curve
   double dense_curve_s = -1, agreement = -1;
   int dense_factorisations = -1;
+  // matrix-free curve (harmonic block-Jacobi preconditioner)
+  int mf_points = -1, mf_newton = -1, mf_preconditioners = -1, mf_gmres = -1;
+  double mf_s = -1, mf_aft_s = -1, mf_products_s = -1, mf_preconditioner_s = -1, mf_solve_s = -1,
+         mf_drop = -1, mf_residual = -1, mf_agreement = -1, harmonic_lu_s = -1;
   double rss_mib = 0;
   std::string note;
 };
+
+// Largest relative difference of the unknowns over the leading points of two curves with the
+// same parameters (the paths are identical while the step sequence is); `common` counts them.
+double agreement(const continuation::InterfaceBackbone& a, const continuation::InterfaceBackbone& b,
+                 std::size_t& common) {
+  double worst = 0.0;
+  common = 0;
+  for (; common < std::min(a.points.size(), b.points.size()); ++common) {
+    const auto& p = a.points[common];
+    const auto& q = b.points[common];
+    if (std::abs(p.state.amplitude / q.state.amplitude - 1.0) > 1e-9) break;
+    worst = std::max(worst, (p.unknowns - q.unknowns).lpNorm<Eigen::Infinity>() / p.unknowns.lpNorm<Eigen::Infinity>());
+  }
+  return worst;
+}
 
 struct Curve {
   continuation::InterfaceBackbone backbone;
@@ -153,7 +172,7 @@ struct Curve {
 };
 
 Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double drop,
-            continuation::LinearSolver solver, const std::string& csv_path) {
+            continuation::LinearSolver solver, bool matrix_free, const std::string& csv_path) {
   continuation::InterfaceBackboneOptions bo;
   bo.mode.mode = 1;
   bo.mode.balance.harmonics = harmonics;
@@ -162,6 +181,8 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   bo.log10_amplitude_end = -4.0;
   bo.continuation.max_points = 200;
   bo.continuation.linear_solver = solver;
+  bo.matrix_free = matrix_free;
+  if (matrix_free) bo.continuation.krylov_max_iterations = 100;
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (csv) std::fprintf(csv, "q,frequency_hz,damping_ratio,slipping_points,iterations\n");
   Curve c;
@@ -177,7 +198,9 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   if (!c.backbone.points.empty()) {
     const auto& last = c.backbone.points.back();
     c.drop = 1.0 - last.state.omega / kTwoPi / f1;
-    const hb::InterfaceModeResidual epmc(model, bo.mode);
+    hb::InterfaceModeOptions mode = bo.mode;
+    mode.balance.dense_jacobian = false;
+    const hb::InterfaceModeResidual epmc(model, mode);
     hb::InterfaceModeResidual::Evaluation e;
     epmc.evaluate(last.unknowns, std::log10(last.state.amplitude), false, e);
     c.residual = e.residual.lpNorm<Eigen::Infinity>();
@@ -238,54 +261,93 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
                  r.assembly_s, r.lu_s, r.product_error);
   }
 
+  // The harmonic block-Jacobi preconditioner (T-31c): one build.
+  {
+    const auto t = Clock::now();
+    const auto pc = free.harmonic_preconditioner(e, omega, xi);
+    r.harmonic_lu_s = since(t);
+    std::fprintf(stderr, "  %s: harmonic preconditioner %.3g s (rcond %.2g)\n", r.label.c_str(), r.harmonic_lu_s,
+                 pc->rcond());
+  }
+
+  continuation::InterfaceBackbone reference_curve;  // dense_lu, else dense Krylov
+  std::string reference_name;
+  // Dense Jacobian, lagged LU: predicted with ~100 Newton iterations and ~10 factorisations.
+  const double predicted_dense =
+      100.0 * (r.blocks_s + std::max(r.assembly_s, 0.0) + 20.0 * r.product_s) + 10.0 * std::max(r.lu_s, 0.0);
   if (U > lim.dense_limit) {
-    r.note = fmt::format("curve not run: the Newton-Krylov preconditioner is a dense LU, {:.1f} GiB per copy of "
-                         "the {}x{} matrix", r.dense_gib, r.unknowns, r.unknowns);
+    r.note += fmt::format("dense Krylov not run: {:.1f} GiB per copy of the {}x{} matrix;", r.dense_gib, r.unknowns,
+                          r.unknowns);
+  } else if (predicted_dense > lim.budget) {
+    r.note += fmt::format("dense Krylov not run: predicted {:.0f} s (100 Newton x (AFT+Jacobian {:.2g} s + 20 "
+                          "products) + 10 LU x {:.2g} s) > budget {:.0f} s;",
+                          predicted_dense, r.blocks_s + r.assembly_s, r.lu_s, lim.budget);
   } else {
-    // Predicted time with ~100 Newton iterations and ~10 factorisations (the coarse-lap H = 1 run).
-    const double predicted = 100.0 * (r.blocks_s + r.assembly_s + 20.0 * r.product_s) + 10.0 * std::max(r.lu_s, 0.0);
-    if (predicted > lim.budget) {
-      r.note = fmt::format("curve not run: predicted {:.0f} s (100 Newton x (AFT+Jacobian {:.2g} s + 20 products) + "
-                           "10 LU x {:.2g} s) > budget {:.0f} s", predicted, r.blocks_s + r.assembly_s, r.lu_s,
-                           lim.budget);
-    } else {
-      const Curve k = trace(model, harmonics, built.f1, drop, continuation::LinearSolver::newton_krylov,
-                            fmt::format("{}_backbone_{}.csv", prefix, r.label));
-      const auto& b = k.backbone;
-      r.curve_points = static_cast<int>(b.points.size());
-      r.newton = b.newton_iterations;
-      r.factorisations = b.timings.factorisations;
-      r.gmres = b.timings.krylov_iterations;
-      r.curve_s = k.seconds;
-      r.curve_aft_s = b.timings.aft;
-      r.curve_assembly_s = b.timings.assembly;
-      r.curve_solve_s = b.timings.linear_solve;
-      r.drop = k.drop;
-      r.residual = k.residual;
-      if (r.drop < drop) r.note = "stopped before the drop: " + b.message;
-      std::fprintf(stderr, "  %s: newton_krylov curve %.1f s, %d points, %d Newton, %d LU, %d GMRES, drop %.4f\n",
-                   r.label.c_str(), r.curve_s, r.curve_points, r.newton, r.factorisations, r.gmres, r.drop);
-      if (reference && U <= lim.dense_run_limit) {
-        const Curve d = trace(model, harmonics, built.f1, drop, continuation::LinearSolver::dense_lu, "");
-        r.dense_curve_s = d.seconds;
-        r.dense_factorisations = d.backbone.timings.factorisations;
-        const auto& a = d.backbone.points;
-        const auto& c = b.points;
-        double worst = 0.0;
-        std::size_t common = 0;
-        for (; common < std::min(a.size(), c.size()); ++common) {
-          if (a[common].state.amplitude != c[common].state.amplitude &&
-              std::abs(a[common].state.amplitude / c[common].state.amplitude - 1.0) > 1e-9)
-            break;  // the paths parted (different step sequence): compare only the common part
-          worst = std::max(worst, (a[common].unknowns - c[common].unknowns).lpNorm<Eigen::Infinity>() /
-                                      a[common].unknowns.lpNorm<Eigen::Infinity>());
-        }
-        r.agreement = worst;
-        if (common < std::max(a.size(), c.size()))
-          r.note += fmt::format(" paths part after {} of {}/{} points", common, a.size(), c.size());
-        std::fprintf(stderr, "  %s: dense_lu curve %.1f s (%d LU), agreement %.2e over %zu points\n", r.label.c_str(),
-                     r.dense_curve_s, r.dense_factorisations, r.agreement, common);
-      }
+    const Curve k = trace(model, harmonics, built.f1, drop, continuation::LinearSolver::newton_krylov, false,
+                          fmt::format("{}_backbone_{}.csv", prefix, r.label));
+    const auto& b = k.backbone;
+    r.curve_points = static_cast<int>(b.points.size());
+    r.newton = b.newton_iterations;
+    r.factorisations = b.timings.factorisations;
+    r.gmres = b.timings.krylov_iterations;
+    r.curve_s = k.seconds;
+    r.curve_aft_s = b.timings.aft;
+    r.curve_assembly_s = b.timings.assembly;
+    r.curve_solve_s = b.timings.linear_solve;
+    r.drop = k.drop;
+    r.residual = k.residual;
+    if (r.drop < drop) r.note += "dense Krylov stopped before the drop: " + b.message + ";";
+    std::fprintf(stderr, "  %s: newton_krylov curve %.1f s, %d points, %d Newton, %d LU, %d GMRES, drop %.4f\n",
+                 r.label.c_str(), r.curve_s, r.curve_points, r.newton, r.factorisations, r.gmres, r.drop);
+    reference_curve = b;
+    reference_name = "krylov";
+    if (reference && U <= lim.dense_run_limit) {
+      const Curve d = trace(model, harmonics, built.f1, drop, continuation::LinearSolver::dense_lu, false, "");
+      r.dense_curve_s = d.seconds;
+      r.dense_factorisations = d.backbone.timings.factorisations;
+      std::size_t common = 0;
+      r.agreement = agreement(d.backbone, b, common);
+      if (common < std::max(d.backbone.points.size(), b.points.size()))
+        r.note += fmt::format("dense/krylov paths part after {} of {}/{} points;", common, d.backbone.points.size(),
+                              b.points.size());
+      std::fprintf(stderr, "  %s: dense_lu curve %.1f s (%d LU), agreement %.2e over %zu points\n", r.label.c_str(),
+                   r.dense_curve_s, r.dense_factorisations, r.agreement, common);
+      reference_curve = d.backbone;
+      reference_name = "dense";
+    }
+  }
+  // Matrix-free: predicted with ~100 Newton iterations x 30 GMRES steps and 5 preconditioner builds.
+  const double predicted_free = 100.0 * (r.blocks_s + 30.0 * r.product_s) + 5.0 * r.harmonic_lu_s;
+  if (predicted_free > lim.budget) {
+    r.note += fmt::format("matrix-free not run: predicted {:.0f} s (100 Newton x (AFT+blocks {:.2g} s + 30 products "
+                          "x {:.2g} s) + 5 x preconditioner {:.2g} s) > budget {:.0f} s;",
+                          predicted_free, r.blocks_s, r.product_s, r.harmonic_lu_s, lim.budget);
+  } else {
+    const Curve f = trace(model, harmonics, built.f1, drop, continuation::LinearSolver::newton_krylov, true,
+                          fmt::format("{}_backbone_{}_matrix_free.csv", prefix, r.label));
+    const auto& b = f.backbone;
+    r.mf_points = static_cast<int>(b.points.size());
+    r.mf_newton = b.newton_iterations;
+    r.mf_preconditioners = b.timings.factorisations;
+    r.mf_gmres = b.timings.krylov_iterations;
+    r.mf_s = f.seconds;
+    r.mf_aft_s = b.timings.aft;
+    r.mf_products_s = b.timings.products;
+    r.mf_preconditioner_s = b.timings.preconditioner;
+    r.mf_solve_s = b.timings.linear_solve;
+    r.mf_drop = f.drop;
+    r.mf_residual = f.residual;
+    if (r.mf_drop < drop) r.note += "matrix-free stopped before the drop: " + b.message + ";";
+    std::fprintf(stderr, "  %s: matrix-free curve %.1f s, %d points, %d Newton, %d preconditioners, %d GMRES, drop %.4f\n",
+                 r.label.c_str(), r.mf_s, r.mf_points, r.mf_newton, r.mf_preconditioners, r.mf_gmres, r.mf_drop);
+    if (!reference_curve.points.empty()) {
+      std::size_t common = 0;
+      r.mf_agreement = agreement(reference_curve, b, common);
+      if (common < std::max(reference_curve.points.size(), b.points.size()))
+        r.note += fmt::format("{}/matrix-free paths part after {} of {}/{} points;", reference_name, common,
+                              reference_curve.points.size(), b.points.size());
+      std::fprintf(stderr, "  %s: matrix-free vs %s: %.2e over %zu points\n", r.label.c_str(), reference_name.c_str(),
+                   r.mf_agreement, common);
     }
   }
   r.rss_mib = peak_rss_mib();
@@ -330,7 +392,8 @@ int main(int argc, char** argv) {
       const Row& r = rows.back();
       if (r.product_error >= 0) ok = ok && r.product_error < 1e-12;
       if (r.agreement >= 0) ok = ok && r.agreement < 1e-8;
-      if (ci) ok = ok && r.curve_points > 0 && r.drop >= drop && r.agreement >= 0;
+      if (r.mf_agreement >= 0) ok = ok && r.mf_agreement < 1e-8;
+      if (ci) ok = ok && r.curve_points > 0 && r.drop >= drop && r.agreement >= 0 && r.mf_drop >= drop && r.mf_agreement >= 0;
     }
   }
   std::FILE* t = std::fopen((prefix + "_table.csv").c_str(), "w");
@@ -338,21 +401,28 @@ int main(int argc, char** argv) {
     std::fprintf(t, "label,points,harmonics,kept_modes,unknowns,dense_GiB,build_s,aft_s,aft_blocks_s,dense_assembly_s,"
                     "product_s,lu_s,product_error,curve_points,newton,factorisations,gmres,curve_s,curve_aft_s,"
                     "curve_assembly_s,curve_solve_s,drop,last_residual,dense_curve_s,dense_factorisations,"
-                    "agreement,peak_rss_MiB,note\n");
+                    "agreement,harmonic_preconditioner_s,mf_points,mf_newton,mf_preconditioners,mf_gmres,mf_s,mf_aft_s,"
+                    "mf_products_s,mf_preconditioner_s,mf_solve_s,mf_drop,mf_last_residual,mf_agreement,peak_rss_MiB,note\n");
   for (const Row& r : rows) {
     std::printf("%-10s U=%-6ld (%d modes) AFT %.3g s, AFT+B %.3g s, assembly %.3g s, product %.3g s, LU %.3g s | "
                 "curve %.1f s: %d pts %d Newton %d LU %d GMRES (AFT %.1f, asm %.1f, solve %.1f) drop %.3f res %.1e | "
-                "dense curve %.1f s %d LU, agreement %.1e | RSS %.0f MiB %s\n",
+                "dense curve %.1f s %d LU, agreement %.1e | matrix-free %.1f s: %d Newton %d PC (%.2g s each) %d GMRES "
+                "(AFT %.1f, products %.1f, PC %.1f, solve %.1f) drop %.3f res %.1e agreement %.1e | RSS %.0f MiB %s\n",
                 r.label.c_str(), r.unknowns, r.modes, r.aft_s, r.blocks_s, r.assembly_s, r.product_s, r.lu_s, r.curve_s,
                 r.curve_points, r.newton, r.factorisations, r.gmres, r.curve_aft_s, r.curve_assembly_s, r.curve_solve_s,
-                r.drop, r.residual, r.dense_curve_s, r.dense_factorisations, r.agreement, r.rss_mib, r.note.c_str());
+                r.drop, r.residual, r.dense_curve_s, r.dense_factorisations, r.agreement, r.mf_s, r.mf_newton,
+                r.mf_preconditioners, r.harmonic_lu_s, r.mf_gmres, r.mf_aft_s, r.mf_products_s, r.mf_preconditioner_s,
+                r.mf_solve_s, r.mf_drop, r.mf_residual, r.mf_agreement, r.rss_mib, r.note.c_str());
     if (t)
       std::fprintf(t, "%s,%d,%d,%d,%ld,%.4f,%.2f,%.5g,%.5g,%.5g,%.5g,%.5g,%.3e,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.5f,%.3e,"
-                      "%.3f,%d,%.3e,%.0f,\"%s\"\n",
+                      "%.3f,%d,%.3e,%.5g,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.3e,%.3e,%.0f,\"%s\"\n",
                    r.label.c_str(), r.points, r.harmonics, r.modes, r.unknowns, r.dense_gib, r.build_s, r.aft_s,
                    r.blocks_s, r.assembly_s, r.product_s, r.lu_s, r.product_error, r.curve_points, r.newton,
                    r.factorisations, r.gmres, r.curve_s, r.curve_aft_s, r.curve_assembly_s, r.curve_solve_s, r.drop,
-                   r.residual, r.dense_curve_s, r.dense_factorisations, r.agreement, r.rss_mib, r.note.c_str());
+                   r.residual, r.dense_curve_s, r.dense_factorisations, r.agreement, r.harmonic_lu_s, r.mf_points,
+                   r.mf_newton, r.mf_preconditioners, r.mf_gmres, r.mf_s, r.mf_aft_s, r.mf_products_s,
+                   r.mf_preconditioner_s, r.mf_solve_s, r.mf_drop, r.mf_residual, r.mf_agreement, r.rss_mib,
+                   r.note.c_str());
   }
   if (t) std::fclose(t);
   std::printf("%s\n", ok ? "interface_scaling: all bounds met" : "interface_scaling: a bound was exceeded");

@@ -75,8 +75,9 @@ struct Options {
   LinearSolver linear_solver = LinearSolver::dense_lu;
   /// newton_krylov: [1, 1000] GMRES iterations with one preconditioner before it is refactored
   /// from the current matrix (the system is then solved by that LU, as dense_lu would).
-  /// Matrix-free Jacobians (Evaluation::d_state_product): the preconditioner is rebuilt once when
-  /// GMRES fails, and the Newton iteration fails when GMRES fails with a fresh one.
+  /// Matrix-free Jacobians (Evaluation::d_state_product): up to 4 restarted GMRES cycles of this
+  /// length on the true residual; the preconditioner is rebuilt once when they fail, and the
+  /// Newton iteration fails when GMRES fails with a fresh one.
   int krylov_max_iterations = 20;
   /// newton_krylov: (0, 1e-6] relative residual ‖b − A z‖₂ / ‖b‖₂ of an accepted GMRES solution
   /// (the true residual, recomputed after GMRES).
