@@ -17,8 +17,6 @@ std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) 
   if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
     return "log10_amplitude: must be finite";
   if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
-  if (matrix_free && continuation.linear_solver != LinearSolver::newton_krylov)
-    return "matrix_free: needs continuation.linear_solver = newton_krylov";
   return {};
 }
 
@@ -27,8 +25,10 @@ InterfaceBackbone trace_interface_backbone(
     const std::function<bool(const InterfaceBackbonePoint&)>& on_point) {
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
+  const bool matrix_free =
+      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
   hb::InterfaceModeOptions mode = options.mode;
-  if (options.matrix_free) mode.balance.dense_jacobian = false;
+  if (matrix_free) mode.balance.dense_jacobian = false;
   const hb::InterfaceModeResidual epmc(model, mode);
   InterfaceBackbone curve;
   curve.linear_omega = epmc.linear_omega();
@@ -59,7 +59,7 @@ InterfaceBackbone trace_interface_backbone(
     out.ok = last.ok;
     out.message = last.message;
     out.residual = last.residual;
-    if (jacobian && options.matrix_free) {
+    if (jacobian && matrix_free) {
       // The operator keeps its own copy of the point blocks: `last` is overwritten by the next call.
       auto at = std::make_shared<const hb::InterfaceModeResidual::Evaluation>(last);
       out.d_parameter = last.d_parameter;
@@ -105,8 +105,6 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
     return fmt::format("load_amplitude: must be finite and ≠ 0, got {}", load_amplitude);
   if (output < 0 || output >= static_cast<int>(model.outputs.size()))
     return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
-  if (matrix_free && continuation.linear_solver != LinearSolver::newton_krylov)
-    return "matrix_free: needs continuation.linear_solver = newton_krylov";
   return balance.validate();
 }
 
@@ -114,8 +112,10 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
                                  const std::function<bool(const InterfaceFrfPoint&)>& on_point) {
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
+  const bool matrix_free =
+      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
   hb::InterfaceBalanceOptions balance_options = options.balance;
-  if (options.matrix_free) balance_options.dense_jacobian = false;
+  if (matrix_free) balance_options.dense_jacobian = false;
   const hb::InterfaceBalance balance(model, balance_options);
   const Eigen::VectorXd load = balance.cosine_load(options.load_amplitude);
   InterfaceFrf curve;
@@ -150,7 +150,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     e.ok = last.ok;
     e.message = last.message;
     e.residual = last.residual;
-    if (jacobian && options.matrix_free) {
+    if (jacobian && matrix_free) {
       auto at = std::make_shared<const hb::InterfaceBalanceEvaluation>(last);
       e.d_parameter = last.d_omega;
       e.d_state_product = [&balance, at, omega](const Eigen::VectorXd& v) {

@@ -182,7 +182,6 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   bo.continuation.max_points = 200;
   bo.continuation.linear_solver = solver;
   bo.matrix_free = matrix_free;
-  if (matrix_free) bo.continuation.krylov_max_iterations = 100;
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (csv) std::fprintf(csv, "q,frequency_hz,damping_ratio,slipping_points,iterations\n");
   Curve c;

@@ -28,18 +28,21 @@ struct InterfaceBackboneOptions {
   hb::InterfaceModeOptions mode;
   double log10_amplitude_start = -6.0;  ///< λ of the first point (linear range)
   double log10_amplitude_end = -3.0;    ///< ≠ start
-  /// Matrix-free Jacobian (InterfaceModeResidual::apply_jacobian from the point blocks) with the
-  /// harmonic block-Jacobi preconditioner (eq. T-31): no U × U matrix is formed. Needs
-  /// continuation.linear_solver = newton_krylov; false: the dense Jacobian.
-  bool matrix_free = false;
+  /// With continuation.linear_solver = newton_krylov: matrix-free Jacobian
+  /// (InterfaceModeResidual::apply_jacobian from the point blocks) and the harmonic block-Jacobi
+  /// preconditioner (eq. T-31), no U × U matrix formed (docs/performance.md: 3–30× faster than
+  /// the dense Jacobian on the lap, the same points to 1e-14); false: the dense Jacobian with the
+  /// lagged LU. dense_lu always uses the dense Jacobian.
+  bool matrix_free = true;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
     o.initial_step = 0.05;
     o.max_step = 0.3;
-    // GMRES with the lagged LU (docs/continuation.md §2): the same points as dense_lu to the
-    // Newton tolerance, a fraction of the factorisations.
+    // GMRES, matrix-free or with the lagged LU (docs/continuation.md §2): the same points as
+    // dense_lu to the Newton tolerance, a fraction of the cost.
     o.linear_solver = LinearSolver::newton_krylov;
+    o.krylov_max_iterations = 100;  // per GMRES cycle: the harmonic preconditioner is approximate
     return o;
   }();
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
@@ -74,12 +77,13 @@ struct InterfaceFrfOptions {
   int output = 0;                              ///< index into model.outputs
   /// As InterfaceBackboneOptions::matrix_free (InterfaceBalance::apply_jacobian and
   /// harmonic_preconditioner).
-  bool matrix_free = false;
+  bool matrix_free = true;
   hb::InterfaceBalanceOptions balance;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
     o.linear_solver = LinearSolver::newton_krylov;
+    o.krylov_max_iterations = 100;  // per GMRES cycle: the harmonic preconditioner is approximate
     return o;
   }();
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
