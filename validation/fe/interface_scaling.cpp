@@ -4,10 +4,12 @@
 // time per damping curve (the first elastic mode from its linear limit to a `drop` frequency
 // drop, as validation/fe/lap_damping), memory, and the error reached:
 //
-//   agreement     the Newton–Krylov solve of the bordered systems (GMRES preconditioned by a
-//                 lagged LU, LinearSolver::newton_krylov) against the dense LU per iteration
-//                 (LinearSolver::dense_lu) where the latter is run: largest relative difference
-//                 of the unknowns over the points of both curves;
+//   agreement     the Newton–Krylov solves of the bordered systems — GMRES on the dense
+//                 Jacobian preconditioned by a lagged LU ("dense Krylov"), and GMRES on
+//                 matrix-free products preconditioned by the harmonic block-Jacobi inverse
+//                 (T-31c, "matrix-free") — against the dense LU per iteration (dense_lu) where
+//                 that is run, else matrix-free against dense Krylov: largest relative
+//                 difference of the unknowns over the leading points the curves share;
 //   product       the matrix-free Jacobian-vector product (InterfaceBalance::apply_jacobian)
 //                 against the dense Jacobian times the same vector, where the matrix fits;
 //   residual      ‖R‖_∞ of the last point (EPMC residual, rows in units of the modal amplitude).
@@ -21,8 +23,8 @@
 // reported with the measured per-iteration costs and the reason, never with an invented time.
 //
 //   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] OUTPUT_PREFIX
-// --ci: the ≈100-point mesh at H = 1 only, both solvers (ctest, < 60 s), bounds: agreement
-// < 1e-8, product < 1e-12, the curve reaches the drop. --only: one configuration (label
+// --ci: the ≈100-point mesh at H = 1 only, all three solvers (ctest, ~10–20 s), bounds:
+// agreement < 1e-8, product < 1e-12 of Σ|J||v|, the curves reach the drop. --only: one configuration (label
 // P<points>_H<h>, one per process for the peak memory: interface_scaling.sh). Tables:
 // PREFIX_table.csv (one row per configuration), PREFIX_backbone_<label>.csv.
 

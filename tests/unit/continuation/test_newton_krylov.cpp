@@ -97,6 +97,57 @@ TEST(NewtonKrylov, SamePointsAsDenseLuThroughFoldsWithFewerFactorisations) {
   EXPECT_LT(krylov.factorisations, dense.factorisations / 3);
 }
 
+// The matrix-free interface of the continuation (Evaluation::d_state_product and
+// make_preconditioner, the bordered preconditioner by block elimination): the Duffing chain's
+// Jacobian given only as a product, preconditioned by its diagonal (Jacobi) — far from exact,
+// so restarts and rebuilds are exercised — gives the dense LU's points.
+TEST(NewtonKrylov, MatrixFreeJacobianGivesTheDenseLuPoints) {
+  const int n_osc = 12;
+  jcont::Options o;
+  o.parameter_start = 0.5;
+  o.parameter_end = 2.0;
+  o.initial_step = 0.02;
+  o.max_step = 0.1;
+  o.max_points = 2000;
+  o.residual_tolerance = 1e-12;
+  const VectorXd x0 = VectorXd::Zero(2 * n_osc);
+  const jcont::ResidualFunction dense_residual = duffing_chain(n_osc);
+  const jcont::Result dense = jcont::trace(dense_residual, x0, o);
+  int products = 0;
+  const jcont::ResidualFunction free_residual = [&](const VectorXd& x, double omega, bool jacobian) {
+    jcont::Evaluation e = dense_residual(x, omega, jacobian);
+    if (jacobian) {
+      const MatrixXd j = std::move(e.d_state);
+      e.d_state.resize(0, 0);
+      e.d_state_product = [j, &products](const VectorXd& v) {
+        ++products;
+        return VectorXd(j * v);
+      };
+      e.make_preconditioner = [d = VectorXd(j.diagonal())]() -> jcont::LinearOperator {
+        return [d](const VectorXd& v) { return VectorXd(v.cwiseQuotient(d)); };
+      };
+    }
+    return e;
+  };
+  // dense_lu cannot use a matrix-free Jacobian
+  EXPECT_THROW((void)jcont::trace(free_residual, x0, o), std::logic_error);
+  o.linear_solver = jcont::LinearSolver::newton_krylov;
+  o.krylov_max_iterations = 30;
+  const jcont::Result free = jcont::trace(free_residual, x0, o);
+  ASSERT_TRUE(dense.completed()) << dense.message;
+  ASSERT_TRUE(free.completed()) << free.message;
+  std::printf("matrix-free: %zu points (dense %zu), %d preconditioner builds, %d GMRES, %d products\n",
+              free.points.size(), dense.points.size(), free.factorisations, free.krylov_iterations, products);
+  ASSERT_EQ(dense.points.size(), free.points.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < dense.points.size(); ++i)
+    worst = std::max(worst, (dense.points[i].x - free.points[i].x).lpNorm<Eigen::Infinity>() /
+                                dense.points[i].x.lpNorm<Eigen::Infinity>());
+  std::printf("worst relative difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-8);
+  EXPECT_GT(products, free.krylov_iterations);
+}
+
 TEST(NewtonKrylov, RejectsBadOptions) {
   jcont::Options o;
   o.krylov_max_iterations = 0;

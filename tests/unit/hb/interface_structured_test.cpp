@@ -89,12 +89,15 @@ TEST(InterfaceBalanceProduct, IndependentOfThreadCount) {
   omp_set_num_threads(1);
   hb.evaluate(y, omega, 0.0, load, true, e1);
   const VectorXd p1 = hb.apply_jacobian(e1, omega, 0.0, v);
+  const VectorXd s1 = hb.harmonic_preconditioner(e1, omega, 0.0)->solve(v);
   omp_set_num_threads(2);
   hb.evaluate(y, omega, 0.0, load, true, e2);
   const VectorXd p2 = hb.apply_jacobian(e2, omega, 0.0, v);
+  const VectorXd s2 = hb.harmonic_preconditioner(e2, omega, 0.0)->solve(v);
   omp_set_num_threads(saved);
   EXPECT_EQ(e1.jacobian, e2.jacobian);
   EXPECT_EQ(p1, p2);
+  EXPECT_EQ(s1, s2);
 }
 
 // The harmonic block-Jacobi preconditioner (eq. T-31): each block is the dense Jacobian restricted
