@@ -97,8 +97,8 @@ struct InterfaceBalanceTimings {
 /// are harmonic-diagonal, J̃ is the Jacobian with each point block B_p replaced by its
 /// harmonic-diagonal part, and falls apart into H + 1 dense systems of (n_s + 3P)·d_k unknowns
 /// (d_0 = 1 for the mean, d_k = 2 for (a_k, b_k)), each factorised by LAPACK: O(H (n_s + 3P)³)
-/// instead of O(((n_s + 3P)(2H + 1))³), and no U × U matrix. Exact where B_p does not couple
-/// harmonics (stuck or open points, the stuck linear limit).
+/// instead of O(((n_s + 3P)(2H + 1))³), and no U × U matrix. Exact where no B_p couples
+/// harmonics (the stuck linear limit, B_p = 0); an approximation of J elsewhere.
 class InterfaceHarmonicPreconditioner {
  public:
   InterfaceHarmonicPreconditioner();
