@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "../support/stopwatch.hpp"
@@ -24,7 +25,11 @@ InterfaceBackbone trace_interface_backbone(
     const std::function<bool(const InterfaceBackbonePoint&)>& on_point) {
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
-  const hb::InterfaceModeResidual epmc(model, options.mode);
+  const bool matrix_free =
+      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
+  hb::InterfaceModeOptions mode = options.mode;
+  if (matrix_free) mode.balance.dense_jacobian = false;
+  const hb::InterfaceModeResidual epmc(model, mode);
   InterfaceBackbone curve;
   curve.linear_omega = epmc.linear_omega();
   curve.linear_damping_ratio = epmc.linear_damping_ratio();
@@ -54,7 +59,17 @@ InterfaceBackbone trace_interface_backbone(
     out.ok = last.ok;
     out.message = last.message;
     out.residual = last.residual;
-    if (jacobian) {
+    if (jacobian && matrix_free) {
+      // The operator keeps its own copy of the point blocks: `last` is overwritten by the next call.
+      auto at = std::make_shared<const hb::InterfaceModeResidual::Evaluation>(last);
+      out.d_parameter = last.d_parameter;
+      out.d_state_product = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
+        return epmc.apply_jacobian(*at, y, lambda, v);
+      };
+      out.make_preconditioner = [&epmc, at, y, lambda]() -> LinearOperator {
+        return epmc.preconditioner(*at, y, lambda);
+      };
+    } else if (jacobian) {
       out.d_state = std::move(last.d_state);
       out.d_parameter = std::move(last.d_parameter);
     }
@@ -76,7 +91,7 @@ InterfaceBackbone trace_interface_backbone(
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = epmc.balance().timings();
   curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
-                   t.jacobians};
+                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner};
   return curve;
 }
 
@@ -97,7 +112,11 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
                                  const std::function<bool(const InterfaceFrfPoint&)>& on_point) {
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
-  const hb::InterfaceBalance balance(model, options.balance);
+  const bool matrix_free =
+      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
+  hb::InterfaceBalanceOptions balance_options = options.balance;
+  if (matrix_free) balance_options.dense_jacobian = false;
+  const hb::InterfaceBalance balance(model, balance_options);
   const Eigen::VectorXd load = balance.cosine_load(options.load_amplitude);
   InterfaceFrf curve;
   curve.unknowns = balance.unknowns();
@@ -131,7 +150,18 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     e.ok = last.ok;
     e.message = last.message;
     e.residual = last.residual;
-    if (jacobian) {
+    if (jacobian && matrix_free) {
+      auto at = std::make_shared<const hb::InterfaceBalanceEvaluation>(last);
+      e.d_parameter = last.d_omega;
+      e.d_state_product = [&balance, at, omega](const Eigen::VectorXd& v) {
+        return balance.apply_jacobian(*at, omega, 0.0, v);
+      };
+      e.make_preconditioner = [&balance, at, omega]() -> LinearOperator {
+        std::shared_ptr<const hb::InterfaceHarmonicPreconditioner> pc =
+            balance.harmonic_preconditioner(*at, omega, 0.0);
+        return [pc](const Eigen::VectorXd& v) { return pc->solve(v); };
+      };
+    } else if (jacobian) {
       e.d_state = std::move(last.jacobian);
       e.d_parameter = last.d_omega;
     }
@@ -161,7 +191,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = balance.timings();
   curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
-                   t.jacobians};
+                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner};
   return curve;
 }
 

@@ -10,6 +10,7 @@
 //   τ_kᵀ (y - y_k) = s (arclength, Keller 1977):  c = τ_k,  d = τ_kᵀ y_k + s.
 #include "jointhb/continuation/pseudo_arclength.hpp"
 
+#include "../support/gmres.hpp"
 #include "../support/lapack_lu.hpp"
 #include "../support/stopwatch.hpp"
 
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -53,6 +55,8 @@ constexpr double kCornerStepFactor = 0.05;
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
+// Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
+constexpr int kMaxRestarts = 4;
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {
@@ -67,8 +71,13 @@ struct Sample {
   VectorXd x;         // physical state
   double lambda = 0;  // physical parameter (exact where it was fixed)
   VectorXd residual;  // R / r_s
-  MatrixXd jacobian;  // J_y = [R_x D, R_λ λ_scale] / r_s, n × (n+1)
+  MatrixXd jacobian;  // J_y = [R_x D, R_λ λ_scale] / r_s, n × (n+1); empty when matrix-free
   double norm = 0;    // ‖R‖_∞ / r_s
+  // Matrix-free Jacobian (Evaluation::d_state_product): v ↦ R_x v, R_λ λ_scale / r_s, and the
+  // preconditioner factory.
+  LinearOperator product;
+  VectorXd d_lambda;
+  std::function<LinearOperator()> make_preconditioner;
 };
 
 // Outcome of one Newton run.
@@ -159,14 +168,11 @@ class Tracer {
       }
       previous = sample.norm;
 
-      MatrixXd bordered(n_ + 1, n_ + 1);
-      bordered.topRows(n_) = sample.jacobian;
-      bordered.row(n_) = constraint.c.transpose();
       VectorXd rhs(n_ + 1);
       rhs.head(n_) = -sample.residual;
       rhs(n_) = constraint.d - constraint.c.dot(y);
       VectorXd step;
-      if (const std::string why = solve(bordered, rhs, step); !why.empty()) {
+      if (const std::string why = solve_bordered(sample, constraint.c, rhs, step); !why.empty()) {
         out.failure = fmt::format("{} (residual {:.3g})", why, sample.norm);
         return out;
       }
@@ -214,13 +220,15 @@ class Tracer {
   // kernel of J_y (FullPivLU), or its first basis vector when the projection vanishes.
   std::optional<VectorXd> tangent(const Sample& sample, const VectorXd& reference,
                                   std::string& why) {
-    MatrixXd bordered(n_ + 1, n_ + 1);
-    bordered.topRows(n_) = sample.jacobian;
-    bordered.row(n_) = reference.transpose();
     const VectorXd rhs = VectorXd::Unit(n_ + 1, n_);
     VectorXd t;
-    if (solve(bordered, rhs, t).empty() && t.norm() > 0.0 && std::isfinite(t.norm())) {
+    std::string failure = solve_bordered(sample, reference, rhs, t);
+    if (failure.empty() && t.norm() > 0.0 && std::isfinite(t.norm())) {
       return VectorXd(t / t.norm());
+    }
+    if (sample.jacobian.size() == 0) {  // matrix-free: no kernel to fall back on
+      why = "tangent: " + (failure.empty() ? std::string("zero or non-finite solution") : failure);
+      return std::nullopt;
     }
     const auto start = Clock::now();
     const Eigen::FullPivLU<MatrixXd> lu(sample.jacobian);
@@ -267,8 +275,13 @@ class Tracer {
       return e.message.empty() ? std::string("evaluation failed")
                                : "evaluation failed: " + one_line(e.message);
     }
-    if (e.residual.size() != n_ || e.d_state.rows() != n_ || e.d_state.cols() != n_ ||
-        e.d_parameter.size() != n_) {
+    const bool matrix_free = static_cast<bool>(e.d_state_product);
+    if (matrix_free && options_.linear_solver != LinearSolver::newton_krylov) {
+      throw std::logic_error(
+          "continuation: a matrix-free Jacobian (d_state_product) needs linear_solver = newton_krylov");
+    }
+    if (e.residual.size() != n_ || e.d_parameter.size() != n_ ||
+        (!matrix_free && (e.d_state.rows() != n_ || e.d_state.cols() != n_))) {
       throw std::logic_error(fmt::format(
           "continuation: the residual function returned R ({}), ∂R/∂x ({} x {}), ∂R/∂λ ({}); "
           "expected n = {} (with the Jacobian requested)",
@@ -279,24 +292,145 @@ class Tracer {
     const double rs = options_.residual_scale;
     sample.residual = e.residual / rs;
     sample.norm = sample.residual.lpNorm<Eigen::Infinity>();
+    if (matrix_free) {
+      sample.jacobian.resize(0, 0);
+      sample.product = std::move(e.d_state_product);
+      sample.make_preconditioner = std::move(e.make_preconditioner);
+      sample.d_lambda = e.d_parameter * (options_.parameter_scale / rs);
+      return {};
+    }
     sample.jacobian.resize(n_, n_ + 1);
     sample.jacobian.leftCols(n_) = e.d_state * state_scale_.asDiagonal() / rs;
     sample.jacobian.col(n_) = e.d_parameter * (options_.parameter_scale / rs);
     return {};
   }
 
-  // Dense LU with partial pivoting (LAPACK, support/lapack_lu.hpp); numerically singular (reciprocal condition estimate below ε:
-  // the solution would carry no correct digit) or a non-finite solution is a failure.
+  // [J_y; cᵀ] out = b, from the dense J_y (solve) or matrix-free (solve_matrix_free).
+  std::string solve_bordered(const Sample& sample, const VectorXd& c, const VectorXd& b,
+                             VectorXd& out) {
+    if (sample.jacobian.size() == 0 && sample.product) return solve_matrix_free(sample, c, b, out);
+    MatrixXd bordered(n_ + 1, n_ + 1);
+    bordered.topRows(n_) = sample.jacobian;
+    bordered.row(n_) = c.transpose();
+    return solve(bordered, b, out);
+  }
+
+  // Matrix-free bordered system: A z = [(R_x (D z_x) / r_s + j_λ z_λ); cᵀ z], j_λ = R_λ λ_s / r_s,
+  // by GMRES preconditioned with the block elimination of
+  //   M = [ K̃   j_λ ],  K̃⁻¹ = r_s D⁻¹ Ã⁻¹,  Ã⁻¹ the lagged approximate inverse of R_x:
+  //       [ c_xᵀ c_λ ]
+  //   w₁ = K̃⁻¹ v_x,  w₂ = K̃⁻¹ j_λ,  z_λ = (v_λ − c_xᵀ w₁) / (c_λ − c_xᵀ w₂),  z_x = w₁ − w₂ z_λ.
+  std::string solve_matrix_free(const Sample& sample, const VectorXd& c, const VectorXd& b,
+                                VectorXd& out) {
+    const auto start = Clock::now();
+    const double rs = options_.residual_scale;
+    const auto apply = [&](const VectorXd& z) {
+      VectorXd az(n_ + 1);
+      az.head(n_) = sample.product(VectorXd(z.head(n_).cwiseProduct(state_scale_))) / rs +
+                    sample.d_lambda * z(n_);
+      az(n_) = c.dot(z);
+      return az;
+    };
+    bool fresh = false;
+    std::string why;
+    for (;;) {
+      if (!approximate_inverse_ || !why.empty()) {  // none yet, or the lagged one just failed
+        approximate_inverse_ = sample.make_preconditioner
+                                   ? sample.make_preconditioner()
+                                   : LinearOperator([](const VectorXd& v) { return v; });
+        ++result_.factorisations;
+        fresh = true;
+      }
+      const auto k_inverse = [&](const VectorXd& v) {
+        return VectorXd(rs * approximate_inverse_(v).cwiseQuotient(state_scale_));
+      };
+      const VectorXd w2 = k_inverse(sample.d_lambda);
+      const double den = c(n_) - c.head(n_).dot(w2);
+      const bool border = std::abs(den) > 1e-14 * (std::abs(c(n_)) + c.head(n_).norm() * w2.norm());
+      const auto precondition = [&](const VectorXd& v) {
+        VectorXd z(n_ + 1);
+        const VectorXd w1 = k_inverse(v.head(n_));
+        const double zl = border ? (v(n_) - c.head(n_).dot(w1)) / den : 0.0;
+        z.head(n_) = w1 - w2 * zl;
+        z(n_) = zl;
+        return z;
+      };
+      // Restarted GMRES (kMaxRestarts cycles on the true residual b − A z): with an approximate
+      // preconditioner of an ill-conditioned matrix the recursive residual of one cycle can drift
+      // below the true one; a restart from z corrects that (iterative refinement).
+      VectorXd z = VectorXd::Zero(n_ + 1);
+      VectorXd residual = b;
+      double true_residual = b.norm();
+      int iterations = 0;
+      bool converged = true_residual == 0.0;
+      for (int cycle = 0; cycle < kMaxRestarts && !converged; ++cycle) {
+        VectorXd dz;
+        const support::GmresOutcome g = support::gmres(apply, precondition, residual,
+                                                       options_.krylov_max_iterations,
+                                                       options_.krylov_tolerance * b.norm() / true_residual, dz);
+        iterations += g.iterations;
+        if (!dz.allFinite()) break;
+        z += dz;
+        residual = b - apply(z);
+        const double previous = true_residual;
+        true_residual = residual.norm();
+        converged = true_residual <= options_.krylov_tolerance * b.norm();
+        if (!g.converged && true_residual > 0.5 * previous) break;  // stagnation: not worth a restart
+      }
+      result_.krylov_iterations += iterations;
+      if (converged) {
+        out = std::move(z);
+        why.clear();
+        break;
+      }
+      why = fmt::format("GMRES: relative residual {:.3g} after {} iterations{}",
+                        true_residual / b.norm(), iterations,
+                        fresh ? " with a fresh preconditioner" : "");
+      if (fresh) break;
+    }
+    result_.linear_solve_seconds += seconds_since(start);
+    return why;
+  }
+
+  // The bordered system a · out = b (docs/continuation.md §2).
+  //   dense_lu: LU with partial pivoting (LAPACK, support/lapack_lu.hpp); numerically singular
+  //     (reciprocal condition estimate below ε: the solution would carry no correct digit) or a
+  //     non-finite solution is a failure.
+  //   newton_krylov: GMRES (support/gmres.hpp) preconditioned by the LU of the last matrix that
+  //     was factorised; accepted when the true residual ‖b − a·out‖₂ ≤ krylov_tolerance ‖b‖₂
+  //     within krylov_max_iterations, else `a` itself is factorised (the new preconditioner) and
+  //     the system solved by that LU exactly as dense_lu does.
   std::string solve(const MatrixXd& a, const VectorXd& b, VectorXd& out) {
     const auto start = Clock::now();
-    const support::LapackLu lu(a);
-    const double rcond = lu.rcond();
     std::string why;
+    if (options_.linear_solver == LinearSolver::newton_krylov && preconditioner_ &&
+        preconditioner_size_ == a.rows()) {
+      VectorXd z;
+      const support::GmresOutcome g = support::gmres(
+          [&](const VectorXd& v) { return VectorXd(a * v); },
+          [&](const VectorXd& v) { return preconditioner_->solve(v); }, b,
+          options_.krylov_max_iterations, options_.krylov_tolerance, z);
+      result_.krylov_iterations += g.iterations;
+      if (g.converged && z.allFinite() &&
+          (b - a * z).norm() <= options_.krylov_tolerance * b.norm()) {
+        out = std::move(z);
+        result_.linear_solve_seconds += seconds_since(start);
+        return why;
+      }
+    }
+    auto lu = std::make_unique<support::LapackLu>(a);
+    ++result_.factorisations;
+    const double rcond = lu->rcond();
     if (!(rcond >= kEps)) {
       why = fmt::format("singular bordered matrix (reciprocal condition {:.2g})", rcond);
+      preconditioner_.reset();
     } else {
-      out = lu.solve(b);
+      out = lu->solve(b);
       if (!out.allFinite()) why = "non-finite solution of the bordered system";
+      if (options_.linear_solver == LinearSolver::newton_krylov) {
+        preconditioner_ = std::move(lu);
+        preconditioner_size_ = a.rows();
+      }
     }
     result_.linear_solve_seconds += seconds_since(start);
     return why;
@@ -307,6 +441,9 @@ class Tracer {
   Index n_;
   Result& result_;
   VectorXd state_scale_;
+  std::unique_ptr<support::LapackLu> preconditioner_;  // newton_krylov: the lagged LU
+  LinearOperator approximate_inverse_;  // matrix-free: the lagged approximate inverse of R_x
+  Index preconditioner_size_ = 0;
 };
 
 std::string describe_point(const Point& p, std::size_t count) {
@@ -369,6 +506,15 @@ std::string Options::validate(Eigen::Index n) const {
     }
   }
   if (auto m = positive("parameter_scale", parameter_scale); !m.empty()) return m;
+  if (linear_solver != LinearSolver::dense_lu && linear_solver != LinearSolver::newton_krylov) {
+    return "linear_solver: must be dense_lu or newton_krylov";
+  }
+  if (krylov_max_iterations < 1 || krylov_max_iterations > 1000) {
+    return fmt::format("krylov_max_iterations: must lie in [1, 1000], got {}", krylov_max_iterations);
+  }
+  if (!(krylov_tolerance > 0.0 && krylov_tolerance <= 1e-6)) {
+    return fmt::format("krylov_tolerance: must lie in (0, 1e-6], got {}", krylov_tolerance);
+  }
   return {};
 }
 

@@ -1,9 +1,12 @@
 // EPMC of a preloaded FE joint in modal/interface form (interface_mode.hpp).
 #include "jointhb/hb/interface_mode.hpp"
 
+#include <Eigen/LU>
+
 #include <fmt/format.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -62,6 +65,13 @@ void InterfaceModeResidual::evaluate(const Eigen::VectorXd& y_hat, double lambda
   out.residual[U] = y_hat[ia] - 1.0;
   out.residual[U + 1] = y_hat[ib];
   if (!jacobian) return;
+  if (!balance_.options().dense_jacobian) {
+    out.d_state.resize(0, 0);
+    out.d_parameter = Eigen::VectorXd::Zero(U + 2);
+    out.d_parameter.head(U) = std::numbers::ln10 * (balance_.apply_jacobian(out.balance, omega, xi, y_hat.head(U)) -
+                                                     out.residual.head(U));
+    return;
+  }
   const Eigen::MatrixXd& J = out.balance.jacobian;
   out.d_state.setZero(U + 2, U + 2);
   out.d_state.topLeftCorner(U, U) = J;
@@ -72,6 +82,48 @@ void InterfaceModeResidual::evaluate(const Eigen::VectorXd& y_hat, double lambda
   // d/dλ [R(qŷ)/q] = ln 10 · (J ŷ − R/q): only the nonlinear part contributes.
   out.d_parameter = Eigen::VectorXd::Zero(U + 2);
   out.d_parameter.head(U) = std::numbers::ln10 * (J * y_hat.head(U) - out.residual.head(U));
+}
+
+Eigen::VectorXd InterfaceModeResidual::apply_jacobian(const Evaluation& at, const Eigen::VectorXd& y_hat,
+                                                      double lambda, const Eigen::VectorXd& v) const {
+  const Eigen::Index U = balance_.unknowns();
+  const double q = std::pow(10.0, lambda);
+  const double omega = y_hat[U], xi = y_hat[U + 1];
+  const int a1 = balance_.basis().cosine_index(1);
+  const Eigen::Index ia = balance_.modal_index(mode_, a1), ib = ia + 1;
+  Eigen::VectorXd out(U + 2);
+  out.head(U) = balance_.apply_jacobian(at.balance, omega, xi, v.head(U)) +
+                (at.balance.d_omega * v[U] + at.balance.d_xi * v[U + 1]) / q;
+  out[U] = v[ia];
+  out[U + 1] = v[ib];
+  return out;
+}
+
+// M = [J̃ C; Eᵀ 0], C = [∂R/∂Ω, ∂R/∂ξ]/q, Eᵀ picks (η_f a₁, η_f b₁):
+//   W = J̃⁻¹ C, S = Eᵀ W (2 × 2);  z₂ = S⁻¹ (Eᵀ J̃⁻¹ v₁ − v₂),  z₁ = J̃⁻¹ v₁ − W z₂.
+std::function<Eigen::VectorXd(const Eigen::VectorXd&)> InterfaceModeResidual::preconditioner(
+    const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda) const {
+  const Eigen::Index U = balance_.unknowns();
+  const double q = std::pow(10.0, lambda);
+  const double omega = y_hat[U], xi = y_hat[U + 1];
+  const int a1 = balance_.basis().cosine_index(1);
+  const Eigen::Index ia = balance_.modal_index(mode_, a1), ib = ia + 1;
+  std::shared_ptr<const InterfaceHarmonicPreconditioner> pc =
+      balance_.harmonic_preconditioner(at.balance, omega, xi);
+  Eigen::MatrixXd w(U, 2);
+  w.col(0) = pc->solve(at.balance.d_omega / q);
+  w.col(1) = pc->solve(at.balance.d_xi / q);
+  Eigen::Matrix2d s;
+  s << w(ia, 0), w(ia, 1), w(ib, 0), w(ib, 1);
+  const Eigen::Matrix2d s_inverse = s.inverse();
+  return [pc, w, s_inverse, U, ia, ib](const Eigen::VectorXd& v) {
+    Eigen::VectorXd z(U + 2);
+    const Eigen::VectorXd w1 = pc->solve(v.head(U));
+    const Eigen::Vector2d z2 = s_inverse * Eigen::Vector2d(w1[ia] - v[U], w1[ib] - v[U + 1]);
+    z.head(U) = w1 - w * z2;
+    z.tail(2) = z2;
+    return z;
+  };
 }
 
 InterfaceModeState InterfaceModeResidual::state(const Eigen::VectorXd& y_hat, double lambda,

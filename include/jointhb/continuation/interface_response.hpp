@@ -15,20 +15,34 @@ namespace jointhb::continuation {
 struct InterfaceTimings {
   double aft = 0.0;           ///< contact AFT and its Jacobian [s]
   double assembly = 0.0;      ///< residual and Jacobian assembly [s]
-  double linear_solve = 0.0;  ///< LU factorisations and solves [s]
+  double linear_solve = 0.0;  ///< LU factorisations, GMRES and solves [s]
   double total = 0.0;
   int evaluations = 0, jacobians = 0;
+  int factorisations = 0;     ///< LU factorisations of bordered matrices
+  int krylov_iterations = 0;  ///< GMRES iterations (LinearSolver::newton_krylov)
+  double products = 0.0;        ///< matrix-free Jacobian-vector products [s]
+  double preconditioner = 0.0;  ///< building harmonic preconditioners [s]
 };
 
 struct InterfaceBackboneOptions {
   hb::InterfaceModeOptions mode;
   double log10_amplitude_start = -6.0;  ///< λ of the first point (linear range)
   double log10_amplitude_end = -3.0;    ///< ≠ start
+  /// With continuation.linear_solver = newton_krylov: matrix-free Jacobian
+  /// (InterfaceModeResidual::apply_jacobian from the point blocks) and the harmonic block-Jacobi
+  /// preconditioner (eq. T-31), no U × U matrix formed (docs/performance.md: 3–30× faster than
+  /// the dense Jacobian on the lap, the same points to 1e-14); false: the dense Jacobian with the
+  /// lagged LU. dense_lu always uses the dense Jacobian.
+  bool matrix_free = true;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
     o.initial_step = 0.05;
     o.max_step = 0.3;
+    // GMRES, matrix-free or with the lagged LU (docs/continuation.md §2): the same points as
+    // dense_lu to the Newton tolerance, a fraction of the cost.
+    o.linear_solver = LinearSolver::newton_krylov;
+    o.krylov_max_iterations = 100;  // per GMRES cycle: the harmonic preconditioner is approximate
     return o;
   }();
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
@@ -61,10 +75,15 @@ struct InterfaceFrfOptions {
   double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s], > 0, different
   double load_amplitude = 1.0;                 ///< F(t) = amplitude · cos Ωt times the load shape
   int output = 0;                              ///< index into model.outputs
+  /// As InterfaceBackboneOptions::matrix_free (InterfaceBalance::apply_jacobian and
+  /// harmonic_preconditioner).
+  bool matrix_free = true;
   hb::InterfaceBalanceOptions balance;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
+    o.linear_solver = LinearSolver::newton_krylov;
+    o.krylov_max_iterations = 100;  // per GMRES cycle: the harmonic preconditioner is approximate
     return o;
   }();
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;

@@ -22,11 +22,22 @@
 
 namespace jointhb::continuation {
 
+/// A linear map v ↦ A v (size n → n): matrix-free Jacobians and preconditioners.
+using LinearOperator = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+
 /// What the residual function returns at (x, λ).
 struct Evaluation {
   Eigen::VectorXd residual;     ///< R (size n)
   Eigen::MatrixXd d_state;      ///< ∂R/∂x (n × n), filled when the Jacobian was requested
+                                ///< (unless d_state_product is given)
   Eigen::VectorXd d_parameter;  ///< ∂R/∂λ (size n), filled when the Jacobian was requested
+  /// Matrix-free alternative to d_state (LinearSolver::newton_krylov only): v ↦ ∂R/∂x v. With it,
+  /// d_state stays empty, and the bordered systems are solved by GMRES preconditioned with
+  /// make_preconditioner's approximate inverse of ∂R/∂x (docs/continuation.md §2).
+  LinearOperator d_state_product;
+  /// With d_state_product: builds an approximate inverse v ↦ M⁻¹ v of ∂R/∂x at this point (kept
+  /// for later iterations until GMRES fails with it); empty: no preconditioner.
+  std::function<LinearOperator()> make_preconditioner;
   bool ok = true;               ///< false: the point cannot be evaluated (the step is rejected)
   std::string message;          ///< why not, when !ok
 };
@@ -34,6 +45,13 @@ struct Evaluation {
 /// R(x, λ), with the Jacobian when `jacobian` is true.
 using ResidualFunction =
     std::function<Evaluation(const Eigen::VectorXd& x, double lambda, bool jacobian)>;
+
+/// How the bordered Newton systems are solved (docs/continuation.md §2).
+enum class LinearSolver {
+  dense_lu,       ///< one LU (LAPACK dgetrf) per system: the reference
+  newton_krylov,  ///< GMRES preconditioned by the LU of an earlier bordered matrix, refactored
+                  ///< only when GMRES does not converge in krylov_max_iterations
+};
 
 struct Options {
   double initial_step = 1e-2;    ///< s₀ > 0, in scaled arclength
@@ -54,6 +72,16 @@ struct Options {
   double step_tolerance = 1e-10;      ///< > 0: ‖Δy‖_∞ at convergence (scaled unknowns)
   Eigen::VectorXd state_scale;        ///< x_scale (size n, > 0) or empty: all ones
   double parameter_scale = 1.0;       ///< λ_scale > 0
+  LinearSolver linear_solver = LinearSolver::dense_lu;
+  /// newton_krylov: [1, 1000] GMRES iterations with one preconditioner before it is refactored
+  /// from the current matrix (the system is then solved by that LU, as dense_lu would).
+  /// Matrix-free Jacobians (Evaluation::d_state_product): up to 4 restarted GMRES cycles of this
+  /// length on the true residual; the preconditioner is rebuilt once when they fail, and the
+  /// Newton iteration fails when GMRES fails with a fresh one.
+  int krylov_max_iterations = 20;
+  /// newton_krylov: (0, 1e-6] relative residual ‖b − A z‖₂ / ‖b‖₂ of an accepted GMRES solution
+  /// (the true residual, recomputed after GMRES).
+  double krylov_tolerance = 1e-11;
 
   [[nodiscard]] std::string validate(Eigen::Index n) const;  ///< empty when valid
 };
@@ -91,6 +119,9 @@ struct Result {
   double evaluation_seconds = 0.0;  ///< wall time inside the residual function
   double linear_solve_seconds =
       0.0;  ///< wall time in factorisations and solves (tangent, corrector)
+  int factorisations = 0;     ///< LU factorisations of bordered matrices, or preconditioner builds
+                              ///< (matrix-free Jacobians)
+  int krylov_iterations = 0;  ///< GMRES iterations (newton_krylov), failed runs included
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
 };
 

@@ -59,12 +59,19 @@ struct InterfaceBalanceOptions {
   /// (ContactPointAftOptions::drift_limit/drift_ratio; counted in drifting_points).
   double drift_tolerance = 1e-6;
   double drift_ratio = 1e-3;
+  /// Assemble the dense U × U Jacobian when a Jacobian is requested (true), or only the point
+  /// blocks B_p (InterfaceBalanceEvaluation::point_blocks) for apply_jacobian (false): the dense
+  /// matrix needs 8U² bytes (42 GB at 1600 points, H = 7).
+  bool dense_jacobian = true;
   [[nodiscard]] std::string validate() const;  ///< empty when valid; names the field
 };
 
 struct InterfaceBalanceEvaluation {
   Eigen::VectorXd residual;   ///< scaled residual (size unknowns())
-  Eigen::MatrixXd jacobian;   ///< ∂residual/∂y (when requested)
+  Eigen::MatrixXd jacobian;   ///< ∂residual/∂y (when requested and options().dense_jacobian)
+  /// B_p = A_p ∂N_p/∂δg_p per point (3m × 3m, rows/columns component-major d·m + c), when a
+  /// Jacobian was requested: with Ω, ξ all that apply_jacobian needs.
+  std::vector<Eigen::MatrixXd> point_blocks;
   Eigen::VectorXd d_omega;    ///< ∂residual/∂Ω (when requested)
   Eigen::VectorXd d_xi;       ///< ∂residual/∂ξ (when requested)
   Eigen::MatrixXd contact_force;  ///< A N: m × 3P (coefficients of the force beyond stuck)
@@ -80,8 +87,36 @@ struct InterfaceBalanceEvaluation {
 };
 
 struct InterfaceBalanceTimings {
-  double aft = 0.0, assembly = 0.0;
-  int evaluations = 0, jacobians = 0;
+  double aft = 0.0, assembly = 0.0, products = 0.0;  ///< [s]; products: apply_jacobian
+  double preconditioner = 0.0;  ///< [s]: building and factorising harmonic preconditioners
+  int evaluations = 0, jacobians = 0, product_calls = 0, preconditioners = 0;
+};
+
+/// Block-Jacobi preconditioner over harmonics (docs/theory.md §11, eq. T-31): the inverse of J̃,
+/// the Jacobian with every coupling between different harmonics dropped. Since D_j, Gφ and R_k
+/// are harmonic-diagonal, J̃ is the Jacobian with each point block B_p replaced by its
+/// harmonic-diagonal part, and falls apart into H + 1 dense systems of (n_s + 3P)·d_k unknowns
+/// (d_0 = 1 for the mean, d_k = 2 for (a_k, b_k)), each factorised by LAPACK: O(H (n_s + 3P)³)
+/// instead of O(((n_s + 3P)(2H + 1))³), and no U × U matrix. Exact where no B_p couples
+/// harmonics (the stuck linear limit, B_p = 0); an approximation of J elsewhere.
+class InterfaceHarmonicPreconditioner {
+ public:
+  InterfaceHarmonicPreconditioner();
+  ~InterfaceHarmonicPreconditioner();
+  /// J̃⁻¹ v (size U).
+  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& v) const;
+  /// Smallest reciprocal condition estimate over the harmonic blocks (0: one is singular).
+  [[nodiscard]] double rcond() const;
+  /// The dense block of harmonic k (0 … H), for tests: rows/columns η_j then δg_i, each with its
+  /// d_k coefficients (a_k, b_k) innermost.
+  [[nodiscard]] const Eigen::MatrixXd& block(int k) const;
+  /// Global unknown index of local index `local` of harmonic k's block.
+  [[nodiscard]] Eigen::Index global_index(int k, Eigen::Index local) const;
+
+ private:
+  friend class InterfaceBalance;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 class InterfaceBalance {
@@ -109,6 +144,19 @@ class InterfaceBalance {
   /// Residual at (y, Ω, ξ) with the load coefficients F (size m, or empty: no load).
   void evaluate(const Eigen::VectorXd& y, double omega, double xi, const Eigen::VectorXd& load,
                 bool jacobian, InterfaceBalanceEvaluation& out) const;
+
+  /// ∂residual/∂y · v without the U × U matrix (Jacobian-vector product), from the point blocks
+  /// of an evaluation `at` (with a Jacobian) at (Ω, ξ): the linear part of eq. (T-26, T-27) with
+  /// A N replaced by its directional derivative B v (per point). Cost O(ns·3P·m + (3P)²·m +
+  /// 9P·m²) instead of O(U²) = O((3P)²·m²). Equals jacobian · v to round-off.
+  [[nodiscard]] Eigen::VectorXd apply_jacobian(const InterfaceBalanceEvaluation& at, double omega,
+                                               double xi, const Eigen::VectorXd& v) const;
+
+  /// The harmonic block-Jacobi preconditioner (InterfaceHarmonicPreconditioner) at the point
+  /// blocks of `at` (an evaluation with the Jacobian) and (Ω, ξ). Factorises the H + 1 blocks in
+  /// parallel (OpenMP over harmonics; the result does not depend on the thread count).
+  [[nodiscard]] std::shared_ptr<const InterfaceHarmonicPreconditioner> harmonic_preconditioner(
+      const InterfaceBalanceEvaluation& at, double omega, double xi) const;
 
   /// The stuck linear solution (N ≡ 0) for the load F at Ω (ξ = 0).
   [[nodiscard]] Eigen::VectorXd linear_solution(double omega, const Eigen::VectorXd& load) const;

@@ -12,6 +12,7 @@
 // over one period of the contact (Σ A_p W_D) and of the kept modes' viscous damping.
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 
 #include "jointhb/hb/interface_balance.hpp"
@@ -57,7 +58,17 @@ class InterfaceModeResidual {
     bool ok = true;
     std::string message;
   };
+  /// With balance options dense_jacobian = false, d_state stays empty (use apply_jacobian).
   void evaluate(const Eigen::VectorXd& y_hat, double lambda, bool jacobian, Evaluation& out) const;
+  /// ∂residual/∂Ŷ · v without the matrix, from an evaluation `at` (with the Jacobian) at
+  /// (Ŷ, λ): [J v_y + (∂R/∂Ω v_Ω + ∂R/∂ξ v_ξ)/q; v_y[η_f, a₁]; v_y[η_f, b₁]].
+  [[nodiscard]] Eigen::VectorXd apply_jacobian(const Evaluation& at, const Eigen::VectorXd& y_hat,
+                                               double lambda, const Eigen::VectorXd& v) const;
+  /// Approximate inverse of ∂residual/∂Ŷ at `at`: the harmonic block-Jacobi J̃⁻¹ of the balance
+  /// (InterfaceHarmonicPreconditioner, eq. T-31) bordered exactly by the Ω, ξ columns and the two
+  /// normalisation rows (block elimination with a 2 × 2 Schur complement).
+  [[nodiscard]] std::function<Eigen::VectorXd(const Eigen::VectorXd&)> preconditioner(
+      const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda) const;
   /// Diagnostics of a converged point; `at_point` (an evaluation at exactly (Ŷ, λ)) avoids a new
   /// AFT evaluation.
   [[nodiscard]] InterfaceModeState state(const Eigen::VectorXd& y_hat, double lambda,
