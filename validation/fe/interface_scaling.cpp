@@ -7,7 +7,7 @@
 //   agreement     the Newton–Krylov solves of the bordered systems — GMRES on the dense
 //                 Jacobian preconditioned by a lagged LU ("dense Krylov"), and GMRES on
 //                 matrix-free products preconditioned by the harmonic block-Jacobi inverse
-//                 (T-31c, "matrix-free") — against the dense LU per iteration (dense_lu) where
+//                 (T-32c, "matrix-free") — against the dense LU per iteration (dense_lu) where
 //                 that is run, else matrix-free against dense Krylov: largest relative
 //                 difference of the unknowns over the leading points the curves share;
 //   product       the matrix-free Jacobian-vector product (InterfaceBalance::apply_jacobian)
@@ -262,7 +262,7 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
                  r.assembly_s, r.lu_s, r.product_error);
   }
 
-  // The harmonic block-Jacobi preconditioner (T-31c): one build.
+  // The harmonic block-Jacobi preconditioner (T-32c): one build.
   {
     const auto t = Clock::now();
     const auto pc = free.harmonic_preconditioner(e, omega, xi);

@@ -109,12 +109,14 @@ TEST(PeriodicState, PreloadedTractionAcrossTheMotionRelaxesByDampedNewton) {
   EXPECT_LT(std::abs(r.traction[0].x()), 1.0);  // relaxed from 2.9e4 Pa
 }
 
-TEST(PeriodicState, TranslationLikePeriodMapIsCrossedByExtrapolatedFixedPointSteps) {
-  // A point of the lap at H = 3 (lap_h3_path.hpp): the steady state lies ~53 000 Pa away along a
-  // direction in which each period moves the state by only ~21 Pa, and the monodromy there has an
-  // eigenvalue above 1. The damped Newton alone ended after 400 periods 21 Pa from periodic;
-  // with Newton only where M contracts and the fixed-point step extrapolated along the drift, it
-  // converges in about 15 periods to the state that 20 000 periods of cycling reach.
+// KNOWN LIMIT, disabled until solved (docs/theory.md §5, "Creep"): a point of the lap at H = 3
+// (lap_h3_path.hpp) whose steady state lies ~53 000 Pa away along a direction in which each
+// period moves the state by only ~21 Pa, with a monodromy eigenvalue above 1 on the way. The
+// damped Newton ends after 400 periods 21 Pa from periodic; 20 000 periods of cycling reach the
+// steady state. Gating Newton by the spectral radius of M and extrapolating the fixed-point step
+// along the drift solved this path in 15 periods but made the small-amplitude states of the lap
+// noisy enough to stall its H = 1 damping curve at q = 2e-9 (tried 2026-11-24, reverted).
+TEST(PeriodicState, DISABLED_TranslationLikePeriodMapIsCrossedWithinFewPeriods) {
   jc::ContactPointOptions o;
   o.normal = {lap_h3_path::kPressure, lap_h3_path::kDecay, 0.0};
   o.friction_coefficient = lap_h3_path::kMu;
