@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli_support.hpp"
+#include "interface_fields.hpp"
 #include "jointhb/continuation/interface_response.hpp"
 #include "jointhb/io/csv_writer.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
@@ -109,7 +110,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
   int code = 0;
 
   // ---- condensation ------------------------------------------------------------------------
-  const Settings settings = resolve(c, modes);
+  Settings settings = resolve(c, modes);
   const reduction::ModalLoad load{d.excitation.name.empty() ? "none" : d.excitation.name,
                                   d.excitation.name.empty() ? Eigen::VectorXd::Zero(n) : d.excitation.functional(n)};
   std::vector<reduction::ModalOutputSpec> outputs;
@@ -117,8 +118,19 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
   const std::string key = interface_key(c, settings.options, load, outputs);
   std::vector<contact::ContactPoint> laws;
   for (const auto& ci : model.interfaces) laws.push_back(ci.law);
+  // Full fields (eq. T-33) need Φ and the deflated solves, cached beside the model.
+  const bool want_recovery = d.nonlinear_modes && d.nonlinear_modes->fields > 0 && d.nonlinear_modes->volume_fields;
+  settings.options.keep_field_recovery = want_recovery;  // not part of the key: the model is the same
   const auto cache_start = Clock::now();
   std::optional<hb::InterfaceModel> cached = cache.load_interface_model(key, laws);
+  reduction::FieldRecovery recovery;
+  if (cached && want_recovery) {
+    if (std::optional<reduction::FieldRecovery> fr = cache.load_field_recovery(key)) {
+      recovery = std::move(*fr);
+    } else {
+      cached.reset();  // the model without its recovery: condense again
+    }
+  }
   ordered_json ij;
   hb::InterfaceModel im;
   if (cached) {
@@ -128,8 +140,9 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
     std::fprintf(stderr, "interface model: from cache (%s): %d kept modes (%d rigid), %d contact points\n",
                  cache.file("interface", key).string().c_str(), im.num_modes(), im.rigid_modes, im.num_points());
   } else {
-    const reduction::ModalInterfaceResult r = reduction::build_modal_interface(model, preload, load, outputs, settings.options);
+    reduction::ModalInterfaceResult r = reduction::build_modal_interface(model, preload, load, outputs, settings.options);
     im = r.model;
+    recovery = std::move(r.recovery);
     std::fprintf(stderr, "interface model: %s\n", r.brief().c_str());
     ij["cache"] = "miss";
     ij["truncated_by_max_modes"] = r.truncated_by_max_modes;
@@ -137,11 +150,15 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
                      {"total", r.seconds}};
     const auto store_start = Clock::now();
     cache.store_interface_model(key, im);
+    if (want_recovery) cache.store_field_recovery(key, recovery);
     ij["cache_seconds"] = seconds_since(store_start);
   }
   // Contact patches (eq. T-31): by default only the coincident node pairs, which is exact.
+  std::vector<int> patch_of_point;
   {
     const reduction::ContactPatchResult patches = reduction::merge_contact_patches(im, model, {.size = d.contact_patch});
+    patch_of_point = patches.patch_of_point;
+    if (!recovery.empty()) recovery = recovery.merged(patches.patch_of_point, patches.point_weights, patches.patches);
     ij["contact_patch"] = {{"size", d.contact_patch},
                            {"exact", d.contact_patch == 0.0},
                            {"points_before", patches.fine_points},
@@ -186,20 +203,20 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
       o.log10_amplitude_end = nm.log10_amplitude_end;
       o.continuation = nm.continuation;
       // Output amplitudes: one more evaluation per accepted point on a balance of its own.
-      const std::optional<hb::InterfaceBalance> recovery =
+      const std::optional<hb::InterfaceBalance> output_balance =
           im.outputs.empty() ? std::nullopt : std::optional<hb::InterfaceBalance>(hb::InterfaceBalance(im, nm.balance));
       double linear_hz = 0.0, energy_gap = 0.0;
       const auto on_point = [&](const continuation::InterfaceBackbonePoint& p) {
         const hb::InterfaceModeState& s = p.state;
         double out_amp = 0.0;
-        if (recovery) {
-          const Eigen::Index U = recovery->unknowns();
+        if (output_balance) {
+          const Eigen::Index U = output_balance->unknowns();
           const Eigen::VectorXd y = s.amplitude * p.unknowns.head(U);
           const double xi = p.unknowns[U + 1];
           hb::InterfaceBalanceEvaluation e;
-          recovery->evaluate(y, s.omega, xi, {}, false, e);
-          const Eigen::VectorXd u = recovery->output_coefficients(0, y, s.omega, xi, {}, e.contact_force);
-          const int a1 = recovery->basis().cosine_index(1);
+          output_balance->evaluate(y, s.omega, xi, {}, false, e);
+          const Eigen::VectorXd u = output_balance->output_coefficients(0, y, s.omega, xi, {}, e.contact_force);
+          const int a1 = output_balance->basis().cosine_index(1);
           out_amp = std::hypot(u[a1], u[a1 + 1]);
         }
         const double f = s.omega / kTwoPi;
@@ -222,6 +239,25 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
       };
       const continuation::InterfaceBackbone b = continuation::trace_interface_backbone(im, o, on_point);
       if (tty) std::fprintf(stderr, "\n");
+      ordered_json fields_json;
+      if (nm.fields > 0 && !b.points.empty()) {
+        std::vector<double> amplitudes;
+        for (const auto& p : b.points) amplitudes.push_back(p.state.amplitude);
+        const hb::InterfaceBalance balance(im, nm.balance);
+        std::vector<FieldSnapshot> snapshots;
+        for (std::size_t i : snapshot_indices(amplitudes, nm.fields)) {
+          const auto& p = b.points[i];
+          const Eigen::Index U = balance.unknowns();
+          snapshots.push_back({p.state.amplitude, p.state.omega, p.unknowns[U + 1], p.state.amplitude * p.unknowns.head(U)});
+        }
+        const FieldFiles files = write_damping_fields(dir, mode, c.mesh, model, patch_of_point, balance, recovery, snapshots);
+        std::fprintf(stderr, "fields of mode %d: %zu snapshots -> %s (%.2f s)\n", mode, snapshots.size(),
+                     (dir / fmt::format("mode{}_*.pvd", mode)).string().c_str(), files.seconds);
+        fields_json = {{"snapshots", snapshots.size()}, {"volume", !recovery.empty()}, {"seconds", files.seconds}};
+        fields_json["files"] = ordered_json::array();
+        for (const auto& f : files.files)
+          if (f.extension() != ".vtu") fields_json["files"].push_back(f.string());
+      }
       const bool by_drop = b.reason == continuation::StopReason::stopped_by_user;
       const std::string stop = by_drop ? fmt::format("frequency shift of {} reached", nm.frequency_drop) : b.message;
       std::string energy_warning;
@@ -253,6 +289,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
                                       {"newton_iterations", b.newton_iterations},
                                       {"rejected_steps", b.rejected_steps},
                                       {"seconds", timings_json(b.timings)}});
+      if (!fields_json.is_null()) summary["backbones"].back()["fields"] = fields_json;
       write_summary(dir / "summary.json", summary);
     }
   }

@@ -14,38 +14,12 @@
 #include "jointhb/io/vtk_writer.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "interface_fields.hpp"
 
 namespace jointhb::cli {
 namespace {
 
 using nlohmann::ordered_json;
-
-// Node values of an interface from its point values: v_i = Σ_p a_p h_i(p) v_p / Σ_p a_p h_i(p)
-// over the bottom face nodes (a lumped L2 projection; with nodal integration the plain average
-// of the points at that node weighted by area).
-Eigen::VectorXd node_average(const fe::Interface& iface, const Eigen::VectorXd& point_values,
-                             int num_nodes) {
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(num_nodes), weight = Eigen::VectorXd::Zero(num_nodes);
-  for (const fe::InterfaceElement& e : iface.elements) {
-    for (int p = e.first_point; p < e.first_point + e.num_points; ++p) {
-      const fe::InterfacePoint& pt = iface.points[static_cast<std::size_t>(p)];
-      for (std::size_t k = 0; k < e.bottom_nodes.size(); ++k) {
-        const double w = pt.area * pt.shape[k];
-        sum[e.bottom_nodes[k]] += w * point_values[p];
-        weight[e.bottom_nodes[k]] += w;
-      }
-    }
-  }
-  for (int i = 0; i < num_nodes; ++i) sum[i] = weight[i] != 0.0 ? sum[i] / weight[i] : 0.0;
-  return sum;
-}
-
-std::string file_label(const std::string& name) {
-  std::string s = name;
-  for (char& ch : s)
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
-  return s;
-}
 
 void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
                      const preload::ContactInterface& ci, const preload::InterfaceResult& r) {
@@ -61,8 +35,7 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
                    pt.area, s.pressure[i], s.gap[3 * i + 2], s.gap[3 * i], s.gap[3 * i + 1],
                    s.traction[3 * i], s.traction[3 * i + 1], s.open[p] ? 1.0 : 0.0});
   }
-  std::vector<std::vector<int>> quads;
-  for (const auto& e : ci.geometry.elements) quads.push_back(e.bottom_nodes);
+  const std::vector<std::vector<int>> quads = interface_quads(ci.geometry);
   const Eigen::Index points = ci.geometry.num_points();
   Eigen::VectorXd gap(points), t1(points), t2(points);
   for (Eigen::Index p = 0; p < points; ++p)

@@ -139,8 +139,10 @@ struct InterfaceBalance::Impl {
     std::string message;
   };
 
-  Contact contact(const Eigen::Ref<const MatrixXd>& dg, bool jacobian) const {
+  Contact contact(const Eigen::Ref<const MatrixXd>& dg, bool jacobian,
+                  std::vector<InterfacePointSummary>* summaries = nullptr) const {
     Contact c;
+    if (summaries != nullptr) summaries->assign(static_cast<std::size_t>(P), {});
     c.force.resize(m, 3 * P);
     if (jacobian) c.blocks.resize(static_cast<std::size_t>(P));
     ContactPointAftOptions o;
@@ -173,6 +175,7 @@ struct InterfaceBalance::Impl {
         const ContactPointAftResult& pr = r.points[static_cast<std::size_t>(q)];
         if (!pr.stuck && pr.shortcut != ContactPointShortcut::open) ++c.slipping;
         if (pr.drifting) ++c.drifting;
+        if (summaries != nullptr) (*summaries)[static_cast<std::size_t>(p)] = summarise(p, pr, dg.middleCols(3 * p, 3));
         const Eigen::Matrix3d& C = model.stuck_tangents[static_cast<std::size_t>(p)];
         const double area = model.areas[p];
         MatrixXd n = pr.traction - dg.middleCols(3 * p, 3) * C.transpose();
@@ -191,6 +194,26 @@ struct InterfaceBalance::Impl {
       }
     }
     return c;
+  }
+
+  // The fields of InterfacePointSummary from one point's periodic state and its gap coefficients.
+  InterfacePointSummary summarise(int p, const ContactPointAftResult& pr, const Eigen::Ref<const MatrixXd>& dg) const {
+    InterfacePointSummary s;
+    s.dissipation = pr.dissipation;
+    s.open_fraction = pr.open_fraction;
+    s.stuck = pr.stuck;
+    s.open = pr.shortcut == ContactPointShortcut::open;
+    const MatrixXd g = basis.to_time(dg);  // N × 3
+    const Eigen::RowVector3d mean = g.colwise().mean();
+    for (Index i = 0; i < g.rows(); ++i) {
+      s.tangential_motion = std::max(s.tangential_motion, std::hypot(g(i, 0) - mean(0), g(i, 1) - mean(1)));
+      s.normal_motion = std::max(s.normal_motion, std::abs(g(i, 2) - mean(2)));
+    }
+    const double t_ref = model.references[static_cast<std::size_t>(p)].traction.z();
+    const Eigen::VectorXd pressure = -(t_ref + pr.traction_samples.col(2).array()).matrix();
+    s.pressure_min = std::max(0.0, pressure.minCoeff());
+    s.pressure_max = std::max(0.0, pressure.maxCoeff());
+    return s;
   }
 
   // The residual-mode combination of eq. (T-23) per harmonic, given W0 = R0 V and W1 = R1 V
@@ -279,6 +302,16 @@ VectorXd InterfaceBalance::cosine_load(double amplitude) const {
   VectorXd f = VectorXd::Zero(impl_->m);
   f[impl_->basis.cosine_index(1)] = amplitude;
   return f;
+}
+
+std::vector<InterfacePointSummary> InterfaceBalance::point_summaries(const VectorXd& y) const {
+  const Impl& d = *impl_;
+  if (y.size() != d.U)
+    throw std::invalid_argument(fmt::format("InterfaceBalance::point_summaries: {} unknowns, expected {}", y.size(), d.U));
+  const Eigen::Map<const MatrixXd> dg(y.data() + static_cast<Index>(d.ns) * d.m, d.m, 3 * d.P);
+  std::vector<InterfacePointSummary> summaries;
+  (void)d.contact(dg, false, &summaries);
+  return summaries;
 }
 
 void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, const VectorXd& load,

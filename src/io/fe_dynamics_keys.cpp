@@ -162,7 +162,8 @@ class DynamicsReader {
 
   FeNonlinearModesSpec read_nonlinear_modes(const YAML::Node& node, const std::string& path) const {
     const Fields f = r_.fields(node, path, {"mode", "log10_amplitude", "frequency_drop", "harmonics", "time_samples",
-                                            "periodic_tolerance", "tangential_stiffness", "continuation"});
+                                            "periodic_tolerance", "tangential_stiffness", "continuation",
+                                            "fields", "volume_fields"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
     o.continuation.residual_tolerance = 1e-10;
@@ -193,6 +194,17 @@ class DynamicsReader {
       if (o.log10_amplitude_start == o.log10_amplitude_end) r_.fail(e->value[1], item_path(key, 1), "must differ from start");
     }
     if (f.has("frequency_drop")) o.frequency_drop = number_in(f, "frequency_drop", 0.0, 0.9, false, false);
+    if (const auto* e = f.find("fields")) {
+      const long long k = r_.integer(e->value, f.path_of("fields"));
+      r_.check(e->value, f.path_of("fields"), check_in_range(k, 0, 1000));
+      o.fields = static_cast<int>(k);
+    }
+    if (const auto* e = f.find("volume_fields")) {
+      const std::string key = f.path_of("volume_fields");
+      const std::string v = r_.text(e->value, key);
+      r_.check(e->value, key, check_one_of(v, {"true", "false"}));
+      o.volume_fields = v == "true";
+    }
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     return o;

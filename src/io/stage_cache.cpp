@@ -710,6 +710,63 @@ void StageCache::write_payload(std::string_view stage, const std::string& key, c
   }
 }
 
+std::string encode_field_recovery(const reduction::FieldRecovery& f) {
+  Writer w;
+  w.mat(f.modes);
+  w.mat(f.residual);
+  w.integers(f.column_of_row);
+  w.vec(f.load_residual);
+  w.integers(f.full_of_free);
+  w.i32(f.num_full);
+  w.f64(f.rayleigh_stiffness);
+  return w.take();
+}
+
+reduction::FieldRecovery decode_field_recovery(std::string_view payload) {
+  Reader r(payload);
+  reduction::FieldRecovery f;
+  f.modes = r.mat();
+  f.residual = r.mat();
+  f.column_of_row = r.integers();
+  f.load_residual = r.vec();
+  f.full_of_free = r.integers();
+  f.num_full = r.i32();
+  f.rayleigh_stiffness = r.f64();
+  r.expect_end();
+  const auto n = static_cast<Eigen::Index>(f.full_of_free.size());
+  if (f.modes.rows() != n || f.residual.rows() != n || f.load_residual.size() != n)
+    throw std::runtime_error("inconsistent field-recovery sizes");
+  for (int c : f.column_of_row)
+    if (c < 0 || c >= f.residual.cols()) throw std::runtime_error("field-recovery column out of range");
+  for (int d : f.full_of_free)
+    if (d < 0 || d >= f.num_full) throw std::runtime_error("field-recovery DOF out of range");
+  return f;
+}
+
+std::optional<reduction::FieldRecovery> StageCache::load_field_recovery(const std::string& key) {
+  const auto payload = read_payload("recovery", key);
+  if (!payload) return std::nullopt;
+  try {
+    return decode_field_recovery(*payload);
+  } catch (const std::exception& e) {
+    warn(fmt::format("stage cache: {} does not parse ({}); recomputing the condensation", file("recovery", key).string(),
+                     e.what()));
+    return std::nullopt;
+  }
+}
+
+void StageCache::store_field_recovery(const std::string& key, const reduction::FieldRecovery& recovery) {
+  if (!enabled_) return;
+  std::string payload;
+  try {
+    payload = encode_field_recovery(recovery);
+  } catch (const std::exception& e) {
+    warn(fmt::format("stage cache: cannot encode the field recovery: {}; not cached", e.what()));
+    return;
+  }
+  write_payload("recovery", key, payload);
+}
+
 std::optional<preload::PreloadResult> StageCache::load_preload(const std::string& key) {
   const auto payload = read_payload("preload", key);
   if (!payload) return std::nullopt;

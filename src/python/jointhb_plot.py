@@ -6,6 +6,9 @@ usage: jointhb_plot.py DIR
 Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
   DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level
   DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode
+  DIR/mode<k>_contact.png  for each DIR/mode<k>_contact_points.csv: the contact points' W_D per
+                    unit area (colour, scaled per snapshot) at each field snapshot, open points
+                    crossed (plane of the points' two widest coordinates)
 """
 import csv
 import os
@@ -69,12 +72,55 @@ def plot_backbone(directory):
     return "backbone.png"
 
 
+def plot_contact_fields(directory, name):
+    rows = read(os.path.join(directory, name))
+    snaps = sorted({int(float(r["snapshot"])) for r in rows})
+    xyz = [[float(r[c]) for r in rows] for c in ("x", "y", "z")]
+    spans = sorted(range(3), key=lambda c: max(xyz[c]) - min(xyz[c]), reverse=True)[:2]
+    a, b = sorted(spans)
+    width = (max(xyz[a]) - min(xyz[a])) / max(max(xyz[b]) - min(xyz[b]), 1e-300)
+    cols = 2 if len(snaps) > 2 else 1
+    rows_n = (len(snaps) + cols - 1) // cols
+    panel_w = min(6.0, max(3.0, 2.2 * width))
+    fig, axes = plt.subplots(rows_n, cols, figsize=(cols * (panel_w + 1.2), rows_n * (panel_w / max(width, 0.3) + 0.9)),
+                             squeeze=False)
+    for ax in axes.flat[len(snaps):]:
+        ax.axis("off")
+    for ax, k in zip(axes.flat, snaps):
+        sel = [r for r in rows if int(float(r["snapshot"])) == k]
+        pa = [float(r["xyz"[a]]) * 1e3 for r in sel]
+        pb = [float(r["xyz"[b]]) * 1e3 for r in sel]
+        w = [float(r["dissipation"]) for r in sel]
+        state = [float(r["state"]) for r in sel]
+        sc = ax.scatter(pa, pb, c=w, vmin=0.0, vmax=max(w) or 1.0, cmap="viridis", s=28)
+        opened = [(x, y) for x, y, s in zip(pa, pb, state) if s == 2]
+        if opened:
+            ax.scatter(*zip(*opened), marker="x", c="white", s=14, linewidths=0.8)
+        r0 = sel[0]
+        ax.set_title(f"q = {float(r0['amplitude']):.3g}, f = {float(r0['frequency_hz']):.5g} Hz\n"
+                     f"{sum(1 for s in state if s == 0)} stuck, {sum(1 for s in state if s == 1)} slipping, "
+                     f"{sum(1 for s in state if s == 2)} open", fontsize=8)
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"{'xyz'[a]} [mm]", fontsize=8)
+        ax.set_ylabel(f"{'xyz'[b]} [mm]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        fig.colorbar(sc, ax=ax, shrink=0.85).set_label("W_D [J/m²/cycle]", fontsize=7)
+    fig.tight_layout()
+    out = name.replace("_contact_points.csv", "_contact.png")
+    fig.savefig(os.path.join(directory, out), dpi=110)
+    plt.close(fig)
+    return out
+
+
 def main(directory):
     written = []
     if os.path.exists(os.path.join(directory, "frf.csv")):
         written.append(plot_frf(directory))
     if os.path.exists(os.path.join(directory, "backbone.csv")):
         written.append(plot_backbone(directory))
+    for name in sorted(os.listdir(directory)):
+        if name.startswith("mode") and name.endswith("_contact_points.csv"):
+            written.append(plot_contact_fields(directory, name))
     if not written:
         sys.exit(f"jointhb_plot: {directory} has neither frf.csv nor backbone.csv")
     print(" ".join(os.path.join(directory, w) for w in written))

@@ -121,6 +121,7 @@ ContactPatchResult merge_contact_patches(const hb::InterfaceModel& model, const 
       for (int d = 0; d < 3; ++d) w.emplace_back(3 * c + d, 3 * p + d, weight[static_cast<std::size_t>(p)]);
     }
   }
+  r.point_weights = weight;
   SpMat W(3 * Pc, 3 * P);
   W.setFromTriplets(w.begin(), w.end());
   m.gap_shapes = W * model.gap_shapes;

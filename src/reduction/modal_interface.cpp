@@ -295,6 +295,16 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
     o.load_residual1 = Q(col, col_f);
     im.outputs.push_back(std::move(o));
   }
+  if (options.keep_field_recovery) {
+    FieldRecovery& fr = r.recovery;
+    fr.modes = Phi;
+    fr.residual = W.leftCols(distinct);
+    fr.column_of_row = rep;
+    fr.load_residual = W.col(col_f);
+    fr.full_of_free = dofs.full_of_free;
+    fr.num_full = num_full;
+    fr.rayleigh_stiffness = options.rayleigh_stiffness;
+  }
   r.residual_seconds = seconds_since(t);
 
   if (const std::string problem = im.validate(); !problem.empty())

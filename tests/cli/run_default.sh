@@ -48,6 +48,48 @@ print(f"ok: f {f[0]:.3f} -> {f[-1]:.3f} Hz, zeta {z[0]:.4g} -> {z[-1]:.4g} over 
       f"in {b['seconds']['total']:.1f} s (linear solves {b['seconds']['linear_solve']:.1f} s)")
 PY
 
+# The damping curve's ParaView fields (docs/case-files.md "fields"): the contact surface's W_D adds
+# up to the curve's W_D at the same point, and the recovered volume field (eq. T-33) at the drive
+# node matches the output amplitude the balance reports (which adds the R1 term: cutoff-sized).
+for f in mode1_contact_lap.pvd mode1_volume.pvd mode1_contact_points.csv; do
+  [ -s "$WORK/out/$f" ] || fail "missing $f"
+done
+"$PYTHON" - "$WORK/out" <<'PY' || fail "damping-curve fields"
+import csv, json, math, sys, xml.etree.ElementTree as ET
+d = sys.argv[1]
+s = json.load(open(f"{d}/summary.json"))
+fl = s["backbones"][0]["fields"]
+assert fl["snapshots"] >= 2 and fl["volume"], fl
+rows = list(csv.DictReader(open(f"{d}/backbone.csv")))
+pts = list(csv.DictReader(open(f"{d}/mode1_contact_points.csv")))
+last = max(int(r["snapshot"]) for r in pts)
+def w_of(snap):
+    return sum(float(r["area"]) * float(r["dissipation"]) for r in pts if int(r["snapshot"]) == snap)
+q_last = float([r for r in pts if int(r["snapshot"]) == last][0]["amplitude"])
+b = min(rows, key=lambda r: abs(float(r["amplitude"]) / q_last - 1))
+assert abs(float(b["amplitude"]) / q_last - 1) < 1e-12, (b["amplitude"], q_last)
+assert abs(w_of(last) / float(b["W_D"]) - 1) < 1e-9, (w_of(last), b["W_D"])
+assert w_of(0) < 1e-6 * w_of(last), (w_of(0), w_of(last))          # linear limit: no slip
+assert any(float(r["state"]) == 1 for r in pts if int(r["snapshot"]) == last), "no slipping point at the end"
+def arrays(path):
+    root = ET.parse(path).getroot()
+    out = {}
+    for a in root.iter("DataArray"):
+        if a.get("format") == "ascii" and a.text:
+            out[a.get("Name")] = [float(v) for v in a.text.split()]
+    return out
+pvd = ET.parse(f"{d}/mode1_volume.pvd").getroot()
+sets = [(float(x.get("timestep")), x.get("file")) for x in pvd.iter("DataSet")]
+assert abs(sets[-1][0] - math.log10(q_last)) < 1e-12, (sets[-1], q_last)
+v = arrays(f"{d}/{sets[-1][1]}")
+xyz = v["Points"]
+node = min(range(len(xyz) // 3), key=lambda i: (xyz[3*i]-0.160)**2 + (xyz[3*i+1]-0.015)**2 + (xyz[3*i+2]-0.008)**2)
+amp = v["amplitude_1"][3 * node + 2]
+assert abs(amp / float(b["output_amplitude"]) - 1) < 1e-2, (amp, b["output_amplitude"])
+print(f"ok: fields: {fl['snapshots']} snapshots; surface W_D {w_of(last):.4e} J = curve's; drive amplitude "
+      f"recovered {amp:.5e} m vs balance {float(b['output_amplitude']):.5e} m ({abs(amp/float(b['output_amplitude'])-1):.1e})")
+PY
+
 # Only dynamic settings changed (a 1 % drop instead of 3 %): preload, modes and the condensed
 # model come from the cache, and the curve repeats the first run's points.
 sed 's/frequency_drop: 0.03 /frequency_drop: 0.01 /' "$SOURCE_DIR/cases/08-lap-damping/case.yaml" >"$WORK/short.yaml"

@@ -86,6 +86,19 @@ struct InterfaceBalanceEvaluation {
   std::string message;
 };
 
+/// What one contact point does over the period of a solution (InterfaceBalance::point_summaries),
+/// for output: where the joint slips, opens and dissipates.
+struct InterfacePointSummary {
+  double dissipation = 0.0;        ///< W_D,p = ∮ t_T·dg_T over one period, per unit area [J/m²]
+  double tangential_motion = 0.0;  ///< max_t |δg_T(t) − mean| [m]: the tangential vibration amplitude
+  double normal_motion = 0.0;      ///< max_t |δg_N(t) − mean| [m]
+  double pressure_min = 0.0;       ///< min_t p_N(t) = −t_N [Pa] (0 while open)
+  double pressure_max = 0.0;       ///< max_t p_N(t) [Pa]
+  double open_fraction = 0.0;      ///< share of the period below the gapping floor
+  bool stuck = true;               ///< no slip and never open
+  bool open = false;               ///< open throughout
+};
+
 struct InterfaceBalanceTimings {
   double aft = 0.0, assembly = 0.0, products = 0.0;  ///< [s]; products: apply_jacobian
   double preconditioner = 0.0;  ///< [s]: building and factorising harmonic preconditioners
@@ -157,6 +170,11 @@ class InterfaceBalance {
   /// parallel (OpenMP over harmonics; the result does not depend on the thread count).
   [[nodiscard]] std::shared_ptr<const InterfaceHarmonicPreconditioner> harmonic_preconditioner(
       const InterfaceBalanceEvaluation& at, double omega, double xi) const;
+
+  /// Per contact point (P): what it does over the period at the solution y (the same periodic
+  /// states the residual uses, with the traction and gap samples reduced to the fields of
+  /// InterfacePointSummary). Throws std::invalid_argument on a wrong size.
+  [[nodiscard]] std::vector<InterfacePointSummary> point_summaries(const Eigen::VectorXd& y) const;
 
   /// The stuck linear solution (N ≡ 0) for the load F at Ω (ξ = 0).
   [[nodiscard]] Eigen::VectorXd linear_solution(double omega, const Eigen::VectorXd& load) const;

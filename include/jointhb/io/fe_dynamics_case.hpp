@@ -40,6 +40,11 @@ struct FeNonlinearModesSpec {
   /// > 0: stop a curve once its frequency has moved by this fraction of the linear one (it falls
   /// into macroslip; it rises where open regions clap); 0: run to log10_amplitude_end.
   double frequency_drop = 0.0;
+  /// Accepted points (spread in log q, the first and the last among them) written as VTK fields:
+  /// contact surfaces always, the volume too when volume_fields (eq. T-33; the condensation then
+  /// keeps and caches n × (n_s + 3P_d) doubles). 0: no fields.
+  int fields = 5;
+  bool volume_fields = true;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation;
 };

@@ -33,6 +33,7 @@
 #include "jointhb/hb/interface_model.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "jointhb/reduction/field_recovery.hpp"
 
 
 namespace jointhb::io {
@@ -100,6 +101,11 @@ class StageCache {
       const std::string& key, const std::vector<contact::ContactPoint>& laws);
   void store_interface_model(const std::string& key, const hb::InterfaceModel& model);
 
+  /// The full-field recovery of the condensation (reduction/field_recovery.hpp), keyed as the
+  /// interface model it belongs to; stored only when a case asks for full fields.
+  [[nodiscard]] std::optional<reduction::FieldRecovery> load_field_recovery(const std::string& key);
+  void store_field_recovery(const std::string& key, const reduction::FieldRecovery& recovery);
+
   /// The warnings printed so far (each also went to stderr as one line "warning: ...").
   [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -125,5 +131,7 @@ modal::ModalResult decode_modes(std::string_view payload);
 std::string encode_interface_model(const hb::InterfaceModel& model);
 hb::InterfaceModel decode_interface_model(std::string_view payload,
                                           const std::vector<contact::ContactPoint>& laws);
+std::string encode_field_recovery(const reduction::FieldRecovery& recovery);
+reduction::FieldRecovery decode_field_recovery(std::string_view payload);
 
 }  // namespace jointhb::io

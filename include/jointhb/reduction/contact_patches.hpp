@@ -49,6 +49,7 @@ struct ContactPatchOptions {
 struct ContactPatchResult {
   hb::InterfaceModel model;          ///< the reduced model (P_c points)
   std::vector<int> patch_of_point;   ///< fine point → patch (size P)
+  std::vector<double> point_weights; ///< ω_p of eq. (T-31) (size P; each patch's sum to 1)
   int fine_points = 0, patches = 0;
   double seconds = 0.0;
 };

@@ -40,6 +40,7 @@
 #include "jointhb/hb/interface_model.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "jointhb/reduction/field_recovery.hpp"
 
 namespace jointhb::reduction {
 
@@ -59,6 +60,9 @@ struct ModalInterfaceOptions {
   /// 2·count + 1). Its shift is also the residual shift s: K_t − sM must be positive definite
   /// (s < 0 for a free-free structure).
   modal::ModalOptions modal{};
+  /// Keep Φ and the deflated solves Z, z_f for full-field output (ModalInterfaceResult::recovery,
+  /// reduction/field_recovery.hpp, eq. T-33). Memory: n × (n_s + 3P_d + 1) doubles.
+  bool keep_field_recovery = false;
 
   /// Empty when valid, else "field: constraint, got value".
   [[nodiscard]] std::string validate() const;
@@ -84,6 +88,8 @@ struct ModalInterfaceResult {
   /// Distinct rows of G solved for (3 per node pair with nodal integration: the points of one node
   /// pair have identical rows, and their residual terms are copies).
   int distinct_gap_rows = 0;
+  /// Full-field recovery (T-33), when options.keep_field_recovery; empty otherwise.
+  FieldRecovery recovery;
   double modes_seconds = 0, factor_seconds = 0, residual_seconds = 0, seconds = 0;
 
   /// One line: kept modes (rigid), frequency range, points, timings.

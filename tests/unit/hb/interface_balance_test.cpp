@@ -234,6 +234,47 @@ TEST(InterfaceBalance, MatchesPhysicalCoordinateBalance) {
   }
 }
 
+// The per-point summaries (output fields) come from the same periodic states as the residual:
+// their area-weighted W_D add up to the evaluation's dissipation, their slip/open flags to its
+// counts, and the pressure range brackets the preloaded pressure of every point that stays closed.
+TEST(InterfaceBalance, PointSummariesAddUpToTheEvaluation) {
+  const Structure s = make_structure(3, 4, 5, 0.3, true);
+  const InterfaceBalanceOptions options{.harmonics = 3, .time_samples = 64};
+  const InterfaceBalance hb(make_model(s, s.n, true), options);
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(s.Kt, s.M);
+  const double omega = 0.98 * std::sqrt(es.eigenvalues()[0]);
+  const VectorXd load = hb.cosine_load(40.0);
+  const VectorXd y = solve(hb, omega, load);
+  InterfaceBalanceEvaluation e;
+  hb.evaluate(y, omega, 0.0, load, false, e);
+  const std::vector<InterfacePointSummary> sum = hb.point_summaries(y);
+  ASSERT_EQ(static_cast<int>(sum.size()), s.P);
+  double w = 0.0;
+  int slipping = 0, open = 0;
+  for (int p = 0; p < s.P; ++p) {
+    const InterfacePointSummary& q = sum[static_cast<std::size_t>(p)];
+    w += hb.model().areas[p] * q.dissipation;
+    slipping += !q.stuck && !q.open;
+    open += q.open;
+    EXPECT_GE(q.dissipation, -1e-15);
+    EXPECT_GE(q.open_fraction, 0.0);
+    EXPECT_LE(q.open_fraction, 1.0);
+    EXPECT_GT(q.tangential_motion, 0.0);
+    const double p_pre = -hb.model().references[static_cast<std::size_t>(p)].traction.z();
+    if (q.open_fraction == 0.0) {
+      EXPECT_LE(q.pressure_min, p_pre * (1 + 1e-12));
+      EXPECT_GE(q.pressure_max, p_pre * (1 - 1e-12));
+    }
+  }
+  std::printf("  %d points: %d slipping, %d open; sum A W_D = %.6e J vs evaluation %.6e J\n", s.P, slipping, open, w,
+              e.dissipation);
+  EXPECT_GT(slipping, 0);
+  EXPECT_EQ(slipping, e.slipping_points);
+  EXPECT_EQ(open, e.open_points);
+  EXPECT_NEAR(w, e.dissipation, 1e-12 * std::abs(e.dissipation));
+  EXPECT_THROW((void)hb.point_summaries(VectorXd::Zero(3)), std::invalid_argument);
+}
+
 TEST(InterfaceBalance, RejectsBadInput) {
   const Structure s = make_structure(2, 2, 1);
   InterfaceModel m = make_model(s, 4, true);

@@ -54,7 +54,8 @@ TEST(io_FeDynamics, ValidCaseGivesTheSettingsAndTheNearestNodes) {
   excitation: {point: [0.0601, 0.0099, 0.008], direction: [0, 0, 2]}
   outputs: [{name: tip, point: [0.06, 0.01, 0.008], direction: [1, 0, 0]}, {name: far, point: [0, 0, 0]}]
   nonlinear_modes: {mode: [1, 3], log10_amplitude: [-8, -5], frequency_drop: 0.04, harmonics: 3,
-                    tangential_stiffness: instantaneous, continuation: {max_step: 0.2}}
+                    tangential_stiffness: instantaneous, continuation: {max_step: 0.2}, fields: 3,
+                    volume_fields: false}
   frf: {frequency_hz: [900, 1000], force: [0.5, 2.0], output: far, harmonics: 2}
 )"), "case.yaml");
   ASSERT_TRUE(c.dynamics.has_value());
@@ -79,6 +80,8 @@ TEST(io_FeDynamics, ValidCaseGivesTheSettingsAndTheNearestNodes) {
   EXPECT_FALSE(d.nonlinear_modes->balance.preloaded_tangential_stiffness);
   EXPECT_EQ(d.nonlinear_modes->continuation.max_step, 0.2);
   EXPECT_EQ(d.nonlinear_modes->frequency_drop, 0.04);
+  EXPECT_EQ(d.nonlinear_modes->fields, 3);
+  EXPECT_FALSE(d.nonlinear_modes->volume_fields);
   EXPECT_NEAR(d.frf->omega_start, 2.0 * std::numbers::pi * 900.0, 1e-9);
   EXPECT_EQ(d.frf->forces, (std::vector<double>{0.5, 2.0}));
   EXPECT_EQ(d.frf->output, 1);
@@ -109,6 +112,8 @@ TEST(io_FeDynamics, BadValuesNameLineKeyAndConstraint) {
   expect_error("  nonlinear_modes: {log10_amplitude: [-8, -8]}\n", 12, "analysis.nonlinear_modes.log10_amplitude[1]",
                "differ");
   expect_error("  nonlinear_modes: {frequency_drop: 1.5}\n", 12, "analysis.nonlinear_modes.frequency_drop", "[0, 0.9]");
+  expect_error("  nonlinear_modes: {fields: -1}\n", 12, "analysis.nonlinear_modes.fields", "[0, 1000]");
+  expect_error("  nonlinear_modes: {volume_fields: yes}\n", 12, "analysis.nonlinear_modes.volume_fields", "true");
   expect_error("  nonlinear_modes: {time_samples: 3}\n", 12, "analysis.nonlinear_modes.time_samples", "in [4, 65536]");
   expect_error("  nonlinear_modes: {tangential_stiffness: soft}\n", 12, "analysis.nonlinear_modes.tangential_stiffness",
                "preloaded");

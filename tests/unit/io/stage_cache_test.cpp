@@ -268,6 +268,37 @@ TEST(StageCache, ModesRoundTripIsBitIdentical) {
   EXPECT_TRUE(cache.warnings().empty());
 }
 
+TEST(StageCache, FieldRecoveryRoundTripIsBitIdenticalAndChecked) {
+  jointhb::reduction::FieldRecovery f;
+  f.modes = Eigen::MatrixXd::Random(5, 2);
+  f.residual = Eigen::MatrixXd::Random(5, 3);
+  f.column_of_row = {0, 1, 2, 0, 1, 2};
+  f.load_residual = Eigen::VectorXd::Random(5);
+  f.full_of_free = {0, 1, 3, 4, 6};
+  f.num_full = 9;
+  f.rayleigh_stiffness = 1.25e-6;
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  cache.store_field_recovery("k", f);
+  const auto g = cache.load_field_recovery("k");
+  ASSERT_TRUE(g.has_value());
+  EXPECT_EQ(g->modes, f.modes);
+  EXPECT_EQ(g->residual, f.residual);
+  EXPECT_EQ(g->column_of_row, f.column_of_row);
+  EXPECT_EQ(g->load_residual, f.load_residual);
+  EXPECT_EQ(g->full_of_free, f.full_of_free);
+  EXPECT_EQ(g->num_full, f.num_full);
+  EXPECT_EQ(g->rayleigh_stiffness, f.rayleigh_stiffness);
+  EXPECT_FALSE(cache.load_field_recovery("l").has_value());
+  // a column or DOF out of range does not decode
+  jointhb::reduction::FieldRecovery bad = f;
+  bad.column_of_row[4] = 3;
+  EXPECT_THROW((void)io::decode_field_recovery(io::encode_field_recovery(bad)), std::runtime_error);
+  bad = f;
+  bad.full_of_free[4] = 9;
+  EXPECT_THROW((void)io::decode_field_recovery(io::encode_field_recovery(bad)), std::runtime_error);
+}
+
 TEST(StageCache, InterfaceModelRoundTripTakesTheLawsFromTheCaller) {
   const auto law = [](double mu) {
     jointhb::contact::ContactPointOptions o;
