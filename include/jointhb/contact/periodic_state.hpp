@@ -5,8 +5,10 @@
 //   t_{i+1} = S(t_i, g_{i+1} - g_i, L_{i+1}, k_{i+1})     (indices mod N),
 // with S the law's exact increment. The steady state is the solution of the periodicity condition
 //   t_0 = Φ_N(t_0)     (Φ_N: one period of steps),
-// solved by Newton's method with the exact monodromy matrix M = ∂Φ_N/∂t_0 = A_{N-1}⋯A_0,
-// safeguarded by fixed-point steps. Cycling alone is not used: at small amplitude each period
+// solved by damped Newton with the exact monodromy matrix M = ∂Φ_N/∂t_0 = A_{N-1}⋯A_0,
+// safeguarded by fixed-point steps extrapolated along the drift where Newton does not help or,
+// far from the steady state, where the period map does not contract (docs/theory.md §5, creep).
+// Cycling alone is not used: at small amplitude each period
 // contracts the error only by about (1 - |F_T|/μF_N)^{2n} (NUMERICS.md §2).
 //
 // Uniqueness: where the condition does not fix the state (a Jenkins contact that sticks throughout

@@ -1,6 +1,7 @@
 // Periodic steady state (periodic_state.hpp): against brute-force cycling where cycling converges,
 // the closed-form steady loop, the reference policy for stuck contacts, and the sensitivities
 // against finite differences of the whole solve.
+#include <cstdlib>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -116,7 +117,7 @@ TEST(PeriodicState, PreloadedTractionAcrossTheMotionRelaxesByDampedNewton) {
 // steady state. Gating Newton by the spectral radius of M and extrapolating the fixed-point step
 // along the drift solved this path in 15 periods but made the small-amplitude states of the lap
 // noisy enough to stall its H = 1 damping curve at q = 2e-9 (tried 2026-11-24, reverted).
-TEST(PeriodicState, DISABLED_TranslationLikePeriodMapIsCrossedWithinFewPeriods) {
+TEST(PeriodicState, TranslationLikePeriodMapIsCrossedWithinFewPeriods) {
   jc::ContactPointOptions o;
   o.normal = {lap_h3_path::kPressure, lap_h3_path::kDecay, 0.0};
   o.friction_coefficient = lap_h3_path::kMu;
@@ -135,9 +136,10 @@ TEST(PeriodicState, DISABLED_TranslationLikePeriodMapIsCrossedWithinFewPeriods) 
   EXPECT_LE(r.tangential.iterations, 30);
   // Brute force from the anchor: 20 000 periods of exact steps.
   Vec2 t = po.reference_traction;
-  for (int period = 0; period < 20000; ++period)
+  for (int period = 0; period < 20000; ++period) {
     for (std::size_t i = 0; i < path.size(); ++i)
       t = point.step(t, path[i], path[(i + 1) % path.size()]).traction.head<2>();
+  }
   EXPECT_NEAR((t - r.tangential.traction[0]).norm(), 0.0, 1e-6 * t.norm());
 }
 
