@@ -82,13 +82,15 @@ Settings resolve(const io::FeCase& c, const modal::ModalResult& modes) {
   return s;
 }
 
-// Stage-cache key of the condensed model (io/stage_cache.hpp): the modes key + every option and
-// the load and output vectors.
+// Stage-cache key of the condensed model (io/stage_cache.hpp): the modes key + every option but
+// the damping, and the load and output vectors.
 std::string interface_key(const io::FeCase& c, const reduction::ModalInterfaceOptions& o,
                           const reduction::ModalLoad& load, const std::vector<reduction::ModalOutputSpec>& outputs) {
   io::Fingerprint k = io::Fingerprint::chain(c.fingerprints.modes);
+  // The Rayleigh coefficients are not part of it: the condensation only copies them into the
+  // model (T-23 uses them at evaluation time), so they are set after a cache hit.
   k.add("interface model").add(o.cutoff_hz).add(o.initial_count).add(o.max_modes).add(o.rigid_tolerance_hz);
-  k.add(o.rayleigh_mass).add(o.rayleigh_stiffness).add(o.modal.shift).add(o.modal.tolerance).add(o.modal.ncv);
+  k.add(o.modal.shift).add(o.modal.tolerance).add(o.modal.ncv);
   k.add(load.name).add(load.force);
   for (const auto& out : outputs) k.add(out.name).add(out.functional);
   return k.hex();
@@ -127,6 +129,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
   if (cached && want_recovery) {
     if (std::optional<reduction::FieldRecovery> fr = cache.load_field_recovery(key)) {
       recovery = std::move(*fr);
+      recovery.rayleigh_stiffness = settings.options.rayleigh_stiffness;
     } else {
       cached.reset();  // the model without its recovery: condense again
     }
@@ -135,6 +138,8 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
   hb::InterfaceModel im;
   if (cached) {
     im = std::move(*cached);
+    im.rayleigh_mass = settings.options.rayleigh_mass;
+    im.rayleigh_stiffness = settings.options.rayleigh_stiffness;
     ij["cache"] = "hit";
     ij["cache_seconds"] = seconds_since(cache_start);
     std::fprintf(stderr, "interface model: from cache (%s): %d kept modes (%d rigid), %d contact points\n",

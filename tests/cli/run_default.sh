@@ -114,6 +114,23 @@ print(f"ok: stages from the cache: {s['preload']['cache_seconds'] + s['modes']['
       f"read instead of {stages(s1):.2f} s computed; {len(second)} points, identical to the first run")
 PY
 
+# Only the damping changed: the condensation only copies the Rayleigh coefficients, so all three
+# stages still come from the cache, and the linear limit carries the new ratio.
+sed -e 's/damping: {ratio: 0.005}/damping: {ratio: 0.01}/' -e 's/frequency_drop: 0.03 /frequency_drop: 0.005 /' \
+  "$SOURCE_DIR/cases/08-lap-damping/case.yaml" >"$WORK/damped.yaml"
+grep -q 'ratio: 0.01}' "$WORK/damped.yaml" || fail "could not edit the default case's damping"
+run_capture run "$WORK/damped.yaml" -o "$WORK/out3" --cache-dir "$WORK/out/.cache"
+[ "$STATUS" -eq 0 ] || fail "damped run exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/out3" <<'PY' || fail "damping-only change"
+import csv, json, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/summary.json"))
+assert s["interface_model"]["cache"] == "hit" and s["interface_model"]["rayleigh"]["beta"] > 0, s["interface_model"]
+z0 = float(next(csv.DictReader(open(f"{d}/backbone.csv")))["damping_ratio"])
+assert abs(z0 / 0.01 - 1) < 1e-3, z0
+print(f"ok: damping 1 %: condensed model from the cache, linear zeta {z0:.6f}")
+PY
+
 # The default output directory is ./jointhb-out (checked with a file case: the same code path).
 (cd "$WORK" && "$JOINTHB" run "$SOURCE_DIR/cases/01-contact-loop/case.yaml" 2>/dev/null) || fail "run in $WORK exited $?"
 [ -f "$WORK/jointhb-out/summary.json" ] || fail "no jointhb-out/summary.json by default"
