@@ -68,6 +68,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// The automatic penalty before any evaluation has succeeded (FitOptions::penalty).
+constexpr double no_success_penalty = 1e12;
+
 struct Known {
   HistoryRow row;
   bool from_file = false;
@@ -155,7 +158,8 @@ class Evaluator {
 
   double penalty() const {
     if (options_.penalty > 0.0) return options_.penalty;
-    return 10.0 * std::max({1.0, static_cast<double>(m_), largest_});
+    if (m_ == 0) return no_success_penalty;  // the scale of S is not known yet
+    return 10.0 * std::max(static_cast<double>(m_), largest_);
   }
 
   std::size_t residual_count() const { return m_; }

@@ -14,7 +14,7 @@
 //
 // Failed evaluations (the model throws or reports !ok, e.g. a continuation that stopped) are not
 // fatal: their objective is the penalty (FitOptions::penalty, default 10 max(m, largest
-// successful objective so far)), and they are counted. Everything is deterministic: the starts
+// successful objective so far), 1e12 before the first success), and they are counted. Everything is deterministic: the starts
 // come from a seeded Latin hypercube, and the evaluations run in sequence.
 //
 // Resume: every evaluation is a HistoryRow (fit/history.hpp writes and reads them as CSV). Given
@@ -50,7 +50,8 @@ struct FitOptions {
   int max_evaluations = 400;  ///< ≥ 1: per start (the global phase of direct/mlsl has its own)
   int starts = 1;             ///< ≥ 1: the given start, then Latin-hypercube points
   unsigned seed = 1;          ///< Latin hypercube and MLSL
-  double penalty = 0.0;       ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S so far)
+  double penalty = 0.0;  ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S so far), 1e12
+                         ///< before the first successful evaluation
   double initial_step = 0.1;  ///< (0, 0.5]: first step of the local searches (unit box)
   double jacobian_step = 1e-3;  ///< (0, 0.1]: h of the central differences in u
   [[nodiscard]] std::string validate() const;
