@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/fit/discrete_model.hpp"
 #include "jointhb/fit/fitter.hpp"
 #include "jointhb/io/discrete_case.hpp"
@@ -166,6 +167,77 @@ TEST(DiscreteFit, JenkinsMuAndNormalForceOnlyAsProductAreFlagged) {
   EXPECT_TRUE(std::isinf(r.standard_errors[0]));
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings[0].find("not separately identifiable"), std::string::npos);
+}
+
+// Case 04's system with an FRF around mode 1 (force 0.05 N on DOF 1), H = 3.
+const char* const two_dof_frf = R"(model:
+  type: discrete
+  mass: [[1.0, 0.0], [0.0, 1.0]]
+  stiffness: [[3.0e4, -1.0e4], [-1.0e4, 1.0e4]]
+  damping: {modal: [0.002, 0.002]}
+contacts:
+  - {law: gaul-mayer, dofs: [0], kt0: 2.0e4, mu: 0.4, normal_force: 5.0, n: 0.3333333333333333}
+  - {law: gaul-mayer, dofs: [0, 1], kt0: 1.0e4, mu: 0.1, normal_force: 5.0, n: 0.3333333333333333}
+excitation:
+  - {dof: 1, amplitude: 0.05}
+analysis:
+  frf: {frequency_hz: [13.0, 20.0], harmonics: 3, output_dof: 1}
+)";
+
+TEST(DiscreteFit, FrfAndModalPredictionsAreTheCurvesOwnValues) {
+  const io::DiscreteCase c = io::parse_discrete_case(two_dof_frf, "frf.yaml");
+  const continuation::FrfCurve curve = continuation::trace_frf(c.system, c.levels[0], *c.frf);
+  ASSERT_TRUE(curve.completed());
+  Target frf;
+  frf.name = "frf";
+  frf.kind = TargetKind::frf;
+  std::vector<double> expected;
+  for (std::size_t k = 5; k < curve.points.size(); k += 17) {  // at accepted points exactly
+    frf.points.push_back({curve.points[k].omega / (2 * M_PI), Quantity::amplitude, 1.0, 1.0, 0.0, 0});
+    expected.push_back(curve.points[k].amplitude_h1);
+  }
+  Target modal;
+  modal.name = "modal";
+  modal.kind = TargetKind::modal;
+  modal.points = {{2, Quantity::frequency_hz, 1.0, 1.0, 0.0, 0},
+                  {1, Quantity::damping_ratio, 1.0, 1.0, 0.0, 0}};
+  const ModelPrediction p = predict(c, {frf, modal});
+  ASSERT_TRUE(p.curves[0].ok) << p.curves[0].message;
+  ASSERT_EQ(p.curves[0].at_points.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(p.curves[0].at_points[i], expected[i], 1e-7 * expected[i]);
+  }
+  const hb::LinearModes modes = hb::linear_modes(c.system, true);
+  const ResidualEvaluation r = residuals({frf, modal}, p);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_NEAR(r.predicted[expected.size()], modes.omega[1] / (2 * M_PI), 1e-12 * modes.omega[1]);
+  const Eigen::VectorXd phi = modes.shapes.col(0);
+  const double zeta = phi.dot(Eigen::MatrixXd(c.system.damping) * phi) / (2 * modes.omega[0]);
+  EXPECT_NEAR(r.predicted[expected.size() + 1], zeta, 1e-12);
+  EXPECT_GT(zeta, 0.0);
+}
+
+TEST(DiscreteFit, FrfRecoversTheSlipLimitOfTheUpperJoint) {
+  const io::DiscreteCase truth = io::parse_discrete_case(two_dof_frf, "frf.yaml");
+  Target t;
+  t.name = "frf";
+  t.kind = TargetKind::frf;
+  for (int i = 0; i < 10; ++i) t.points.push_back({14.0 + 0.5 * i, Quantity::amplitude, 0.0, 1.0, 0.0, 0});
+  const ModelPrediction exact = predict(truth, {t});
+  ASSERT_TRUE(exact.curves[0].ok) << exact.curves[0].message;
+  Noise noise;
+  for (std::size_t i = 0; i < t.points.size(); ++i) {
+    t.points[i].measured = exact.curves[0].at_points[i] * (1.0 + 0.01 * noise.normal());
+    t.points[i].sigma = 0.01 * t.points[i].measured;
+  }
+  const std::vector<std::string> names = {"contacts[1].normal_force"};
+  FitOptions o;
+  o.xtol = 1e-5;
+  const FitResult r = fit(discrete_model(truth, names, {t}), {{names[0], 0.5, 50.0, 30.0, true}}, o);
+  ASSERT_TRUE(r.ok && r.has_jacobian);
+  EXPECT_LT(std::abs(r.best[0] - 5.0), 3 * r.standard_errors[0])
+      << r.best[0] << " +- " << r.standard_errors[0];
+  EXPECT_LT(r.standard_errors[0], 0.1);
 }
 
 TEST(DiscreteFit, MeasuredAmplitudeBeyondTheCurveIsAFailedEvaluation) {
