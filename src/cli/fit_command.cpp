@@ -116,6 +116,15 @@ int FitCommand::run() const {
     } catch (const std::runtime_error& e) {
       throw UsageError(std::string("--resume: ") + e.what());
     }
+    const std::size_t points = fit::point_count(section.targets);
+    for (const auto& row : replay) {
+      if (!row.failed && row.residuals.size() != points) {
+        throw UsageError(fmt::format(
+            "--resume: {}: the history has {} residuals per evaluation, the case's targets {}: "
+            "it belongs to another fit (remove it or use another -o)",
+            history_file.string(), row.residuals.size(), points));
+      }
+    }
   }
   // The model is checked once before any output exists (a setup error is bad input).
   {

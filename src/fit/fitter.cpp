@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -203,6 +204,8 @@ class Evaluator {
 struct Callback {
   Evaluator* evaluator;
   int start;
+  nlopt_opt opt;
+  std::exception_ptr error;  // thrown by the history sink: rethrown after NLopt returns
 };
 
 double objective(unsigned n, const double* x, double* gradient, void* data) {
@@ -210,7 +213,13 @@ double objective(unsigned n, const double* x, double* gradient, void* data) {
   auto* c = static_cast<Callback*>(data);
   std::vector<double> u(x, x + n);
   for (double& v : u) v = std::clamp(v, 0.0, 1.0);
-  return (*c->evaluator)(u, c->start);
+  try {  // no exception may cross NLopt's C code
+    return (*c->evaluator)(u, c->start);
+  } catch (...) {
+    c->error = std::current_exception();
+    nlopt_force_stop(c->opt);
+    return 0.0;
+  }
 }
 
 nlopt_algorithm local_id(const std::string& name) {
@@ -382,12 +391,13 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
   }
 
   const auto run = [&](nlopt_opt opt, int start, std::vector<double> x) {
-    Callback cb{&ev, start};
+    Callback cb{&ev, start, opt, nullptr};
     nlopt_set_min_objective(opt, objective, &cb);
     ev.start_best = std::numeric_limits<double>::infinity();
     ev.start_evaluations = 0;
     double f = 0.0;
     const nlopt_result res = nlopt_optimize(opt, x.data(), &f);
+    if (cb.error) std::rethrow_exception(cb.error);
     StartSummary s;
     s.start = start;
     s.from = from_unit(parameters, starts[std::min<std::size_t>(start, starts.size() - 1)]);
