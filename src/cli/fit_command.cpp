@@ -1,7 +1,7 @@
 #include "fit_command.hpp"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -96,8 +96,9 @@ int FitCommand::run() const {
   const io::CaseFile file = io::read_case_file(case_path_);
   const auto* c = std::get_if<io::DiscreteCase>(&file);
   if (!c) {
-    throw UsageError(case_path_ +
-                     ": jointhb fit needs a discrete model (model.type discrete) with a fit section");
+    throw UsageError(
+        case_path_ +
+        ": jointhb fit needs a discrete model (model.type discrete) with a fit section");
   }
   if (!c->fit) throw UsageError(case_path_ + ": the case has no fit section (docs/case-files.md)");
   const io::FitSection& section = *c->fit;
@@ -134,8 +135,8 @@ int FitCommand::run() const {
     try {
       fit::set_model_parameters(check, names, values);
     } catch (const std::invalid_argument& e) {
-      throw UsageError(case_path_ + ": fit.parameters: the start values give an invalid model: " +
-                       e.what());
+      throw UsageError(case_path_ +
+                       ": fit.parameters: the start values give an invalid model: " + e.what());
     }
   }
   create_output_directory(dir);
@@ -149,9 +150,10 @@ int FitCommand::run() const {
     history.write(row);
     if (!row.failed) best = std::min(best, row.objective);
     if (progress) {
-      std::cerr << fmt::format("\rjointhb fit: evaluation {} ({})  S = {:.6g}  best {:.6g}  {:.1f} s   ",
-                               row.eval, row.start < 0 ? "jacobian" : fmt::format("start {}", row.start),
-                               row.objective, best, seconds_since(start))
+      std::cerr << fmt::format(
+                       "\rjointhb fit: evaluation {} ({})  S = {:.6g}  best {:.6g}  {:.1f} s   ",
+                       row.eval, row.start < 0 ? "jacobian" : fmt::format("start {}", row.start),
+                       row.objective, best, seconds_since(start))
                 << std::flush;
       ++shown;
     }
@@ -195,14 +197,17 @@ int FitCommand::run() const {
     for (std::size_t t = 0; t < section.targets.size(); ++t) {
       const auto& target = section.targets[t];
       for (const auto& p : target.points) {
-        const double fitted = best_res.ok && i < best_res.predicted.size() ? best_res.predicted[i] : 0.0;
-        const double residual = best_res.ok && i < best_res.residuals.size() ? best_res.residuals[i] : 0.0;
-        const double at0 = start_res.ok && i < start_res.predicted.size() ? start_res.predicted[i] : 0.0;
-        curves.write_row({static_cast<double>(t), kind_code(target.kind),
-                          static_cast<double>(target.kind == fit::TargetKind::frf ? target.level
-                                                                                  : target.mode),
-                          p.abscissa, quantity_code(p.quantity), p.measured, fitted, at0, residual,
-                          p.weight, p.scale()});
+        const double fitted =
+            best_res.ok && i < best_res.predicted.size() ? best_res.predicted[i] : 0.0;
+        const double residual =
+            best_res.ok && i < best_res.residuals.size() ? best_res.residuals[i] : 0.0;
+        const double at0 =
+            start_res.ok && i < start_res.predicted.size() ? start_res.predicted[i] : 0.0;
+        curves.write_row(
+            {static_cast<double>(t), kind_code(target.kind),
+             static_cast<double>(target.kind == fit::TargetKind::frf ? target.level : target.mode),
+             p.abscissa, quantity_code(p.quantity), p.measured, fitted, at0, residual, p.weight,
+             p.scale()});
         ++i;
       }
     }
@@ -237,14 +242,18 @@ int FitCommand::run() const {
       const auto& target = section.targets[t];
       double ssr = 0.0;
       for (std::size_t k = 0; k < target.points.size(); ++k, ++i) {
-        if (best_res.ok && i < best_res.residuals.size()) ssr += best_res.residuals[i] * best_res.residuals[i];
+        if (best_res.ok && i < best_res.residuals.size())
+          ssr += best_res.residuals[i] * best_res.residuals[i];
       }
-      per_target.push_back({{"target", target.name},
-                            {"type", fit::to_string(target.kind)},
-                            {"file", target.file},
-                            {"points", target.points.size()},
-                            {"objective", best_res.ok ? Json(ssr) : Json(nullptr)},
-                            {"rms_residual", best_res.ok ? Json(std::sqrt(ssr / static_cast<double>(target.points.size()))) : Json(nullptr)}});
+      per_target.push_back(
+          {{"target", target.name},
+           {"type", fit::to_string(target.kind)},
+           {"file", target.file},
+           {"points", target.points.size()},
+           {"objective", best_res.ok ? Json(ssr) : Json(nullptr)},
+           {"rms_residual", best_res.ok
+                                ? Json(std::sqrt(ssr / static_cast<double>(target.points.size())))
+                                : Json(nullptr)}});
     }
   }
   const auto matrix = [](const Eigen::MatrixXd& a) {
@@ -283,7 +292,10 @@ int FitCommand::run() const {
       {"s2", r.has_jacobian ? Json(r.s2) : Json(nullptr)},
       {"targets", per_target},
       {"correlation", r.has_jacobian ? matrix(r.correlation) : Json(nullptr)},
-      {"singular_values", r.has_jacobian ? Json(std::vector<double>(r.singular_values.data(), r.singular_values.data() + r.singular_values.size())) : Json(nullptr)},
+      {"singular_values", r.has_jacobian ? Json(std::vector<double>(
+                                               r.singular_values.data(),
+                                               r.singular_values.data() + r.singular_values.size()))
+                                         : Json(nullptr)},
       {"right_singular_vectors", r.has_jacobian ? matrix(r.right_singular_vectors) : Json(nullptr)},
       {"unidentifiable", unresolved},
       {"warnings", r.warnings},

@@ -112,32 +112,32 @@ PredictedCurve predict_backbone(const io::DiscreteCase& c, const Target& target)
     double t = 0.0;
     if (!bracket(lambda, at, nullptr, k, t)) {
       out.ok = false;
-      out.message = fmt::format(
-          "measured amplitude {} lies outside the predicted curve (q from {} to {}{})",
-          point.abscissa, out.abscissa.empty() ? 0.0 : out.abscissa.front(),
-          out.abscissa.empty() ? 0.0 : out.abscissa.back(),
-          curve.completed() ? "" : "; the continuation stopped: " + curve.message);
+      out.message =
+          fmt::format("measured amplitude {} lies outside the predicted curve (q from {} to {}{})",
+                      point.abscissa, out.abscissa.empty() ? 0.0 : out.abscissa.front(),
+                      out.abscissa.empty() ? 0.0 : out.abscissa.back(),
+                      curve.completed() ? "" : "; the continuation stopped: " + curve.message);
       return out;
     }
     Eigen::VectorXd y = (1.0 - t) * curve.points[k].unknowns + t * curve.points[k + 1].unknowns;
     const Eigen::VectorXd guess = y;
-    const bool converged = newton(y, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r,
-                                         Eigen::MatrixXd& j) {
-      hb::NonlinearModeResidual::Evaluation ev;
-      epmc.evaluate(v, at, true, ev);
-      if (!ev.ok) return false;
-      r = ev.residual;
-      j = ev.d_state;
-      return r.allFinite();
-    });
+    const bool converged =
+        newton(y, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r, Eigen::MatrixXd& j) {
+          hb::NonlinearModeResidual::Evaluation ev;
+          epmc.evaluate(v, at, true, ev);
+          if (!ev.ok) return false;
+          r = ev.residual;
+          j = ev.d_state;
+          return r.allFinite();
+        });
     double value = 0.0;
     if (converged) {
       const hb::NonlinearModeState s = epmc.state(y, at);
       value = point.quantity == Quantity::damping_ratio ? s.damping_ratio : s.omega / two_pi;
     } else {
       const std::size_t k1 = k + 1;
-      const auto& a = point.quantity == Quantity::damping_ratio ? out.damping_ratio
-                                                                : out.frequency_hz;
+      const auto& a =
+          point.quantity == Quantity::damping_ratio ? out.damping_ratio : out.frequency_hz;
       value = (1.0 - t) * a[k] + t * a[k1];
     }
     out.at_points.push_back(value);
@@ -154,8 +154,8 @@ PredictedCurve predict_frf(const io::DiscreteCase& c, const Target& target) {
   }
   if (target.level < 0 || target.level >= static_cast<int>(c.levels.size())) {
     out.ok = false;
-    out.message = fmt::format("level {} does not exist (the case has {})", target.level,
-                              c.levels.size());
+    out.message =
+        fmt::format("level {} does not exist (the case has {})", target.level, c.levels.size());
     return out;
   }
   const continuation::FrfOptions& options = *c.frf;
@@ -208,9 +208,9 @@ PredictedCurve predict_frf(const io::DiscreteCase& c, const Target& target) {
 PredictedCurve predict_modal(const io::DiscreteCase& c) {
   PredictedCurve out;
   const hb::LinearModes modes = hb::linear_modes(c.system, true);
-  const Eigen::MatrixXd damping =
-      c.system.damping.rows() ? Eigen::MatrixXd(c.system.damping)
-                              : Eigen::MatrixXd::Zero(c.system.dofs(), c.system.dofs());
+  const Eigen::MatrixXd damping = c.system.damping.rows()
+                                      ? Eigen::MatrixXd(c.system.damping)
+                                      : Eigen::MatrixXd::Zero(c.system.dofs(), c.system.dofs());
   for (Eigen::Index k = 0; k < modes.omega.size(); ++k) {
     const Eigen::VectorXd phi = modes.shapes.col(k);
     out.abscissa.push_back(static_cast<double>(k + 1));

@@ -6,8 +6,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <random>
@@ -20,8 +20,8 @@ std::string FitOptions::validate() const {
   static const std::set<std::string> algorithms = {"bobyqa", "neldermead", "cobyla", "direct",
                                                    "mlsl"};
   if (!algorithms.count(algorithm)) {
-    return "algorithm: must be one of bobyqa, cobyla, direct, mlsl, neldermead, got '" +
-           algorithm + "'";
+    return "algorithm: must be one of bobyqa, cobyla, direct, mlsl, neldermead, got '" + algorithm +
+           "'";
   }
   if (local_algorithm != "bobyqa" && local_algorithm != "neldermead") {
     return "local_algorithm: must be bobyqa or neldermead, got '" + local_algorithm + "'";
@@ -92,8 +92,8 @@ class Evaluator {
   }
 
   /// S at u (unit box) for start `start` (-1: Jacobian); fills `residuals` and `ok`.
-  double operator()(const std::vector<double>& u, int start, std::vector<double>* residuals = nullptr,
-                    bool* ok = nullptr) {
+  double operator()(const std::vector<double>& u, int start,
+                    std::vector<double>* residuals = nullptr, bool* ok = nullptr) {
     const std::vector<double> values = from_unit(parameters_, u);
     auto it = known_.find(values);
     if (it != known_.end()) {
@@ -123,8 +123,8 @@ class Evaluator {
     if (e.ok) {
       if (m_ > 0 && e.residuals.size() != m_) {
         e.ok = false;
-        e.message = fmt::format("the model returned {} residuals, earlier {}", e.residuals.size(),
-                                m_);
+        e.message =
+            fmt::format("the model returned {} residuals, earlier {}", e.residuals.size(), m_);
       }
       for (double r : e.residuals) {
         if (!std::isfinite(r)) {

@@ -15,8 +15,8 @@ HistoryWriter::HistoryWriter(const std::filesystem::path& file,
                              bool append)
     : residuals_(residuals) {
   std::error_code ec;
-  const bool exists = append && std::filesystem::exists(file, ec) &&
-                      std::filesystem::file_size(file, ec) > 0;
+  const bool exists =
+      append && std::filesystem::exists(file, ec) && std::filesystem::file_size(file, ec) > 0;
   file_ = std::fopen(file.string().c_str(), append ? "a" : "w");
   if (!file_) throw std::runtime_error("cannot write " + file.string());
   if (!exists) {
@@ -33,8 +33,8 @@ HistoryWriter::~HistoryWriter() {
 }
 
 void HistoryWriter::write(const HistoryRow& row) {
-  std::string line = fmt::format("{},{},{:.17g},{}", row.eval, row.start, row.objective,
-                                 row.failed ? 1 : 0);
+  std::string line =
+      fmt::format("{},{},{:.17g},{}", row.eval, row.start, row.objective, row.failed ? 1 : 0);
   for (double v : row.values) line += fmt::format(",{:.17g}", v);
   for (std::size_t i = 0; i < residuals_; ++i) {
     line += i < row.residuals.size() ? fmt::format(",{:.17g}", row.residuals[i]) : ",";
@@ -78,9 +78,9 @@ std::vector<HistoryRow> read_history(const std::filesystem::path& file,
   }
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (header[4 + i] != names[i]) {
-      throw std::runtime_error(fmt::format(
-          "{}:1: column {} is '{}', the case fits '{}' (a history of another fit)",
-          file.string(), 5 + i, header[4 + i], names[i]));
+      throw std::runtime_error(
+          fmt::format("{}:1: column {} is '{}', the case fits '{}' (a history of another fit)",
+                      file.string(), 5 + i, header[4 + i], names[i]));
     }
   }
   const std::size_t residuals = header.size() - 4 - names.size();
@@ -97,8 +97,8 @@ std::vector<HistoryRow> read_history(const std::filesystem::path& file,
     const auto number = [&](std::size_t c) {
       const auto v = io::parse_number(cells[c]);
       if (!v) {
-        throw std::runtime_error(fmt::format("{}:{}: column {}: not a number: '{}'",
-                                             file.string(), l + 1, c + 1, cells[c]));
+        throw std::runtime_error(fmt::format("{}:{}: column {}: not a number: '{}'", file.string(),
+                                             l + 1, c + 1, cells[c]));
       }
       return *v;
     };
@@ -110,7 +110,8 @@ std::vector<HistoryRow> read_history(const std::filesystem::path& file,
     row.failed = number(3) != 0.0;
     for (std::size_t i = 0; i < names.size(); ++i) row.values.push_back(number(4 + i));
     if (!row.failed) {
-      for (std::size_t i = 0; i < residuals; ++i) row.residuals.push_back(number(4 + names.size() + i));
+      for (std::size_t i = 0; i < residuals; ++i)
+        row.residuals.push_back(number(4 + names.size() + i));
     }
     rows.push_back(std::move(row));
   }

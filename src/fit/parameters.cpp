@@ -19,8 +19,8 @@ std::string FitParameter::validate() const {
     return fmt::format("{}.lower: must be > 0 with log_scale, got {}", name, lower);
   }
   if (!std::isfinite(start) || start < lower || start > upper) {
-    return fmt::format("{}.start: must be in [lower, upper] = [{}, {}], got {}", name, lower,
-                       upper, start);
+    return fmt::format("{}.start: must be in [lower, upper] = [{}, {}], got {}", name, lower, upper,
+                       start);
   }
   return "";
 }

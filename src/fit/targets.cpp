@@ -68,8 +68,8 @@ std::size_t point_count(const std::vector<Target>& targets) {
   return m;
 }
 
-bool interpolate(const std::vector<double>& x, const std::vector<double>& y, double at,
-                 bool log_x, bool largest, double& value) {
+bool interpolate(const std::vector<double>& x, const std::vector<double>& y, double at, bool log_x,
+                 bool largest, double& value) {
   const auto tr = [&](double v) { return log_x ? std::log10(v) : v; };
   if (log_x && !(at > 0.0)) return false;
   const double a = tr(at);
@@ -114,7 +114,7 @@ ResidualEvaluation residuals(const std::vector<Target>& targets,
       if (direct) {
         predicted = curve.at_points[i];
       } else {
-        const std::vector<double>& y = p.quantity == Quantity::frequency_hz   ? curve.frequency_hz
+        const std::vector<double>& y = p.quantity == Quantity::frequency_hz    ? curve.frequency_hz
                                        : p.quantity == Quantity::damping_ratio ? curve.damping_ratio
                                                                                : curve.amplitude;
         bool ok = false;

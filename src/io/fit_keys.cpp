@@ -149,9 +149,9 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
       continue;
     }
     if (cells.size() != header.size()) {
-      throw InputError(name, line_number, 1, key,
-                       fmt::format("{} cells, the header has {} columns", cells.size(),
-                                   header.size()));
+      throw InputError(
+          name, line_number, 1, key,
+          fmt::format("{} cells, the header has {} columns", cells.size(), header.size()));
     }
     const auto value = [&](const std::string& col, double& out) {
       const auto it = column.find(col);
@@ -175,9 +175,9 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
     }
     if (t.kind == fit::TargetKind::modal &&
         (x != std::floor(x) || x < 1 || x > static_cast<double>(modes))) {
-      throw InputError(name, line_number, 1, key,
-                       fmt::format("mode must be an integer in [1, {}], got {}", modes,
-                                   format_number(x)));
+      throw InputError(
+          name, line_number, 1, key,
+          fmt::format("mode must be an integer in [1, {}], got {}", modes, format_number(x)));
     }
     double row_weight = 1.0;
     if (value("weight", row_weight) && row_weight < 0.0) {
@@ -211,11 +211,9 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
   if (t.points.empty()) throw InputError(name, 0, 0, key, "the target file has no data rows");
 }
 
-fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node,
-                        const std::string& path, const DiscreteCase& c,
-                        const std::filesystem::path& case_dir) {
-  const Fields f =
-      reader.fields(node, path, {"type", "file", "mode", "level", "weight", "use"});
+fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, const std::string& path,
+                        const DiscreteCase& c, const std::filesystem::path& case_dir) {
+  const Fields f = reader.fields(node, path, {"type", "file", "mode", "level", "weight", "use"});
   for (const char* name : {"type", "file"}) {
     if (!f.has(name)) reader.fail(node, f.path_of(name), "required");
   }
@@ -282,9 +280,9 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node,
       if (!found) {
         std::vector<std::string> names;
         for (const auto& [qname, quantity] : layout.quantities) names.push_back(qname);
-        reader.fail(u->value[i], item_path(key, i),
-                    fmt::format("must be one of {} for a {} target, got '{}'", join(names), kind,
-                                q));
+        reader.fail(
+            u->value[i], item_path(key, i),
+            fmt::format("must be one of {} for a {} target, got '{}'", join(names), kind, q));
       }
     }
   } else {
@@ -310,10 +308,10 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node,
 FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
                             const std::string& path, const DiscreteCase& c,
                             const std::filesystem::path& case_dir) {
-  const Fields f = reader.fields(
-      node, path,
-      {"parameters", "targets", "algorithm", "local_algorithm", "xtol", "ftol_rel",
-       "max_evaluations", "multistart", "penalty", "initial_step", "jacobian_step"});
+  const Fields f =
+      reader.fields(node, path,
+                    {"parameters", "targets", "algorithm", "local_algorithm", "xtol", "ftol_rel",
+                     "max_evaluations", "multistart", "penalty", "initial_step", "jacobian_step"});
   FitSection s;
   const auto* parameters = f.find("parameters");
   if (!parameters) reader.fail(node, f.path_of("parameters"), "required: a list of parameters");

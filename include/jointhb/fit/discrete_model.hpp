@@ -4,11 +4,11 @@
 // (fit/targets.hpp) by the existing analyses:
 //   backbone  trace_backbone (EPMC, case analysis.nonlinear_modes settings) of the target's mode,
 //             up to a tenth of a decade beyond the largest measured amplitude (not further than
-//             the case's log10_amplitude end); then at each measured amplitude q the point on the curve by Newton's method on the
-//             EPMC residual at fixed λ = log10 q, from the curve's unknowns interpolated linearly
-//             in λ. The prediction is so the curve's own value, free of the interpolation error of
-//             the adaptive continuation points (which would move with the parameters and make S
-//             rough at the 1e-4 level).
+//             the case's log10_amplitude end); then at each measured amplitude q the point on the
+//             curve by Newton's method on the EPMC residual at fixed λ = log10 q, from the curve's
+//             unknowns interpolated linearly in λ. The prediction is so the curve's own value, free
+//             of the interpolation error of the adaptive continuation points (which would move with
+//             the parameters and make S rough at the 1e-4 level).
 //   frf       trace_frf (analysis.frf settings) at the target's level; then at each measured
 //             frequency the harmonic balance solution by Newton's method at fixed Ω from the
 //             interpolated coefficients (the largest-amplitude branch where folds give several);

@@ -14,8 +14,9 @@
 //
 // Failed evaluations (the model throws or reports !ok, e.g. a continuation that stopped) are not
 // fatal: their objective is the penalty (FitOptions::penalty, default 10 max(m, largest
-// successful objective so far), 1e12 before the first success), and they are counted. Everything is deterministic: the starts
-// come from a seeded Latin hypercube, and the evaluations run in sequence.
+// successful objective so far), 1e12 before the first success), and they are counted. Everything is
+// deterministic: the starts come from a seeded Latin hypercube, and the evaluations run in
+// sequence.
 //
 // Resume: every evaluation is a HistoryRow (fit/history.hpp writes and reads them as CSV). Given
 // the rows of an interrupted run, fit() answers evaluations at parameters found in them (exact
@@ -34,8 +35,8 @@ namespace jointhb::fit {
 /// What the model returns for one parameter vector (physical values, in parameter order).
 struct Evaluation {
   bool ok = true;
-  std::string message;             ///< why not, when !ok
-  std::vector<double> residuals;   ///< r_i (same length at every successful evaluation)
+  std::string message;            ///< why not, when !ok
+  std::vector<double> residuals;  ///< r_i (same length at every successful evaluation)
 };
 using Model = std::function<Evaluation(const std::vector<double>& values)>;
 
@@ -45,24 +46,24 @@ struct FitOptions {
   /// local_algorithm).
   std::string algorithm = "bobyqa";
   std::string local_algorithm = "bobyqa";  ///< bobyqa or neldermead (direct, mlsl)
-  double xtol = 1e-6;        ///< (0, 0.1]: stop when a step moves every u by less (unit box)
-  double ftol_rel = 1e-10;   ///< [0, 0.1]: stop when S changes by less, relatively
+  double xtol = 1e-6;         ///< (0, 0.1]: stop when a step moves every u by less (unit box)
+  double ftol_rel = 1e-10;    ///< [0, 0.1]: stop when S changes by less, relatively
   int max_evaluations = 400;  ///< ≥ 1: per start (the global phase of direct/mlsl has its own)
   int starts = 1;             ///< ≥ 1: the given start, then Latin-hypercube points
   unsigned seed = 1;          ///< Latin hypercube and MLSL
   double penalty = 0.0;  ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S so far), 1e12
                          ///< before the first successful evaluation
-  double initial_step = 0.1;  ///< (0, 0.5]: first step of the local searches (unit box)
+  double initial_step = 0.1;    ///< (0, 0.5]: first step of the local searches (unit box)
   double jacobian_step = 1e-3;  ///< (0, 0.1]: h of the central differences in u
   [[nodiscard]] std::string validate() const;
 };
 
 /// One evaluation, as recorded in the history.
 struct HistoryRow {
-  int eval = 0;                   ///< 1-based sequence number
-  int start = 0;                  ///< index of the start; -1 for the Jacobian at the optimum
-  double objective = 0.0;         ///< S, or the penalty when failed
-  std::vector<double> values;     ///< physical parameter values
+  int eval = 0;                ///< 1-based sequence number
+  int start = 0;               ///< index of the start; -1 for the Jacobian at the optimum
+  double objective = 0.0;      ///< S, or the penalty when failed
+  std::vector<double> values;  ///< physical parameter values
   bool failed = false;
   std::vector<double> residuals;  ///< empty when failed
 };
@@ -81,7 +82,7 @@ struct StartSummary {
   std::vector<double> from;  ///< physical start values
   double objective = 0.0;    ///< best S of this start
   int evaluations = 0;
-  std::string stop_reason;   ///< NLopt's result
+  std::string stop_reason;  ///< NLopt's result
 };
 
 struct FitResult {
@@ -94,17 +95,17 @@ struct FitResult {
   int replayed = 0;               ///< answered from the history
   int failed_evaluations = 0;
   double seconds = 0.0;
-  std::string stop_reason;        ///< of the start that found θ̂
+  std::string stop_reason;  ///< of the start that found θ̂
   std::vector<StartSummary> starts;
   // Uncertainty (when has_jacobian):
   bool has_jacobian = false;
-  std::string jacobian_message;   ///< why not, when !has_jacobian
-  Eigen::MatrixXd jacobian;       ///< ∂r/∂u (m × p)
-  double s2 = 0.0;                ///< S / (m − p) (0 when m ≤ p)
-  int degrees_of_freedom = 0;     ///< m − p
-  Eigen::MatrixXd covariance;     ///< of θ (physical); ∞ on rows of unresolved parameters
+  std::string jacobian_message;     ///< why not, when !has_jacobian
+  Eigen::MatrixXd jacobian;         ///< ∂r/∂u (m × p)
+  double s2 = 0.0;                  ///< S / (m − p) (0 when m ≤ p)
+  int degrees_of_freedom = 0;       ///< m − p
+  Eigen::MatrixXd covariance;       ///< of θ (physical); ∞ on rows of unresolved parameters
   Eigen::VectorXd standard_errors;  ///< √diag; ∞ for parameters in a rank-deficient direction
-  Eigen::MatrixXd correlation;    ///< NaN where a standard error is ∞
+  Eigen::MatrixXd correlation;      ///< NaN where a standard error is ∞
   Eigen::VectorXd singular_values;  ///< of J (unit box), descending
   Eigen::MatrixXd right_singular_vectors;  ///< columns v_k
   std::vector<UnresolvedDirection> unresolved;

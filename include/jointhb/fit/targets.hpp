@@ -49,9 +49,9 @@ struct Target {
 /// One model curve per target: abscissae and the predicted quantities along them.
 struct PredictedCurve {
   bool ok = true;
-  std::string message;              ///< why not, when !ok
-  std::vector<double> abscissa;     ///< q (backbone), f [Hz] (frf), mode numbers (modal)
-  std::vector<double> frequency_hz;  ///< backbone, modal
+  std::string message;                ///< why not, when !ok
+  std::vector<double> abscissa;       ///< q (backbone), f [Hz] (frf), mode numbers (modal)
+  std::vector<double> frequency_hz;   ///< backbone, modal
   std::vector<double> damping_ratio;  ///< backbone, modal
   std::vector<double> amplitude;      ///< frf
   /// Optional: the predicted value at each target point, in the target's order (overrides the
@@ -73,14 +73,13 @@ struct ResidualEvaluation {
 };
 
 /// Residuals of `prediction` against all target points, in order (targets, then points).
-ResidualEvaluation residuals(const std::vector<Target>& targets,
-                             const ModelPrediction& prediction);
+ResidualEvaluation residuals(const std::vector<Target>& targets, const ModelPrediction& prediction);
 
 /// Linear interpolation of y(x) at `at` over the segments of the polyline (x_k, y_k) that
 /// contain it (x in log10 when `log_x`); with several (a fold), the largest y when `largest`,
 /// else the first. nullopt-like: returns false when no segment contains `at`.
-bool interpolate(const std::vector<double>& x, const std::vector<double>& y, double at,
-                 bool log_x, bool largest, double& value);
+bool interpolate(const std::vector<double>& x, const std::vector<double>& y, double at, bool log_x,
+                 bool largest, double& value);
 
 /// Total number of target points.
 std::size_t point_count(const std::vector<Target>& targets);

@@ -82,9 +82,10 @@ TEST(DiscreteFit, ParameterNamesAndSettingThem) {
   EXPECT_EQ(names[8], "damping.modal[0]");
   set_model_parameters(c, {"contacts[1].normal_force", "damping.modal[1]"}, {7.0, 0.01});
   EXPECT_EQ(c.system.contacts[1].normal_force, 7.0);
-  const io::DiscreteCase ref = io::parse_discrete_case(
-      std::string(two_dof).replace(std::string(two_dof).find("[0.002, 0.002]"), 14, "[0.002, 0.01]"),
-      "ref.yaml");
+  const io::DiscreteCase ref =
+      io::parse_discrete_case(std::string(two_dof).replace(
+                                  std::string(two_dof).find("[0.002, 0.002]"), 14, "[0.002, 0.01]"),
+                              "ref.yaml");
   EXPECT_LT((Eigen::MatrixXd(c.system.damping) - Eigen::MatrixXd(ref.system.damping)).norm(),
             1e-12 * Eigen::MatrixXd(ref.system.damping).norm());
   try {
@@ -193,7 +194,8 @@ TEST(DiscreteFit, FrfAndModalPredictionsAreTheCurvesOwnValues) {
   frf.kind = TargetKind::frf;
   std::vector<double> expected;
   for (std::size_t k = 5; k < curve.points.size(); k += 17) {  // at accepted points exactly
-    frf.points.push_back({curve.points[k].omega / (2 * M_PI), Quantity::amplitude, 1.0, 1.0, 0.0, 0});
+    frf.points.push_back(
+        {curve.points[k].omega / (2 * M_PI), Quantity::amplitude, 1.0, 1.0, 0.0, 0});
     expected.push_back(curve.points[k].amplitude_h1);
   }
   Target modal;
@@ -222,7 +224,8 @@ TEST(DiscreteFit, FrfRecoversTheSlipLimitOfTheUpperJoint) {
   Target t;
   t.name = "frf";
   t.kind = TargetKind::frf;
-  for (int i = 0; i < 10; ++i) t.points.push_back({14.0 + 0.5 * i, Quantity::amplitude, 0.0, 1.0, 0.0, 0});
+  for (int i = 0; i < 10; ++i)
+    t.points.push_back({14.0 + 0.5 * i, Quantity::amplitude, 0.0, 1.0, 0.0, 0});
   const ModelPrediction exact = predict(truth, {t});
   ASSERT_TRUE(exact.curves[0].ok) << exact.curves[0].message;
   Noise noise;
@@ -233,7 +236,8 @@ TEST(DiscreteFit, FrfRecoversTheSlipLimitOfTheUpperJoint) {
   const std::vector<std::string> names = {"contacts[1].normal_force"};
   FitOptions o;
   o.xtol = 1e-5;
-  const FitResult r = fit(discrete_model(truth, names, {t}), {{names[0], 0.5, 50.0, 30.0, true}}, o);
+  const FitResult r =
+      fit(discrete_model(truth, names, {t}), {{names[0], 0.5, 50.0, 30.0, true}}, o);
   ASSERT_TRUE(r.ok && r.has_jacobian);
   EXPECT_LT(std::abs(r.best[0] - 5.0), 3 * r.standard_errors[0])
       << r.best[0] << " +- " << r.standard_errors[0];

@@ -5,11 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <Eigen/Dense>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "jointhb/fit/history.hpp"
 
@@ -71,14 +71,17 @@ TEST(Fitter, ExponentialDecayMatchesGaussNewtonOptimumAndCovariance) {
   EXPECT_NEAR(r.s2, s2, 1e-8 * s2);
   for (int a = 0; a < 2; ++a) {
     for (int b = 0; b < 2; ++b) {
-      EXPECT_NEAR(r.covariance(a, b), covariance(a, b), 1e-4 * std::sqrt(covariance(a, a) * covariance(b, b)));
+      EXPECT_NEAR(r.covariance(a, b), covariance(a, b),
+                  1e-4 * std::sqrt(covariance(a, a) * covariance(b, b)));
     }
-    EXPECT_NEAR(r.standard_errors[a], std::sqrt(covariance(a, a)), 1e-4 * std::sqrt(covariance(a, a)));
+    EXPECT_NEAR(r.standard_errors[a], std::sqrt(covariance(a, a)),
+                1e-4 * std::sqrt(covariance(a, a)));
   }
   EXPECT_TRUE(r.unresolved.empty());
   EXPECT_EQ(r.failed_evaluations, 0);
   EXPECT_EQ(r.evaluations, r.model_evaluations);
-  EXPECT_NEAR(r.correlation(0, 1), covariance(0, 1) / std::sqrt(covariance(0, 0) * covariance(1, 1)), 1e-4);
+  EXPECT_NEAR(r.correlation(0, 1),
+              covariance(0, 1) / std::sqrt(covariance(0, 0) * covariance(1, 1)), 1e-4);
   // The noise is ~0.6 % rms: the truth lies within 3 standard errors.
   EXPECT_LT(std::abs(r.best[0] - 2.0), 3 * r.standard_errors[0]);
   EXPECT_LT(std::abs(r.best[1] - 0.7), 3 * r.standard_errors[1]);
@@ -127,8 +130,11 @@ TEST(Fitter, FailedEvaluationsArePenalisedNotFatal) {
   EXPECT_NEAR(r.best[0], clean.best[0], 1e-4);
   EXPECT_NEAR(r.best[1], clean.best[1], 1e-4);
   // A model that always fails: no exception, a result saying so.
-  const FitResult none =
-      fit([](const std::vector<double>&) { return Evaluation{false, "never", {}}; }, p, {});
+  const FitResult none = fit(
+      [](const std::vector<double>&) {
+        return Evaluation{false, "never", {}};
+      },
+      p, {});
   EXPECT_FALSE(none.ok);
   EXPECT_EQ(none.failed_evaluations, none.evaluations);
 }
@@ -161,8 +167,8 @@ TEST(Fitter, ResumeFromHistoryGivesTheSameResultWithFewerModelCalls) {
   const std::size_t kept = rows.size() * 6 / 10;
   std::vector<HistoryRow> part(back.begin(), back.begin() + static_cast<long>(kept));
   std::vector<HistoryRow> added;
-  const FitResult resumed =
-      fit(d.model(), p, o, [&](const HistoryRow& row) { added.push_back(row); }, part);
+  const FitResult resumed = fit(
+      d.model(), p, o, [&](const HistoryRow& row) { added.push_back(row); }, part);
   EXPECT_EQ(resumed.best, full.best);
   EXPECT_EQ(resumed.objective, full.objective);
   EXPECT_EQ(resumed.evaluations, full.evaluations);

@@ -18,7 +18,8 @@ TEST(FitParameters, UnitBoxRoundTripLinearAndLog) {
   EXPECT_EQ(log.from_unit(0.0), 1e2);         // bounds exactly
   EXPECT_EQ(log.from_unit(1.0), 1e6);
   EXPECT_DOUBLE_EQ(linear.from_unit(0.5), 0.5);
-  for (double v : {-2.0, -1.0, 0.0, 2.9}) EXPECT_NEAR(linear.from_unit(linear.to_unit(v)), v, 1e-14);
+  for (double v : {-2.0, -1.0, 0.0, 2.9})
+    EXPECT_NEAR(linear.from_unit(linear.to_unit(v)), v, 1e-14);
   // dθ/du by central differences.
   for (const auto& p : {linear, log}) {
     const double u = 0.3, h = 1e-6;

@@ -32,7 +32,9 @@ fit:
 }
 
 // The case "file" sits in the temp directory, so relative target paths resolve there.
-std::string case_name() { return (std::filesystem::temp_directory_path() / "fit-case.yaml").string(); }
+std::string case_name() {
+  return (std::filesystem::temp_directory_path() / "fit-case.yaml").string();
+}
 
 void contains(const std::string& message, const std::string& needle) {
   EXPECT_NE(message.find(needle), std::string::npos) << message;
@@ -48,20 +50,28 @@ std::string message_of(const std::string& text) {
 }
 
 TEST(io_FitSection, ReadsParametersTargetsAndOptions) {
-  const TempFile backbone("-backbone.csv",
-                          "# comment\namplitude,frequency_hz,damping_ratio,weight,sigma_damping_ratio\n"
-                          "1e-6,17.2,0.0015,2,1e-4\n2e-5,17.1,0.004,1,2e-4\n");
+  const TempFile backbone(
+      "-backbone.csv",
+      "# comment\namplitude,frequency_hz,damping_ratio,weight,sigma_damping_ratio\n"
+      "1e-6,17.2,0.0015,2,1e-4\n2e-5,17.1,0.004,1,2e-4\n");
   const TempFile frf("-frf.csv", "frequency_hz,amplitude\n15,1e-5\n16,2e-5\n17,5e-5\n");
   const TempFile modal("-modal.csv", "mode,frequency_hz,damping_ratio\n2,41.6,0.002\n");
   const std::string text = case_with(
       "  parameters:\n"
-      "    - {name: \"contacts[0].kt0\", lower: 1.0e3, upper: 1.0e5, start: 1.0e4, log_scale: true}\n"
-      "    - name: damping.rayleigh.beta\n      lower: 0.0\n      upper: 1.0e-3\n      start: 1.0e-5\n"
+      "    - {name: \"contacts[0].kt0\", lower: 1.0e3, upper: 1.0e5, start: 1.0e4, log_scale: "
+      "true}\n"
+      "    - name: damping.rayleigh.beta\n      lower: 0.0\n      upper: 1.0e-3\n      start: "
+      "1.0e-5\n"
       "  targets:\n"
-      "    - {type: backbone, mode: 1, file: " + backbone.path().filename().string() +
+      "    - {type: backbone, mode: 1, file: " +
+      backbone.path().filename().string() +
       ", use: [damping_ratio], weight: 3}\n"
-      "    - {type: frf, level: 1, file: " + frf.path().string() + "}\n"
-      "    - {type: modal, file: " + modal.path().string() + "}\n"
+      "    - {type: frf, level: 1, file: " +
+      frf.path().string() +
+      "}\n"
+      "    - {type: modal, file: " +
+      modal.path().string() +
+      "}\n"
       "  algorithm: mlsl\n  local_algorithm: neldermead\n  xtol: 1.0e-4\n  max_evaluations: 50\n"
       "  multistart: {starts: 3, seed: 9}\n  penalty: 1.0e6\n");
   DiscreteCase c;
@@ -101,46 +111,50 @@ TEST(io_FitSection, ReadsParametersTargetsAndOptions) {
 
 TEST(io_FitSection, ErrorsNameTheKeyOrTheCsvLine) {
   const TempFile good("-good.csv", "amplitude,frequency_hz,damping_ratio\n1e-6,17.2,0.0015\n");
-  const std::string target = "  targets:\n    - {type: backbone, file: " + good.path().string() + "}\n";
+  const std::string target =
+      "  targets:\n    - {type: backbone, file: " + good.path().string() + "}\n";
   const std::string kt0 =
-      "  parameters:\n    - {name: \"contacts[0].kt0\", lower: 1.0e3, upper: 1.0e5, start: 1.0e4}\n";
+      "  parameters:\n    - {name: \"contacts[0].kt0\", lower: 1.0e3, upper: 1.0e5, start: "
+      "1.0e4}\n";
   contains(message_of(case_with("  parameters:\n    - {name: \"contacts[0].n\", lower: 0.1, "
-                                 "upper: 0.9, start: 0.5}\n" + target)),
+                                "upper: 0.9, start: 0.5}\n" +
+                                target)),
            ":15:14: key 'fit.parameters[0].name': unknown parameter 'contacts[0].n'; "
-                      "this case has: contacts[0].kt0, contacts[0].mu, contacts[0].normal_force, "
-                      "damping.rayleigh.alpha, damping.rayleigh.beta");
+           "this case has: contacts[0].kt0, contacts[0].mu, contacts[0].normal_force, "
+           "damping.rayleigh.alpha, damping.rayleigh.beta");
   contains(message_of(case_with(kt0 + kt0.substr(kt0.find("    -")) + target)),
            "key 'fit.parameters[1].name': 'contacts[0].kt0' is already fit.parameters[0]");
   contains(message_of(case_with(kt0 + "  targets:\n    - {type: frf, mode: 1, file: x.csv}\n")),
            "key 'fit.targets[0].mode': only for type backbone");
   contains(message_of(case_with(kt0 + "  targets:\n    - {type: backbone, file: " +
-                                 good.path().string() + ", use: [amplitude]}\n")),
+                                good.path().string() + ", use: [amplitude]}\n")),
            "key 'fit.targets[0].use[0]': must be one of frequency_hz, damping_ratio "
-                      "for a backbone target, got 'amplitude'");
+           "for a backbone target, got 'amplitude'");
   const TempFile header("-header.csv", "amplitude,frequency\n1e-6,17.2\n");
-  contains(message_of(case_with(kt0 + "  targets:\n    - {type: backbone, file: " +
-                                 header.path().string() + "}\n")),
-           header.path().string() + ":1:1: key 'fit.targets[0].file': the header must "
-                      "name the columns amplitude, frequency_hz, damping_ratio");
+  contains(message_of(case_with(
+               kt0 + "  targets:\n    - {type: backbone, file: " + header.path().string() + "}\n")),
+           header.path().string() +
+               ":1:1: key 'fit.targets[0].file': the header must "
+               "name the columns amplitude, frequency_hz, damping_ratio");
   const TempFile cells("-cells.csv", "amplitude,frequency_hz,damping_ratio\n1e-6,17.2\n");
-  contains(message_of(case_with(kt0 + "  targets:\n    - {type: backbone, file: " +
-                                 cells.path().string() + "}\n")),
-           cells.path().string() + ":2:1: key 'fit.targets[0].file': 2 cells, the "
-                      "header has 3 columns");
+  contains(message_of(case_with(
+               kt0 + "  targets:\n    - {type: backbone, file: " + cells.path().string() + "}\n")),
+           cells.path().string() +
+               ":2:1: key 'fit.targets[0].file': 2 cells, the "
+               "header has 3 columns");
   const TempFile zero("-zero.csv", "amplitude,frequency_hz,damping_ratio\n1e-6,17.2,0\n");
-  contains(message_of(case_with(kt0 + "  targets:\n    - {type: backbone, file: " +
-                                 zero.path().string() + "}\n")),
+  contains(message_of(case_with(
+               kt0 + "  targets:\n    - {type: backbone, file: " + zero.path().string() + "}\n")),
            "damping_ratio is 0: a relative residual needs a value != 0");
   const TempFile mode("-mode.csv", "mode,frequency_hz,damping_ratio\n3,41.6,0.002\n");
-  contains(message_of(case_with(kt0 + "  targets:\n    - {type: modal, file: " +
-                                 mode.path().string() + "}\n")),
+  contains(message_of(case_with(
+               kt0 + "  targets:\n    - {type: modal, file: " + mode.path().string() + "}\n")),
            "mode must be an integer in [1, 2], got 3");
   contains(message_of(case_with(kt0 + target + "  multistart: {starts: 0}\n")),
            "key 'fit.multistart.starts': must be in [1, 1000], got 0");
   contains(message_of(case_with(kt0 + target + "  xtol: 0.5\n")),
            "key 'fit.xtol': must be in (0, 0.1], got 0.5");
-  contains(message_of(case_with(kt0)),
-           "key 'fit.targets': required");
+  contains(message_of(case_with(kt0)), "key 'fit.targets': required");
 }
 
 }  // namespace
