@@ -244,6 +244,21 @@ TEST(DiscreteFit, FrfRecoversTheSlipLimitOfTheUpperJoint) {
   EXPECT_LT(r.standard_errors[0], 0.1);
 }
 
+TEST(DiscreteFit, InvalidParameterValuesArePenalisedNotFatal) {
+  // Linear bounds that include kt0 <= 0, and a start at kt0 = 0: the model rejects those values
+  // (DiscreteSystem::validate), the search is penalised there and still finds the truth.
+  const io::DiscreteCase truth = io::parse_discrete_case(one_dof, "one.yaml");
+  Noise noise;
+  const Target t = backbone_target(truth, 1, -6.0, -3.8, 6, 0.002, 0.02, noise);
+  const std::vector<std::string> names = {"contacts[0].kt0"};
+  const FitResult r =
+      fit(discrete_model(truth, names, {t}), {{names[0], -1e4, 1e5, 0.0, false}}, FitOptions{});
+  ASSERT_TRUE(r.ok && r.has_jacobian);
+  EXPECT_GE(r.failed_evaluations, 1);
+  EXPECT_LT(std::abs(r.best[0] - 3e4), 3 * r.standard_errors[0])
+      << r.best[0] << " +- " << r.standard_errors[0];
+}
+
 TEST(DiscreteFit, MeasuredAmplitudeBeyondTheCurveIsAFailedEvaluation) {
   const io::DiscreteCase c = io::parse_discrete_case(one_dof, "one.yaml");
   Target t;
