@@ -44,7 +44,7 @@ def case_text(params, use, rows):
 
 def main(jointhb):
     print("| parameters | data | S | singular values | standard errors (relative) | "
-          "flagged combination | evaluations | s |")
+          "flagged combination | evaluations | fit time [s] |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for label, params, use, rows in ROWS:
         with tempfile.TemporaryDirectory() as d:
