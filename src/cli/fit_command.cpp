@@ -184,6 +184,7 @@ int FitCommand::run() const {
   const fit::ResidualEvaluation start_res = fit::residuals(section.targets, at_start);
   fit::ModelPrediction at_best;
   fit::ResidualEvaluation best_res;
+  best_res.ok = false;  // no optimum: no fitted values
   if (r.ok) {
     at_best = prediction_at(r.best);
     best_res = fit::residuals(section.targets, at_best);
@@ -329,10 +330,9 @@ int FitCommand::run() const {
   }
   plot_fit_results(dir, quiet_);
   std::cerr << fmt::format(
-      "jointhb fit: {}: S = {:.6g} after {} evaluations ({} new, {} failed) in {:.3g} s; wrote "
-      "{}\n",
-      c->source, r.ok ? r.objective : std::numeric_limits<double>::quiet_NaN(), r.evaluations,
-      r.model_evaluations, r.failed_evaluations, seconds_since(start), dir.string());
+      "jointhb fit: {}: {} after {} evaluations ({} new, {} failed) in {:.3g} s; wrote {}\n",
+      c->source, r.ok ? fmt::format("S = {:.6g}", r.objective) : "no successful evaluation",
+      r.evaluations, r.model_evaluations, r.failed_evaluations, seconds_since(start), dir.string());
   return r.ok ? exit_ok : exit_failure;
 }
 

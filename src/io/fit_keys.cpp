@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -110,8 +112,17 @@ Layout layout_of(fit::TargetKind kind) {
 
 // Reads the points of a target CSV: a header naming the columns, '#' comment lines, one row per
 // measurement. Optional columns: weight (per row), sigma_<quantity> (absolute scale).
+// The abscissae the model can predict: [lo, hi] of the analysis the target uses, and what to
+// call that range in an error.
+struct Range {
+  double lo = 0.0;
+  double hi = 0.0;
+  std::string what;  ///< empty: no range check
+};
+
 void read_points(const std::filesystem::path& file, const std::string& key, fit::Target& t,
-                 const std::vector<fit::Quantity>& use, double weight, int modes) {
+                 const std::vector<fit::Quantity>& use, double weight, int modes,
+                 const Range& range) {
   std::ifstream in(file);
   const std::string name = file.string();
   if (!in) throw InputError(name, 0, 0, key, "cannot read the target file");
@@ -178,6 +189,12 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
       throw InputError(
           name, line_number, 1, key,
           fmt::format("mode must be an integer in [1, {}], got {}", modes, format_number(x)));
+    }
+    // (1e-12: the range was converted from log10 or rad/s, the value may sit on its end)
+    if (!range.what.empty() && (x < range.lo * (1 - 1e-12) || x > range.hi * (1 + 1e-12))) {
+      throw InputError(name, line_number, 1, key,
+                       fmt::format("{} {} lies outside {}: the model cannot predict it",
+                                   layout.abscissa, format_number(x), range.what));
     }
     double row_weight = 1.0;
     if (value("weight", row_weight) && row_weight < 0.0) {
@@ -299,7 +316,20 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
                             target_file.string()));
   }
   t.file = target_file.string();
-  read_points(target_file, f.path_of("file"), t, use, weight, n);
+  Range range;
+  if (t.kind == fit::TargetKind::backbone) {
+    const double a = c.nonlinear_modes->log10_amplitude_start;
+    const double b = c.nonlinear_modes->log10_amplitude_end;
+    range = {std::pow(10.0, std::min(a, b)), std::pow(10.0, std::max(a, b)),
+             fmt::format("analysis.nonlinear_modes.log10_amplitude [{}, {}]", format_number(a),
+                         format_number(b))};
+  } else if (t.kind == fit::TargetKind::frf) {
+    const double a = c.frf->omega_start / (2.0 * std::numbers::pi);
+    const double b = c.frf->omega_end / (2.0 * std::numbers::pi);
+    range = {std::min(a, b), std::max(a, b),
+             fmt::format("the range of analysis.frf [{:.6g}, {:.6g}] Hz", a, b)};
+  }
+  read_points(target_file, f.path_of("file"), t, use, weight, n, range);
   return t;
 }
 

@@ -111,6 +111,11 @@ printf 'amplitude,frequency_hz,damping_ratio\n1e-6,31.8,0.001\n2e-6,abc,0.001\n'
 expect_bad_input fit "$WORK/row.yaml" -o "$WORK/none"
 grep -q "bad.csv:3:6: key 'fit.targets\[0\].file': column 'frequency_hz' must be a finite number, got 'abc'" "$ERR" ||
   fail "csv row: $(cat "$ERR")"
+write_case "$WORK/range.yaml" "$GOOD"
+sed -i 's/log10_amplitude: \[-7, -3.5\]/log10_amplitude: [-7, -5]/' "$WORK/range.yaml"
+expect_bad_input fit "$WORK/range.yaml" -o "$WORK/none"
+grep -q "measured_backbone.csv:9:1: key 'fit.targets\[0\].file': amplitude 1.204029976e-05 lies outside analysis.nonlinear_modes.log10_amplitude \[-7, -5\]" "$ERR" ||
+  fail "range: $(cat "$ERR")"
 expect_bad_input fit "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" -o "$WORK/none"
 grep -q "has no fit section" "$ERR" || fail "no fit section: $(cat "$ERR")"
 expect_bad_input fit "$WORK/fit.yaml" -o "$WORK/fresh" --resume
