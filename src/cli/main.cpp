@@ -4,6 +4,7 @@
 //   jointhb loop --amplitude 2e-5 --json
 //   jointhb run                                  (built-in default case into ./jointhb-out)
 //   jointhb run cases/01-contact-loop/case.yaml -o out
+//   jointhb fit cases/10-fit-one-dof/case.yaml -o fit-out
 //
 // Every error is one line on stderr; exit codes: 0 ok, 1 runtime failure, 2 bad input.
 
@@ -14,6 +15,7 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "fit_command.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "loop_command.hpp"
 #include "run_command.hpp"
@@ -67,6 +69,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 runtime failure, 2 bad input (options, case file).");
   LoopCommand loop(app);
   RunCommand run(app);
+  FitCommand fit(app);
 
   try {
     app.parse(argc, argv);
@@ -83,6 +86,7 @@ int main(int argc, char** argv) {
 
   if (loop.selected()) return run_guarded("jointhb loop", loop);
   if (run.selected()) return run_guarded("jointhb run", run);
-  print_error("jointhb", "a command is required: loop or run (see 'jointhb --help')");
+  if (fit.selected()) return run_guarded("jointhb fit", fit);
+  print_error("jointhb", "a command is required: loop, run or fit (see 'jointhb --help')");
   return exit_bad_input;
 }

@@ -12,9 +12,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // The script next to the sources (build tree) or installed under share/jointhb.
-fs::path plot_script() {
-  for (const fs::path& candidate : {fs::path(JOINTHB_SOURCE_DIR) / "src/python/jointhb_plot.py",
-                                    fs::path(JOINTHB_DATA_DIR) / "jointhb_plot.py"}) {
+fs::path plot_script(const std::string& name = "jointhb_plot.py") {
+  for (const fs::path& candidate : {fs::path(JOINTHB_SOURCE_DIR) / "src/python" / name,
+                                    fs::path(JOINTHB_DATA_DIR) / name}) {
     std::error_code ec;
     if (fs::exists(candidate, ec)) return candidate;
   }
@@ -55,6 +55,22 @@ void plot_results(const fs::path& dir) {
     return;
   }
   std::cerr << fmt::format("jointhb run: plots in {}\n", dir.string());
+}
+
+void plot_fit_results(const fs::path& dir, bool quiet) {
+  const fs::path python = "/usr/bin/python3";
+  const fs::path script = plot_script("jointhb_fit_plot.py");
+  std::error_code ec;
+  const auto note = [&](const std::string& what) {
+    if (!quiet) std::cerr << "jointhb fit: " << what << "; fit.png not drawn\n";
+  };
+  if (!fs::exists(python, ec)) return note("/usr/bin/python3 not found");
+  if (script.empty()) return note("jointhb_fit_plot.py not found");
+  const std::string check = quoted(python.string()) + " -c 'import matplotlib' 2>/dev/null";
+  if (std::system(check.c_str()) != 0) return note("python3-matplotlib is not installed");
+  const std::string command = fmt::format("{} {} {} >/dev/null 2>&1", quoted(python.string()),
+                                          quoted(script.string()), quoted(dir.string()));
+  if (std::system(command.c_str()) != 0) return note("the plot script failed");
 }
 
 }  // namespace jointhb::cli

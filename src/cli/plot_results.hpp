@@ -9,4 +9,9 @@ namespace jointhb::cli {
 
 void plot_results(const std::filesystem::path& dir);
 
+/// `jointhb fit`: draws DIR/fit.png from fit_curves.csv and fit_model_curves.csv with
+/// src/python/jointhb_fit_plot.py; a missing python3 or matplotlib is said on stderr (unless
+/// `quiet`), never an error.
+void plot_fit_results(const std::filesystem::path& dir, bool quiet);
+
 }  // namespace jointhb::cli

@@ -14,6 +14,7 @@
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/value_checks.hpp"
 #include "continuation_keys.hpp"
+#include "fit_keys.hpp"
 #include "yaml_support.hpp"
 
 namespace jointhb::io {
@@ -75,7 +76,7 @@ class DiscreteCaseReader {
     DiscreteCase c;
     c.source = reader_.file();
     if (root.IsNull()) reader_.fail(root, "model", "required (the file is empty)");
-    const Fields top = reader_.fields(root, "", {"model", "contacts", "excitation", "analysis"});
+    const Fields top = reader_.fields(root, "", {"model", "contacts", "excitation", "analysis", "fit"});
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
@@ -115,6 +116,11 @@ class DiscreteCaseReader {
               fmt::format("needs contacts without reference state; contacts[{}] has one", i));
         }
       }
+    }
+    // fit: last, since its parameter names and targets depend on the contacts and analyses.
+    if (const auto* section = top.find("fit")) {
+      c.fit = read_fit_section(reader_, section->value, "fit", c,
+                               std::filesystem::path(reader_.file()).parent_path());
     }
     return c;
   }

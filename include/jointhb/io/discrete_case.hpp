@@ -24,6 +24,7 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/hb/discrete_system.hpp"
+#include "jointhb/io/fit_section.hpp"
 
 namespace jointhb::io {
 
@@ -42,6 +43,8 @@ struct DiscreteCase {
   double rayleigh_beta = 0.0;                ///< β of C = αM + βK [s] (damping_model rayleigh)
   std::vector<double> modal_damping_ratios;  ///< ζ_i of the lowest modes (damping_model modal)
   std::string source;                        ///< the case file it was read from
+  /// fit: the parameters to identify from measured targets (`jointhb fit`, docs/identification.md)
+  std::optional<FitSection> fit;
 };
 
 /// Reads a discrete-model case file. Throws InputError naming file, line, column, key path and

@@ -1,0 +1,31 @@
+#pragma once
+// `jointhb fit CASE.yaml [-o DIR] [--resume] [--quiet]`: identifies the parameters named in the
+// case's fit section from its measured targets (docs/identification.md, docs/cli.md). Writes
+// DIR/fit_history.csv (one flushed row per evaluation), DIR/fit.json, DIR/fit_curves.csv,
+// DIR/fit_model_curves.csv and DIR/fit.png (when python3-matplotlib is present).
+
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace jointhb::cli {
+
+class FitCommand {
+ public:
+  explicit FitCommand(CLI::App& parent);
+
+  [[nodiscard]] bool selected() const;
+  /// Runs after parsing; returns the exit code. Throws io::InputError for a bad case file or -o.
+  [[nodiscard]] int run() const;
+
+ private:
+  CLI::App* app_;
+  std::string case_path_;
+  std::string output_dir_ = "jointhb-fit";
+  bool resume_ = false;
+  bool quiet_ = false;
+};
+
+}  // namespace jointhb::cli
