@@ -31,6 +31,13 @@ const std::vector<std::string> kFrfColumns = {
     "level",        "force_amplitude", "omega",           "frequency_hz", "amplitude_h1", "amplitude_max",
     "dissipation",  "slipping_points", "open_points",     "newton_iterations"};
 
+ordered_json timings_json(const continuation::InterfaceTimings& t) {
+  return {{"aft", t.aft}, {"assembly", t.assembly}, {"linear_solve", t.linear_solve}, {"total", t.total},
+          {"evaluations", t.evaluations}, {"jacobians", t.jacobians}};
+}
+
+}  // namespace
+
 // Frequencies [Hz] of the elastic modes among `modes` (rigid-body modes skipped).
 std::vector<double> elastic_frequencies(const modal::ModalResult& modes) {
   std::vector<double> f;
@@ -39,17 +46,11 @@ std::vector<double> elastic_frequencies(const modal::ModalResult& modes) {
   return f;
 }
 
-struct Settings {
-  reduction::ModalInterfaceOptions options;
-  double followed_hz = 0.0;  // highest frequency of interest
-  std::string cutoff_source, damping_source;
-};
-
 // Cutoff and Rayleigh coefficients from the case and the modes of K_t.
-Settings resolve(const io::FeCase& c, const modal::ModalResult& modes) {
+InterfaceSettings resolve_interface_settings(const io::FeCase& c, const modal::ModalResult& modes) {
   const io::FeDynamicsSpec& d = *c.dynamics;
   const std::vector<double> f = elastic_frequencies(modes);
-  Settings s;
+  InterfaceSettings s;
   s.options.modal = c.modes.value_or(modal::ModalOptions{});
   s.options.rigid_tolerance_hz = kRigidHz;
   int highest_mode = 0;
@@ -84,7 +85,7 @@ Settings resolve(const io::FeCase& c, const modal::ModalResult& modes) {
 
 // Stage-cache key of the condensed model (io/stage_cache.hpp): the modes key + every option but
 // the damping, and the load and output vectors.
-std::string interface_key(const io::FeCase& c, const reduction::ModalInterfaceOptions& o,
+std::string interface_model_key(const io::FeCase& c, const reduction::ModalInterfaceOptions& o,
                           const reduction::ModalLoad& load, const std::vector<reduction::ModalOutputSpec>& outputs) {
   io::Fingerprint k = io::Fingerprint::chain(c.fingerprints.modes);
   // The Rayleigh coefficients are not part of it: the condensation only copies them into the
@@ -96,13 +97,6 @@ std::string interface_key(const io::FeCase& c, const reduction::ModalInterfaceOp
   return k.hex();
 }
 
-ordered_json timings_json(const continuation::InterfaceTimings& t) {
-  return {{"aft", t.aft}, {"assembly", t.assembly}, {"linear_solve", t.linear_solve}, {"total", t.total},
-          {"evaluations", t.evaluations}, {"jacobians", t.jacobians}};
-}
-
-}  // namespace
-
 int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, const preload::PreloadResult& preload,
                     const modal::ModalResult& modes, const std::filesystem::path& dir, io::StageCache& cache,
                     ordered_json& summary) {
@@ -112,12 +106,12 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
   int code = 0;
 
   // ---- condensation ------------------------------------------------------------------------
-  Settings settings = resolve(c, modes);
+  InterfaceSettings settings = resolve_interface_settings(c, modes);
   const reduction::ModalLoad load{d.excitation.name.empty() ? "none" : d.excitation.name,
                                   d.excitation.name.empty() ? Eigen::VectorXd::Zero(n) : d.excitation.functional(n)};
   std::vector<reduction::ModalOutputSpec> outputs;
   for (const io::FeNodeDirection& o : d.outputs) outputs.push_back({o.name, o.functional(n)});
-  const std::string key = interface_key(c, settings.options, load, outputs);
+  const std::string key = interface_model_key(c, settings.options, load, outputs);
   std::vector<contact::ContactPoint> laws;
   for (const auto& ci : model.interfaces) laws.push_back(ci.law);
   // Full fields (eq. T-33) need Φ and the deflated solves, cached beside the model.

@@ -10,7 +10,7 @@
 //                             W_D, slipping and open points, Newton iterations
 // Rows are flushed as points are accepted; summary.json gets "interface_model", "backbones" and
 // "frfs" with iterations, stop reasons and timings. The condensed model is kept in the stage
-// cache (key: the modes key + cutoff, damping, load and outputs), so a second run that changes
+// cache (key: the modes key + cutoff, load and outputs), so a second run that changes
 // only the continuation, harmonics or force levels skips preload, modes and condensation.
 
 #include <filesystem>
@@ -20,8 +20,30 @@
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "jointhb/reduction/modal_interface.hpp"
 
 namespace jointhb::cli {
+
+/// The condensation settings of a case: cutoff (analysis.reduction, or cutoff_factor × the
+/// highest frequency of interest) and Rayleigh damping (analysis.damping; a ratio becomes
+/// stiffness-proportional at the followed mode), with where each came from (summary.json).
+struct InterfaceSettings {
+  reduction::ModalInterfaceOptions options;
+  double followed_hz = 0.0;  ///< highest frequency of interest
+  std::string cutoff_source, damping_source;
+};
+
+/// Frequencies [Hz] of the elastic modes among `modes` (|f| ≥ 1 Hz; rigid-body modes skipped).
+std::vector<double> elastic_frequencies(const modal::ModalResult& modes);
+
+/// Throws std::runtime_error when the modes stage found no elastic mode or fewer than followed.
+InterfaceSettings resolve_interface_settings(const io::FeCase& c, const modal::ModalResult& modes);
+
+/// Stage-cache key of the condensed model: the modes key + every option but the damping (the
+/// condensation only copies it), and the load and output vectors.
+std::string interface_model_key(const io::FeCase& c, const reduction::ModalInterfaceOptions& o,
+                                const reduction::ModalLoad& load,
+                                const std::vector<reduction::ModalOutputSpec>& outputs);
 
 /// Returns 0, or 1 when a curve stopped before its end or a stage failed (everything computed is
 /// written). `modes`: the modes of K_t (the modes stage), used for the default cutoff and damping.

@@ -5,11 +5,15 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
 #include <iostream>
 #include <limits>
 #include <variant>
 
 #include "cli_support.hpp"
+#include "fe_fit_model.hpp"
 #include "jointhb/fit/discrete_model.hpp"
 #include "jointhb/fit/history.hpp"
 #include "jointhb/io/case_file.hpp"
@@ -83,6 +87,10 @@ FitCommand::FitCommand(CLI::App& parent) {
       ->capture_default_str();
   app_->add_flag("--resume", resume_,
                  "continue from DIR/fit_history.csv: evaluations found in it are not recomputed");
+  app_->add_option("--cache-dir", cache_dir_,
+                   "finite-element cases: the stage cache (default DIR/.cache; the same as jointhb "
+                   "run's, so a fit can start from a run's stages)")
+      ->type_name("DIR");
   app_->add_flag("--quiet", quiet_, "no progress line, warnings or table (errors only)");
   app_->footer(
       "Exit codes: 0 ok, 1 every evaluation failed, 2 invalid case file or options.\n"
@@ -95,13 +103,16 @@ int FitCommand::run() const {
   const auto start = Clock::now();
   const io::CaseFile file = io::read_case_file(case_path_);
   const auto* c = std::get_if<io::DiscreteCase>(&file);
-  if (!c) {
-    throw UsageError(
-        case_path_ +
-        ": jointhb fit needs a discrete model (model.type discrete) with a fit section");
+  const auto* fe = std::get_if<io::FeCase>(&file);
+  if (!c && !fe) {
+    throw UsageError(case_path_ +
+                     ": jointhb fit needs a discrete (model.type discrete) or finite-element "
+                     "(model.type fe) case with a fit section");
   }
-  if (!c->fit) throw UsageError(case_path_ + ": the case has no fit section (docs/case-files.md)");
-  const io::FitSection& section = *c->fit;
+  const std::optional<io::FitSection>& fit_section = c ? c->fit : fe->fit;
+  if (!fit_section) throw UsageError(case_path_ + ": the case has no fit section (docs/case-files.md)");
+  const std::string source = c ? c->source : fe->source;
+  const io::FitSection& section = *fit_section;
   const std::vector<std::string> names = names_of(section.parameters);
   const fs::path dir(output_dir_);
   const fs::path history_file = dir / "fit_history.csv";
@@ -128,15 +139,27 @@ int FitCommand::run() const {
     }
   }
   // The model is checked once before any output exists (a setup error is bad input).
-  {
+  std::vector<double> start_values;
+  for (const auto& p : section.parameters) start_values.push_back(p.start);
+  std::optional<FeFitModel> fe_model;
+  if (c) {
     io::DiscreteCase check = *c;
-    std::vector<double> values;
-    for (const auto& p : section.parameters) values.push_back(p.start);
     try {
-      fit::set_model_parameters(check, names, values);
+      fit::set_model_parameters(check, names, start_values);
     } catch (const std::invalid_argument& e) {
       throw UsageError(case_path_ +
                        ": fit.parameters: the start values give an invalid model: " + e.what());
+    }
+  } else {
+    std::ifstream in(case_path_);
+    std::stringstream text;
+    text << in.rdbuf();
+    fe_model.emplace(text.str(), case_path_, names, section.targets,
+                     cache_dir_.empty() ? fs::path(output_dir_) / ".cache" : fs::path(cache_dir_));
+    try {
+      (void)fe_model->case_at(start_values);
+    } catch (const std::exception& e) {
+      throw UsageError(case_path_ + ": fit.parameters: the start values give an invalid case: " + e.what());
     }
   }
   create_output_directory(dir);
@@ -161,14 +184,13 @@ int FitCommand::run() const {
   for (const auto& row : replay) {
     if (!row.failed) best = std::min(best, row.objective);
   }
-  const fit::Model model = fit::discrete_model(*c, names, section.targets);
+  const fit::Model model = c ? fit::discrete_model(*c, names, section.targets) : fe_model->model();
   const fit::FitResult r = fit::fit(model, section.parameters, section.options, sink, replay);
   if (progress && shown) std::cerr << '\r' << std::string(78, ' ') << '\r';
 
   // Outputs: the predictions at the start and at the optimum.
-  std::vector<double> start_values;
-  for (const auto& p : section.parameters) start_values.push_back(p.start);
   const auto prediction_at = [&](const std::vector<double>& values) {
+    if (fe_model) return fe_model->predict(values);
     io::DiscreteCase k = *c;
     fit::ModelPrediction pred;
     try {
@@ -285,7 +307,7 @@ int FitCommand::run() const {
   Json summary = {
       {"jointhb_version", JOINTHB_VERSION},
       {"status", r.ok ? "ok" : "failed"},
-      {"case", c->source},
+      {"case", source},
       {"parameters", parameters},
       {"objective", r.ok ? Json(r.objective) : Json(nullptr)},
       {"residual_points", m},
@@ -318,6 +340,13 @@ int FitCommand::run() const {
         {"initial_step", o.initial_step},
         {"jacobian_step", o.jacobian_step}}},
       {"seconds", {{"fit", r.seconds}, {"total", seconds_since(start)}}}};
+  if (fe_model) {
+    const FeFitModel::Counters& k = fe_model->counters();
+    summary["stages"] = {{"preload", {{"solved", k.preload_solved}, {"from_cache", k.preload_cached}}},
+                         {"modes", {{"solved", k.modes_solved}, {"from_cache", k.modes_cached}}},
+                         {"condensation", {{"solved", k.condensed}, {"from_cache", k.condensation_cached}}},
+                         {"damping_curves", k.curves}};
+  }
   write_summary(dir / "fit.json", summary);
   if (!quiet_) {
     for (const auto& w : r.warnings) std::cerr << "jointhb fit: warning: " << w << '\n';
@@ -331,7 +360,7 @@ int FitCommand::run() const {
   plot_fit_results(dir, quiet_);
   std::cerr << fmt::format(
       "jointhb fit: {}: {} after {} evaluations ({} new, {} failed) in {:.3g} s; wrote {}\n",
-      c->source, r.ok ? fmt::format("S = {:.6g}", r.objective) : "no successful evaluation",
+      source, r.ok ? fmt::format("S = {:.6g}", r.objective) : "no successful evaluation",
       r.evaluations, r.model_evaluations, r.failed_evaluations, seconds_since(start), dir.string());
   return r.ok ? exit_ok : exit_failure;
 }

@@ -25,6 +25,7 @@ class FitCommand {
   std::string case_path_;
   std::string output_dir_ = "jointhb-fit";
   bool resume_ = false;
+  std::string cache_dir_;  ///< FE cases: the stage cache (default DIR/.cache)
   bool quiet_ = false;
 };
 

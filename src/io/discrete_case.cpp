@@ -119,7 +119,7 @@ class DiscreteCaseReader {
     }
     // fit: last, since its parameter names and targets depend on the contacts and analyses.
     if (const auto* section = top.find("fit")) {
-      c.fit = read_fit_section(reader_, section->value, "fit", c,
+      c.fit = read_fit_section(reader_, section->value, "fit", fit_context(c),
                                std::filesystem::path(reader_.file()).parent_path());
     }
     return c;

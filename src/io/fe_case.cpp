@@ -1,5 +1,8 @@
 #include "jointhb/io/fe_case.hpp"
 
+#include "fit_keys.hpp"
+#include "jointhb/io/fe_fit_parameters.hpp"
+
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
@@ -63,6 +66,23 @@ void add_yaml(Fingerprint& f, const YAML::Node& node) {
 const std::set<std::string> kAnalysisKeys = {"preload",    "modes",   "damping",         "reduction",
                                              "excitation", "outputs", "nonlinear_modes", "frf"};
 
+// What a fit section of an FE case may name: the parameters of io/fe_fit_parameters.hpp, modal
+// targets of the elastic modes the modes stage computes at most, backbone targets of the followed
+// modes; FRF targets are not offered (yet).
+FitContext fit_context(const FeCase& c) {
+  FitContext x;
+  x.names = fe_fit_parameter_names(c);
+  x.modes = c.modes ? c.modes->count : modal::ModalOptions{}.count;
+  if (c.dynamics && c.dynamics->nonlinear_modes) {
+    const FeNonlinearModesSpec& nm = *c.dynamics->nonlinear_modes;
+    x.backbone = std::pair(nm.log10_amplitude_start, nm.log10_amplitude_end);
+    x.backbone_modes = nm.modes;
+    x.modes = std::max(x.modes, *std::max_element(nm.modes.begin(), nm.modes.end()));
+  }
+  x.frf_unavailable = "frf targets are not offered for finite-element cases yet (use backbone or modal targets)";
+  return x;
+}
+
 class FeCaseReader {
  public:
   FeCaseReader(std::string file_name, std::filesystem::path directory)
@@ -71,7 +91,7 @@ class FeCaseReader {
   FeCase read(const YAML::Node& root) {
     FeCase c;
     c.source = reader_.file();
-    const Fields top = reader_.fields(root, "", {"model", "analysis"});
+    const Fields top = reader_.fields(root, "", {"model", "analysis", "fit"});
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
@@ -88,6 +108,8 @@ class FeCaseReader {
         }
     }
     fingerprint(model->value, preload_node, modes_node, c);
+    // fit: last, since its parameter names and targets depend on the model and the analyses.
+    if (const auto* section = top.find("fit")) c.fit = read_fit_section(reader_, section->value, "fit", fit_context(c), directory_);
     return c;
   }
 

@@ -229,7 +229,7 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
 }
 
 fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, const std::string& path,
-                        const DiscreteCase& c, const std::filesystem::path& case_dir) {
+                        const FitContext& c, const std::filesystem::path& case_dir) {
   const Fields f = reader.fields(node, path, {"type", "file", "mode", "level", "weight", "use"});
   for (const char* name : {"type", "file"}) {
     if (!f.has(name)) reader.fail(node, f.path_of(name), "required");
@@ -242,7 +242,7 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
   t.kind = kind == "backbone" ? fit::TargetKind::backbone
            : kind == "frf"    ? fit::TargetKind::frf
                               : fit::TargetKind::modal;
-  const int n = c.system.dofs();
+  const int n = c.modes;
   if (const auto* mode = f.find("mode")) {
     if (t.kind != fit::TargetKind::backbone) {
       reader.fail(mode->key, f.path_of("mode"), "only for type backbone");
@@ -257,18 +257,26 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
     }
     const long long l = reader.integer(level->value, f.path_of("level"));
     reader.check(level->value, f.path_of("level"),
-                 check_in_range(l, 0, static_cast<long long>(c.levels.size()) - 1));
+                 check_in_range(l, 0, static_cast<long long>(c.levels) - 1));
     t.level = static_cast<int>(l);
   }
-  if (t.kind == fit::TargetKind::backbone && !c.nonlinear_modes) {
+  if (t.kind == fit::TargetKind::backbone && !c.backbone) {
     reader.fail(type, f.path_of("type"),
                 "a backbone target needs analysis.nonlinear_modes (its harmonics, amplitude "
                 "range and continuation settings are used)");
   }
+  if (t.kind == fit::TargetKind::backbone && !c.backbone_modes.empty() &&
+      std::find(c.backbone_modes.begin(), c.backbone_modes.end(), t.mode) == c.backbone_modes.end()) {
+    reader.fail(type, f.path_of("type"),
+                fmt::format("a backbone target of mode {} needs that mode in analysis.nonlinear_modes.mode", t.mode));
+  }
+  if (t.kind == fit::TargetKind::frf && !c.frf_unavailable.empty()) {
+    reader.fail(type, f.path_of("type"), c.frf_unavailable);
+  }
   if (t.kind == fit::TargetKind::frf && !c.frf) {
     reader.fail(type, f.path_of("type"),
                 "an frf target needs analysis.frf (its frequency range, harmonics and "
-                "output_dof are used)");
+                "output are used)");
   }
   double weight = 1.0;
   if (const auto* w = f.find("weight")) {
@@ -318,14 +326,12 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
   t.file = target_file.string();
   Range range;
   if (t.kind == fit::TargetKind::backbone) {
-    const double a = c.nonlinear_modes->log10_amplitude_start;
-    const double b = c.nonlinear_modes->log10_amplitude_end;
+    const double a = c.backbone->first, b = c.backbone->second;
     range = {std::pow(10.0, std::min(a, b)), std::pow(10.0, std::max(a, b)),
              fmt::format("analysis.nonlinear_modes.log10_amplitude [{}, {}]", format_number(a),
                          format_number(b))};
   } else if (t.kind == fit::TargetKind::frf) {
-    const double a = c.frf->omega_start / (2.0 * std::numbers::pi);
-    const double b = c.frf->omega_end / (2.0 * std::numbers::pi);
+    const double a = c.frf->first, b = c.frf->second;
     range = {std::min(a, b), std::max(a, b),
              fmt::format("the range of analysis.frf [{:.6g}, {:.6g}] Hz", a, b)};
   }
@@ -335,8 +341,20 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
 
 }  // namespace
 
+FitContext fit_context(const DiscreteCase& c) {
+  FitContext x;
+  x.names = fit::discrete_parameter_names(c);
+  x.modes = c.system.dofs();
+  x.levels = static_cast<int>(c.levels.size());
+  if (c.nonlinear_modes)
+    x.backbone = std::pair(c.nonlinear_modes->log10_amplitude_start, c.nonlinear_modes->log10_amplitude_end);
+  if (c.frf)
+    x.frf = std::pair(c.frf->omega_start / (2.0 * std::numbers::pi), c.frf->omega_end / (2.0 * std::numbers::pi));
+  return x;
+}
+
 FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
-                            const std::string& path, const DiscreteCase& c,
+                            const std::string& path, const FitContext& c,
                             const std::filesystem::path& case_dir) {
   const Fields f =
       reader.fields(node, path,
@@ -350,7 +368,7 @@ FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
     reader.fail(parameters->value, ppath,
                 "must be a non-empty list of {name, lower, upper, start[, log_scale]}");
   }
-  const std::vector<std::string> valid = fit::discrete_parameter_names(c);
+  const std::vector<std::string>& valid = c.names;
   for (std::size_t i = 0; i < parameters->value.size(); ++i) {
     const std::string item = item_path(ppath, i);
     s.parameters.push_back(read_parameter(reader, parameters->value[i], item, valid));

@@ -33,6 +33,7 @@
 #include "jointhb/fe/material.hpp"
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/io/fe_dynamics_case.hpp"
+#include "jointhb/io/fit_section.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
@@ -60,6 +61,9 @@ struct FeCase {
   /// analysis.nonlinear_modes / frf with their settings (fe_dynamics_case.hpp); they need the
   /// preload and the modes, which then run with defaults when not given.
   std::optional<FeDynamicsSpec> dynamics;
+  /// fit: the identification (jointhb fit; io/fe_fit_parameters.hpp names the parameters). Not
+  /// part of any stage key.
+  std::optional<FitSection> fit;
   std::vector<std::string> warnings;             ///< e.g. mesh cards that were skipped
   std::string source;
   /// Keys of the stage cache (io/stage_cache.hpp), 32 hex digits each, computed by the reader:

@@ -1,0 +1,42 @@
+# jointhb fit on a finite-element case (case 12's bolted lap and its synthetic damping curve),
+# reduced to what a test can afford: the damping ratio alone, so every evaluation after the
+# first reads preload, modes and condensation from the stage cache (the counters in fit.json say
+# so) and only the damping curve is recomputed; the truth (0.005) must lie within 3 standard
+# errors. Then bad fit sections of an FE case: one line naming the key, exit code 2.
+source "$(dirname "$0")/common.inc" "$@"
+PYTHON=/usr/bin/python3
+CASE_DIR="$SOURCE_DIR/cases/12-fit-lap"
+cp "$CASE_DIR/measured_backbone.csv" "$WORK/"
+grep -v 'interfaces.lap.mu' "$CASE_DIR/case.yaml" | sed 's/max_evaluations: 80/max_evaluations: 25/' >"$WORK/zeta.yaml"
+grep -q 'damping.ratio' "$WORK/zeta.yaml" || fail "could not make the damping-only case"
+
+run_capture fit "$WORK/zeta.yaml" -o "$WORK/out" --quiet
+[ "$STATUS" -eq 0 ] || fail "fit exited $STATUS: $(cat "$ERR")"
+for f in fit.json fit_history.csv fit_curves.csv fit_model_curves.csv; do
+  [ -s "$WORK/out/$f" ] || fail "missing $f"
+done
+"$PYTHON" - "$WORK/out" <<'PY' || fail "FE fit result"
+import json, sys
+s = json.load(open(f"{sys.argv[1]}/fit.json"))
+assert s["status"] == "ok", s["status"]
+p = s["parameters"][0]
+assert p["name"] == "damping.ratio", p
+z, se = p["value"], p["standard_error"]
+assert se is not None and se > 0 and abs(z - 0.005) < 3 * se, (z, se)
+st = s["stages"]
+n = s["model_evaluations"]
+assert st["preload"]["solved"] == 1 and st["modes"]["solved"] == 1 and st["condensation"]["solved"] == 1, st
+assert st["condensation"]["from_cache"] >= n - 1, (st, n)
+print(f"ok: zeta = {z:.6g} +- {se:.2g} (truth 0.005) in {n} evaluations, {s['seconds']['fit']:.1f} s; "
+      f"preload, modes and condensation computed once, read {st['condensation']['from_cache']} times")
+PY
+
+# Bad input: an unknown parameter lists the valid ones; an frf target is not offered for FE cases.
+sed 's/name: damping.ratio/name: interfaces.lap.friction/' "$WORK/zeta.yaml" >"$WORK/bad1.yaml"
+expect_bad_input fit "$WORK/bad1.yaml" -o "$WORK/bad"
+grep -q "fit.parameters\[0\].name" "$ERR" && grep -q "interfaces.lap.mu" "$ERR" || fail "unknown parameter message: $(cat "$ERR")"
+sed 's/type: backbone, mode: 1,/type: frf,/' "$WORK/zeta.yaml" >"$WORK/bad2.yaml"
+expect_bad_input fit "$WORK/bad2.yaml" -o "$WORK/bad"
+grep -q "fit.targets\[0\].type" "$ERR" || fail "frf target message: $(cat "$ERR")"
+[ -e "$WORK/bad" ] && fail "a bad case created the output directory"
+finish
