@@ -22,10 +22,12 @@
 // (the dense matrix above `dense_limit` unknowns, or the predicted time above `budget`) is
 // reported with the measured per-iteration costs and the reason, never with an invented time.
 //
-//   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] OUTPUT_PREFIX
+//   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] [--matrix-free-only] OUTPUT_PREFIX
 // --ci: the ≈100-point mesh at H = 1 only, all three solvers (ctest, ~10–20 s), bounds:
 // agreement < 1e-8, product < 1e-12 of Σ|J||v|, the curves reach the drop. --only: one configuration (label
-// P<points>_H<h>, one per process for the peak memory: interface_scaling.sh). Tables:
+// P<points>_H<h>, one per process for the peak memory: interface_scaling.sh). --matrix-free-only:
+// only the matrix-free curve and its per-iteration figures (no dense Jacobian, LU or dense
+// curves; e.g. to re-measure a curve after a change outside the linear solvers). Tables:
 // PREFIX_table.csv (one row per configuration), PREFIX_backbone_<label>.csv.
 
 #include <fmt/format.h>
@@ -130,6 +132,7 @@ struct Limits {
   double lu_limit = 9000;        // unknowns: time one LU
   double dense_run_limit = 4000; // unknowns: also run the dense_lu reference curve
   double budget = 400.0;         // s: predicted damping-curve time above which it is not run
+  bool matrix_free_only = false; // --matrix-free-only: no dense Jacobian, dense Krylov or dense LU
 };
 
 struct Row {
@@ -243,7 +246,7 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
   r.product_s = time_call([&] { product = free.apply_jacobian(e, omega, xi, v); });
   std::fprintf(stderr, "  %s: U = %ld (m = %d), AFT %.3g s, AFT+blocks %.3g s, product %.3g s\n", r.label.c_str(),
                r.unknowns, m, r.aft_s, r.blocks_s, r.product_s);
-  if (U <= lim.dense_limit) {
+  if (U <= lim.dense_limit && !lim.matrix_free_only) {
     bopt.dense_jacobian = true;
     const hb::InterfaceBalance dense(model, bopt);
     hb::InterfaceBalanceEvaluation ed;
@@ -276,7 +279,9 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
   // Dense Jacobian, lagged LU: predicted with ~100 Newton iterations and ~10 factorisations.
   const double predicted_dense =
       100.0 * (r.blocks_s + std::max(r.assembly_s, 0.0) + 20.0 * r.product_s) + 10.0 * std::max(r.lu_s, 0.0);
-  if (U > lim.dense_limit) {
+  if (lim.matrix_free_only) {
+    r.note += "dense Krylov not run: --matrix-free-only;";
+  } else if (U > lim.dense_limit) {
     r.note += fmt::format("dense Krylov not run: {:.1f} GiB per copy of the {}x{} matrix;", r.dense_gib, r.unknowns,
                           r.unknowns);
   } else if (predicted_dense > lim.budget) {
@@ -366,11 +371,12 @@ int main(int argc, char** argv) {
     if (a == "--ci") ci = true;
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--budget" && i + 1 < argc) lim.budget = std::atof(argv[++i]);
+    else if (a == "--matrix-free-only") lim.matrix_free_only = true;
     else if (prefix.empty() && !a.empty() && a[0] != '-') prefix = a;
     else prefix.clear(), i = argc;
   }
   if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] OUTPUT_PREFIX\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] [--matrix-free-only] OUTPUT_PREFIX\n", argv[0]);
     return 2;
   }
   const double drop = 0.03;

@@ -3,7 +3,8 @@
 # set is that configuration's) and concatenates the tables:
 #   validation/fe/interface_scaling.sh BUILD_DIR OUTPUT_PREFIX [LABEL ...]
 # LABEL: P<points>_H<h> (default: all nine, P96/P400/P1600 x H1/H3/H7). EXTRA: more arguments for
-# every run (e.g. EXTRA="--budget 1500"). A configuration that exceeds a bound is reported and the
+# every run (e.g. EXTRA="--budget 1500", or EXTRA="--matrix-free-only" to re-measure only the
+# matrix-free curves). A configuration that exceeds a bound is reported and the
 # loop goes on (the exit status is then 1).
 set -uo pipefail
 build=$1

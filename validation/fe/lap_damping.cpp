@@ -6,9 +6,13 @@
 //   linear limit    Ω(q → 0) = ω_1 of the ARPACK modes of K_t (the model's own kept mode) and
 //                   ζ(q → 0) = the Rayleigh ratio (a/ω + bω)/2;
 //   energy          ζ = ξ/(2Ω) against ζ_E = (W_D + W_viscous)/(2π Ω² q²), W_D from the sampled
-//                   hysteresis loops of every point (not from the Fourier coefficients): the gap is
-//                   the harmonic truncation of the contact forces (bound 5 % at H = 1; it shrinks
-//                   with H). The exact balance of injected, viscous and Fourier contact work is a
+//                   hysteresis loops of every point (not from the Fourier coefficients): bound 5 %
+//                   at H = 1 and 2 % above, on the premise that the gap is the harmonic truncation
+//                   of the contact forces and shrinks with H. Measured (full run 2026-11-25) it
+//                   does not: 3.2 % at H = 1, 4.2-4.3 % at H = 3, 5, 7, while loop and Fourier W_D
+//                   agree to < 1 % in macroslip; the gap follows `energy_error` (the unformed
+//                   residual-mode share, below), so the H > 1 bound is not met (open, README).
+//                   The exact balance of injected, viscous and Fourier contact work is a
 //                   unit test with every mode kept (tests/unit/continuation); here the residual
 //                   modes' share of the viscous and EPMC work is not formed, so `energy_error`
 //                   (kept modes only) is reported, not bounded;
@@ -28,11 +32,12 @@
 // The 192 nodal contact points of the coarse mesh are merged into their 63 node pairs (exact,
 // eq. T-31); the patch runs measure the interface reduction's error against them.
 // --ci: 20 × 6 × 1 C3D8I per plate, H = 1, node pairs and 10 mm patches, one FRF; full: also all
-// 192 points, 5 and 20 mm patches, k_T following p_N(t), H = 3 and 5, cutoffs 10 and 40 × f_1, and
-// the 40 × 12 × 1 mesh. Tables: PREFIX_backbone_<label>.csv (one row per point),
+// 192 points, 5 and 20 mm patches, k_T following p_N(t), H = 3, 5 and 7, cutoffs 10 and 40 × f_1,
+// and the 40 × 12 × 1 mesh. Tables: PREFIX_backbone_<label>.csv (one row per point),
 // PREFIX_summary.csv (one row per run), PREFIX_frf_peaks.csv (one row per force level),
-// PREFIX_deviation.csv (each run on the coarse mesh against the first: the largest deviation of
-// the frequency drop, relative to the curve's total drop, and of ζ, relative).
+// PREFIX_deviation.csv (each run on the coarse mesh against the first, and each H > 1 also against
+// the next lower H, column `against`: the largest deviation of the frequency drop, relative to the
+// compared-to curve's total drop, and of ζ, relative).
 
 #include <fmt/format.h>
 
@@ -280,6 +285,7 @@ int main(int argc, char** argv) {
     runs.push_back({"20x6x1_H1_instantaneous_kT", 20, 6, 1, 1, false, 20.0, {}, {0.95, 1.003}, 0.0});
     runs.push_back({"20x6x1_H3", 20, 6, 1, 3, true, 20.0, {}, {0.95, 1.003}, 0.0});
     runs.push_back({"20x6x1_H5", 20, 6, 1, 5, true, 20.0, {}, {0.95, 1.003}, 0.0});
+    runs.push_back({"20x6x1_H7", 20, 6, 1, 7, true, 20.0, {}, {0.95, 1.003}, 0.0});
     runs.push_back({"20x6x1_H1_cutoff10", 20, 6, 1, 1, true, 10.0, {}, {0.95, 1.003}, 0.0});
     runs.push_back({"20x6x1_H1_cutoff40", 20, 6, 1, 1, true, 40.0, {}, {0.95, 1.003}, 0.0});
     runs.push_back({"40x12x1_H1", 40, 12, 1, 1, true, 20.0, {}, {0.95, 1.003}, 0.0});
@@ -291,23 +297,38 @@ int main(int argc, char** argv) {
   std::FILE* peaks = std::fopen((args.prefix + "_frf_peaks.csv").c_str(), "w");
   if (peaks) std::fprintf(peaks, "run,force_N,q,peak_hz,backbone_hz,relative_error,frf_points,frf_s\n");
   std::FILE* deviations = std::fopen((args.prefix + "_deviation.csv").c_str(), "w");
-  if (deviations) std::fprintf(deviations, "run,contact_points,unknowns,frequency_shift_deviation,damping_deviation,backbone_s\n");
+  if (deviations)
+    std::fprintf(deviations, "run,contact_points,unknowns,frequency_shift_deviation,damping_deviation,backbone_s,against\n");
   bool ok = true;
   std::vector<CurvePoint> reference;
+  // The harmonic ladder (node pairs, frozen k_T, cutoff 20 f_1 on the coarse mesh): each H > 1
+  // also against the next lower H that ran.
+  std::vector<CurvePoint> lower_h;
+  std::string lower_h_label;
   for (const Run& r : runs) {
     const Outcome o = run(r, args.prefix, drop);
+    const bool ladder = r.nx == runs.front().nx && r.frozen && r.patch == 0.0 && r.cutoff_factor == 20.0;
     if (reference.empty()) {
       reference = o.curve;
     } else if (r.nx == runs.front().nx && !o.curve.empty()) {  // same mesh: against the reference curve
       const auto [df, dz] = curve_deviation(o.curve, reference);
       std::printf("  vs %s: frequency shift %.2e, damping %.2e\n", runs.front().label.c_str(), df, dz);
       if (deviations)
-        std::fprintf(deviations, "%s,%d,%d,%.3e,%.3e,%.2f\n", o.label.c_str(), o.contact_points, o.unknowns, df, dz, o.seconds);
+        std::fprintf(deviations, "%s,%d,%d,%.3e,%.3e,%.2f,%s\n", o.label.c_str(), o.contact_points, o.unknowns, df, dz,
+                     o.seconds, runs.front().label.c_str());
+      if (ladder && r.harmonics > 1 && !lower_h.empty() && lower_h_label != runs.front().label) {
+        const auto [dfh, dzh] = curve_deviation(o.curve, lower_h);
+        std::printf("  vs %s: frequency shift %.2e, damping %.2e\n", lower_h_label.c_str(), dfh, dzh);
+        if (deviations)
+          std::fprintf(deviations, "%s,%d,%d,%.3e,%.3e,%.2f,%s\n", o.label.c_str(), o.contact_points, o.unknowns, dfh,
+                       dzh, o.seconds, lower_h_label.c_str());
+      }
       // All points vs node pairs: exact (unit test: 5e-12 at equal q); here the comparison
       // interpolates between the two curves' own points, which limits it to ~1e-2.
       if (r.patch < 0.0) ok = ok && df < 0.05 && dz < 0.1;
       // Patches approximate the slip (reported, not bounded); their linear limit is exact (below).
     }
+    if (ladder && !o.curve.empty()) lower_h = o.curve, lower_h_label = o.label;
     std::printf("%-28s P=%d (of %d) modes=%d U=%d f1=%.3f Hz: %d points (%d Newton), linear f %.1e zeta %.1e, energy %.1e "
                 "(zeta vs loop W_D %.1e), "
                 "drop %.3f at q=%.2e, zeta_max %.4f; build %.1f s, backbone %.1f s (LU %.1f, AFT %.1f)\n  stop: %s\n",
