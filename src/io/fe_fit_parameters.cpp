@@ -57,7 +57,7 @@ std::string set_fe_fit_parameters(const std::string& case_text, const std::vecto
   if (names.size() != values.size())
     throw std::invalid_argument(fmt::format("fit: {} names for {} values", names.size(), values.size()));
   YAML::Node root = YAML::Load(case_text);
-  for (std::size_t k = 0; k < names.size(); ++k) {
+  for (std::size_t k = 0; k < names.size(); ++k) try {
     const Name n = split(names[k]);
     YAML::Node target;
     std::string key = n.key;
@@ -71,9 +71,13 @@ std::string set_fe_fit_parameters(const std::string& case_text, const std::vecto
     } else if (n.group == "bolts" && n.key == "preload") {
       target = named(root["model"]["bolts"], n.item, "bolt");
     }
-    if (!target || !target.IsMap() || !target[key])
+    // a contact key the file leaves at its default (e.g. stiffness_ratio) is written out
+    const bool may_add = n.group == "interfaces";
+    if (!target || !target.IsMap() || (!may_add && !target[key]))
       throw std::invalid_argument(fmt::format("fit: parameter '{}' does not address a value of this case", names[k]));
     target[key] = fmt::format("{:.17g}", values[k]);
+  } catch (const YAML::Exception&) {  // a node of another shape than the case reader allows
+    throw std::invalid_argument(fmt::format("fit: parameter '{}' does not address a value of this case", names[k]));
   }
   root.remove("fit");
   YAML::Emitter out;

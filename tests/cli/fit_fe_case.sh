@@ -1,13 +1,14 @@
 # jointhb fit on a finite-element case (case 12's bolted lap and its synthetic damping curve),
-# reduced to what a test can afford: the damping ratio alone, so every evaluation after the
-# first reads preload, modes and condensation from the stage cache (the counters in fit.json say
-# so) and only the damping curve is recomputed; the truth (0.005) must lie within 3 standard
-# errors. Then bad fit sections of an FE case: one line naming the key, exit code 2.
+# reduced to what a test can afford: the damping ratio alone from the microslip part of the
+# curve (q <= 6e-6, 8 points), so every evaluation after the first reads preload, modes and
+# condensation from the stage cache (the counters in fit.json say so) and only a short damping
+# curve is recomputed; the truth (0.005) must lie within 3 standard errors. Then bad fit sections of an FE case: one line naming the key, exit code 2.
 source "$(dirname "$0")/common.inc" "$@"
 PYTHON=/usr/bin/python3
 CASE_DIR="$SOURCE_DIR/cases/12-fit-lap"
-cp "$CASE_DIR/measured_backbone.csv" "$WORK/"
-grep -v 'interfaces.lap.mu' "$CASE_DIR/case.yaml" | sed 's/max_evaluations: 80/max_evaluations: 25/' >"$WORK/zeta.yaml"
+head -n 10 "$CASE_DIR/measured_backbone.csv" >"$WORK/measured_backbone.csv"  # comment, header, 8 rows
+grep -v 'interfaces.lap.mu' "$CASE_DIR/case.yaml" | sed -e 's/max_evaluations: 80/max_evaluations: 25/' \
+  -e 's/xtol: 1.0e-4/xtol: 1.0e-3/' >"$WORK/zeta.yaml"
 grep -q 'damping.ratio' "$WORK/zeta.yaml" || fail "could not make the damping-only case"
 
 run_capture fit "$WORK/zeta.yaml" -o "$WORK/out" --quiet

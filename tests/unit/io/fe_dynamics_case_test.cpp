@@ -9,6 +9,7 @@
 
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/io/fe_fit_parameters.hpp"
 #include "jointhb/io/input_error.hpp"
 
 namespace {
@@ -151,3 +152,29 @@ TEST(io_FeDynamics, TheBuiltInDefaultCaseIsTheLapDampingCurve) {
 }
 
 }  // namespace
+
+// Identification parameters of an FE case (io/fe_fit_parameters.hpp): the names offered, the case
+// text with new values (exact to the last bit), and which stage keys a value enters.
+TEST(io_FeFitParameters, NamesValuesAndStageKeys) {
+  const std::string text = with("  damping: {ratio: 0.005}\n  nonlinear_modes: {mode: 1}\n");
+  const FeCase base = parse_fe_case(text, "case.yaml");
+  EXPECT_EQ(fe_fit_parameter_names(base),
+            (std::vector<std::string>{"interfaces.lap.pressure", "interfaces.lap.decay", "interfaces.lap.mu",
+                                      "interfaces.lap.n", "interfaces.lap.stiffness_ratio", "damping.ratio"}));
+  // a key left at its default is written out
+  const FeCase k = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.stiffness_ratio"}, {0.7}), "case.yaml");
+  EXPECT_EQ(k.interface_specs[0].stiffness_ratio, 0.7);
+  const double mu = 0.1 + 1.0 / 3.0, zeta = 2.0 / 3.0 * 1e-2;
+  const FeCase a = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.mu"}, {mu}), "case.yaml");
+  EXPECT_EQ(a.interface_specs[0].mu, mu);
+  EXPECT_EQ(a.interfaces[0].law.options().friction_coefficient, mu);
+  EXPECT_NE(a.fingerprints.model, base.fingerprints.model);  // μ enters the (frictional) preload
+  const FeCase b = parse_fe_case(set_fe_fit_parameters(text, {"damping.ratio"}, {zeta}), "case.yaml");
+  EXPECT_EQ(b.dynamics->damping_ratio, zeta);
+  EXPECT_EQ(b.fingerprints.modes, base.fingerprints.modes);  // the damping enters no stage key
+  // the same values give the same keys (the stage cache hits)
+  const FeCase c = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.mu"}, {mu}), "case.yaml");
+  EXPECT_EQ(c.fingerprints.modes, a.fingerprints.modes);
+  EXPECT_THROW((void)set_fe_fit_parameters(text, {"interfaces.other.mu"}, {1.0}), std::invalid_argument);
+  EXPECT_THROW((void)set_fe_fit_parameters(text, {"bolts.b1.preload"}, {1.0}), std::invalid_argument);
+}
