@@ -32,11 +32,13 @@ fit::PredictedCurve failed(std::string message) {
 }  // namespace
 
 FeFitModel::FeFitModel(std::string case_text, std::string file_name, std::vector<std::string> names,
-                       std::vector<fit::Target> targets, const std::filesystem::path& cache_dir)
+                       std::vector<fit::Target> targets, const std::filesystem::path& cache_dir,
+                       bool friction_in_dynamics_only)
     : text_(std::move(case_text)),
       file_(std::move(file_name)),
       names_(std::move(names)),
       targets_(std::move(targets)),
+      friction_in_dynamics_only_(friction_in_dynamics_only),
       cache_(cache_dir, true) {}
 
 io::FeCase FeFitModel::case_at(const std::vector<double>& values) const {
@@ -52,7 +54,22 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) cons
     return out;
   };
   try {
-    const io::FeCase c = case_at(values);
+    // The case the stages see: with friction_in_dynamics_only, without the interfaces' mu and n.
+    std::vector<std::string> stage_names;
+    std::vector<double> stage_values;
+    bool dynamic_only = false;
+    for (std::size_t k = 0; k < names_.size(); ++k) {
+      const bool friction = names_[k].rfind("interfaces.", 0) == 0 &&
+                            (names_[k].ends_with(".mu") || names_[k].ends_with(".n"));
+      if (friction_in_dynamics_only_ && friction) {
+        dynamic_only = true;
+      } else {
+        stage_names.push_back(names_[k]);
+        stage_values.push_back(values[k]);
+      }
+    }
+    const io::FeCase c = io::parse_fe_case(io::set_fe_fit_parameters(text_, stage_names, stage_values), file_);
+    const std::optional<io::FeCase> dynamic = dynamic_only ? std::optional<io::FeCase>(case_at(values)) : std::nullopt;
     // ---- preload (stage cache: recomputed only when the model or analysis.preload changed) -------
     preload::PreloadModel model;
     model.mesh = &c.mesh;
@@ -112,6 +129,8 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) cons
       }
       im->rayleigh_mass = a;
       im->rayleigh_stiffness = b;
+      if (dynamic)  // the fitted friction in the laws of the dynamics only
+        for (std::size_t g = 0; g < im->groups.size(); ++g) im->groups[g].law = dynamic->interfaces[g].law;
       im = reduction::merge_contact_patches(*im, model, {.size = d.contact_patch}).model;
       return *im;
     };

@@ -8,6 +8,10 @@
 //   backbone  the damping curve (EPMC, analysis.nonlinear_modes settings) of the target's mode
 //             from the case's start amplitude to a tenth of a decade beyond the largest measured
 //             one (no frequency_drop stop), interpolated in log10 q at the measured amplitudes.
+// With friction_in_dynamics_only, the interfaces' mu and n are left at the case's values for the
+// stages (so their keys, and the cached stages, do not change) and set only in the contact laws
+// of the condensed model: the preloaded state is that of the nominal friction (an approximation,
+// measured in docs/identification.md §9).
 
 #include <filesystem>
 #include <string>
@@ -30,7 +34,8 @@ class FeFitModel {
 
   /// `case_text`/`file_name`: the case as read (its fit section is dropped from every variant).
   FeFitModel(std::string case_text, std::string file_name, std::vector<std::string> names,
-             std::vector<fit::Target> targets, const std::filesystem::path& cache_dir);
+             std::vector<fit::Target> targets, const std::filesystem::path& cache_dir,
+             bool friction_in_dynamics_only = false);
 
   /// The case with `values` set. Throws io::InputError or std::invalid_argument when the case
   /// rejects a value.
@@ -45,6 +50,7 @@ class FeFitModel {
   std::string text_, file_;
   std::vector<std::string> names_;
   std::vector<fit::Target> targets_;
+  bool friction_in_dynamics_only_ = false;
   mutable io::StageCache cache_;
   mutable Counters counters_;
 };

@@ -155,7 +155,8 @@ int FitCommand::run() const {
     std::stringstream text;
     text << in.rdbuf();
     fe_model.emplace(text.str(), case_path_, names, section.targets,
-                     cache_dir_.empty() ? fs::path(output_dir_) / ".cache" : fs::path(cache_dir_));
+                     cache_dir_.empty() ? fs::path(output_dir_) / ".cache" : fs::path(cache_dir_),
+                     section.friction_in_dynamics_only);
     try {
       (void)fe_model->case_at(start_values);
     } catch (const std::exception& e) {
@@ -341,6 +342,7 @@ int FitCommand::run() const {
         {"jacobian_step", o.jacobian_step}}},
       {"seconds", {{"fit", r.seconds}, {"total", seconds_since(start)}}}};
   if (fe_model) {
+    summary["options"]["friction_in_dynamics_only"] = section.friction_in_dynamics_only;
     const FeFitModel::Counters& k = fe_model->counters();
     summary["stages"] = {{"preload", {{"solved", k.preload_solved}, {"from_cache", k.preload_cached}}},
                          {"modes", {{"solved", k.modes_solved}, {"from_cache", k.modes_cached}}},

@@ -80,6 +80,7 @@ FitContext fit_context(const FeCase& c) {
     x.modes = std::max(x.modes, *std::max_element(nm.modes.begin(), nm.modes.end()));
   }
   x.frf_unavailable = "frf targets are not offered for finite-element cases yet (use backbone or modal targets)";
+  x.finite_element = true;
   return x;
 }
 

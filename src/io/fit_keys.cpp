@@ -359,7 +359,8 @@ FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
   const Fields f =
       reader.fields(node, path,
                     {"parameters", "targets", "algorithm", "local_algorithm", "xtol", "ftol_rel",
-                     "max_evaluations", "multistart", "penalty", "initial_step", "jacobian_step"});
+                     "max_evaluations", "multistart", "penalty", "initial_step", "jacobian_step",
+                     "friction_in_dynamics_only"});
   FitSection s;
   const auto* parameters = f.find("parameters");
   if (!parameters) reader.fail(node, f.path_of("parameters"), "required: a list of parameters");
@@ -413,6 +414,10 @@ FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
   number_in("ftol_rel", o.ftol_rel, 0.0, 0.1, false);
   number_in("initial_step", o.initial_step, 0.0, 0.5, true);
   number_in("jacobian_step", o.jacobian_step, 0.0, 0.1, true);
+  if (const auto* e = f.find("friction_in_dynamics_only")) {
+    if (!c.finite_element) reader.fail(e->key, f.path_of("friction_in_dynamics_only"), "only for finite-element cases");
+    s.friction_in_dynamics_only = boolean(reader, e->value, f.path_of("friction_in_dynamics_only"));
+  }
   if (const auto* e = f.find("penalty")) {
     o.penalty = reader.number(e->value, f.path_of("penalty"));
     reader.check(e->value, f.path_of("penalty"), check_non_negative(o.penalty));

@@ -25,6 +25,7 @@ struct FitContext {
   std::optional<std::pair<double, double>> backbone;  ///< log10 q range of analysis.nonlinear_modes
   std::optional<std::pair<double, double>> frf;       ///< frequency range of analysis.frf [Hz]
   std::string frf_unavailable;  ///< non-empty: why frf targets are not offered (the error)
+  bool finite_element = false;  ///< offers friction_in_dynamics_only
 };
 
 /// The context of a discrete case (its contacts, damping model and analyses).

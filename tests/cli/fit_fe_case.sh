@@ -32,6 +32,27 @@ print(f"ok: zeta = {z:.6g} +- {se:.2g} (truth 0.005) in {n} evaluations, {s['sec
       f"preload, modes and condensation computed once, read {st['condensation']['from_cache']} times")
 PY
 
+# friction_in_dynamics_only: mu alone from the same points; the stages keep the case's mu (0.3,
+# the truth's), so preload, modes and condensation are solved once although mu changes at every
+# evaluation, and the truth is recovered.
+sed -e 's/name: damping.ratio, lower: 1.0e-3, upper: 0.05, start: 0.015/name: interfaces.lap.mu, lower: 0.05, upper: 1.0, start: 0.6/' \
+  -e 's/  max_evaluations: 25/  max_evaluations: 25\n  friction_in_dynamics_only: true/' "$WORK/zeta.yaml" >"$WORK/mu.yaml"
+grep -q 'friction_in_dynamics_only: true' "$WORK/mu.yaml" && grep -q 'name: interfaces.lap.mu' "$WORK/mu.yaml" || fail "could not make the mu case"
+run_capture fit "$WORK/mu.yaml" -o "$WORK/out-mu" --quiet
+[ "$STATUS" -eq 0 ] || fail "mu fit exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/out-mu" <<'PY' || fail "FE fit of mu in the dynamics only"
+import json, sys
+s = json.load(open(f"{sys.argv[1]}/fit.json"))
+p = s["parameters"][0]
+mu, se = p["value"], p["standard_error"]
+assert s["options"]["friction_in_dynamics_only"] is True
+assert se is not None and se > 0 and abs(mu - 0.3) < 3 * se, (mu, se)
+st = s["stages"]
+assert st["preload"]["solved"] == 1 and st["condensation"]["solved"] == 1, st
+print(f"ok: mu = {mu:.5g} +- {se:.2g} (truth 0.3) in {s['model_evaluations']} evaluations, "
+      f"{s['seconds']['fit']:.1f} s; preload and condensation solved once")
+PY
+
 # Bad input: an unknown parameter lists the valid ones; an frf target is not offered for FE cases.
 sed 's/name: damping.ratio/name: interfaces.lap.friction/' "$WORK/zeta.yaml" >"$WORK/bad1.yaml"
 expect_bad_input fit "$WORK/bad1.yaml" -o "$WORK/bad"

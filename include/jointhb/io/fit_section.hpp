@@ -11,9 +11,13 @@
 namespace jointhb::io {
 
 struct FitSection {
-  std::vector<fit::FitParameter> parameters;  ///< names from fit::discrete_parameter_names
+  std::vector<fit::FitParameter> parameters;  ///< names the case offers (discrete or FE)
   std::vector<fit::Target> targets;
   fit::FitOptions options;
+  /// Finite-element cases (fit.friction_in_dynamics_only): the interfaces' mu and n enter only
+  /// the dynamics; preload, modes and condensation keep the case's values and are not redone
+  /// (docs/identification.md §9).
+  bool friction_in_dynamics_only = false;
 };
 
 }  // namespace jointhb::io
