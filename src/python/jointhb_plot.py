@@ -7,8 +7,8 @@ Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
   DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level
   DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode
   DIR/mode<k>_contact.png  for each DIR/mode<k>_contact_points.csv: the contact points' W_D per
-                    unit area (colour, scaled per snapshot) at each field snapshot, open points
-                    crossed (plane of the points' two widest coordinates)
+                    unit area (colour, scaled per panel) at each field snapshot, one panel per
+                    interface, open points crossed (plane of the points' two widest coordinates)
 """
 import csv
 import os
@@ -75,19 +75,21 @@ def plot_backbone(directory):
 def plot_contact_fields(directory, name):
     rows = read(os.path.join(directory, name))
     snaps = sorted({int(float(r["snapshot"])) for r in rows})
+    faces = sorted({int(float(r["interface"])) for r in rows})
     xyz = [[float(r[c]) for r in rows] for c in ("x", "y", "z")]
     spans = sorted(range(3), key=lambda c: max(xyz[c]) - min(xyz[c]), reverse=True)[:2]
     a, b = sorted(spans)
     width = (max(xyz[a]) - min(xyz[a])) / max(max(xyz[b]) - min(xyz[b]), 1e-300)
-    cols = 2 if len(snaps) > 2 else 1
-    rows_n = (len(snaps) + cols - 1) // cols
+    panels = [(k, i) for k in snaps for i in faces]  # one panel per snapshot and interface
+    cols = len(faces) if len(faces) > 1 else (2 if len(snaps) > 2 else 1)
+    rows_n = (len(panels) + cols - 1) // cols
     panel_w = min(6.0, max(3.0, 2.2 * width))
     fig, axes = plt.subplots(rows_n, cols, figsize=(cols * (panel_w + 1.2), rows_n * (panel_w / max(width, 0.3) + 0.9)),
                              squeeze=False)
-    for ax in axes.flat[len(snaps):]:
+    for ax in axes.flat[len(panels):]:
         ax.axis("off")
-    for ax, k in zip(axes.flat, snaps):
-        sel = [r for r in rows if int(float(r["snapshot"])) == k]
+    for ax, (k, face) in zip(axes.flat, panels):
+        sel = [r for r in rows if int(float(r["snapshot"])) == k and int(float(r["interface"])) == face]
         pa = [float(r["xyz"[a]]) * 1e3 for r in sel]
         pb = [float(r["xyz"[b]]) * 1e3 for r in sel]
         w = [float(r["dissipation"]) for r in sel]
@@ -97,7 +99,8 @@ def plot_contact_fields(directory, name):
         if opened:
             ax.scatter(*zip(*opened), marker="x", c="white", s=14, linewidths=0.8)
         r0 = sel[0]
-        ax.set_title(f"q = {float(r0['amplitude']):.3g}, f = {float(r0['frequency_hz']):.5g} Hz\n"
+        label = f"interface {face}: " if len(faces) > 1 else ""
+        ax.set_title(f"{label}q = {float(r0['amplitude']):.3g}, f = {float(r0['frequency_hz']):.5g} Hz\n"
                      f"{sum(1 for s in state if s == 0)} stuck, {sum(1 for s in state if s == 1)} slipping, "
                      f"{sum(1 for s in state if s == 2)} open", fontsize=8)
         ax.set_aspect("equal")
