@@ -166,8 +166,22 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) cons
           }
           if (!bb.completed()) curve.message = bb.message;  // points beyond the last one fail in residuals()
         }
-      } else {
-        curve = failed(fmt::format("{}: frf targets are not offered for finite-element cases", t.name));
+      } else {  // frf: the case's analysis.frf at the target's force level, its output's |fundamental|
+        const io::FeFrfSpec& fs = *c.dynamics->frf;
+        continuation::InterfaceFrfOptions o;
+        o.omega_start = fs.omega_start;
+        o.omega_end = fs.omega_end;
+        o.load_amplitude = fs.forces[static_cast<std::size_t>(t.level)];
+        o.output = fs.output;
+        o.balance = fs.balance;
+        o.continuation = fs.continuation;
+        const continuation::InterfaceFrf r = continuation::trace_interface_frf(interface_model(), o);
+        ++counters_.curves;
+        for (const auto& pt : r.points) {
+          curve.abscissa.push_back(pt.omega / kTwoPi);
+          curve.amplitude.push_back(pt.amplitude_h1);
+        }
+        if (!r.completed()) curve.message = r.message;
       }
       out.curves.push_back(std::move(curve));
     }

@@ -68,7 +68,7 @@ const std::set<std::string> kAnalysisKeys = {"preload",    "modes",   "damping",
 
 // What a fit section of an FE case may name: the parameters of io/fe_fit_parameters.hpp, modal
 // targets of the elastic modes the modes stage computes at most, backbone targets of the followed
-// modes; FRF targets are not offered (yet).
+// modes, FRF targets of analysis.frf (level = index into its force list).
 FitContext fit_context(const FeCase& c) {
   FitContext x;
   x.names = fe_fit_parameter_names(c);
@@ -79,7 +79,11 @@ FitContext fit_context(const FeCase& c) {
     x.backbone_modes = nm.modes;
     x.modes = std::max(x.modes, *std::max_element(nm.modes.begin(), nm.modes.end()));
   }
-  x.frf_unavailable = "frf targets are not offered for finite-element cases yet (use backbone or modal targets)";
+  if (c.dynamics && c.dynamics->frf) {
+    const FeFrfSpec& f = *c.dynamics->frf;
+    x.frf = std::pair(f.omega_start / (2.0 * std::numbers::pi), f.omega_end / (2.0 * std::numbers::pi));
+    x.levels = static_cast<int>(f.forces.size());
+  }
   x.finite_element = true;
   return x;
 }

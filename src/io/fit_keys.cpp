@@ -270,9 +270,6 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
     reader.fail(type, f.path_of("type"),
                 fmt::format("a backbone target of mode {} needs that mode in analysis.nonlinear_modes.mode", t.mode));
   }
-  if (t.kind == fit::TargetKind::frf && !c.frf_unavailable.empty()) {
-    reader.fail(type, f.path_of("type"), c.frf_unavailable);
-  }
   if (t.kind == fit::TargetKind::frf && !c.frf) {
     reader.fail(type, f.path_of("type"),
                 "an frf target needs analysis.frf (its frequency range, harmonics and "

@@ -24,7 +24,6 @@ struct FitContext {
   int levels = 0;                                   ///< frf targets: levels 0..levels−1
   std::optional<std::pair<double, double>> backbone;  ///< log10 q range of analysis.nonlinear_modes
   std::optional<std::pair<double, double>> frf;       ///< frequency range of analysis.frf [Hz]
-  std::string frf_unavailable;  ///< non-empty: why frf targets are not offered (the error)
   bool finite_element = false;  ///< offers friction_in_dynamics_only
 };
 
