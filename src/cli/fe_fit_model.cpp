@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -10,6 +11,7 @@
 
 #include "fe_dynamics_run.hpp"
 #include "jointhb/continuation/interface_response.hpp"
+#include "jointhb/hb/interface_mode.hpp"
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_fit_parameters.hpp"
 #include "jointhb/modal/modes.hpp"
@@ -27,6 +29,28 @@ fit::PredictedCurve failed(std::string message) {
   c.ok = false;
   c.message = std::move(message);
   return c;
+}
+
+// Above this many unknowns the on-curve correction (a dense LU per Newton step) is skipped and the
+// curve is interpolated.
+constexpr Eigen::Index kDenseCorrectionLimit = 4000;
+
+// The curve's point at exactly λ = log10 q: Newton's method on the EPMC residual at fixed λ
+// (dense Jacobian), from the unknowns interpolated linearly in λ between the bracketing
+// continuation points. Returns false (and leaves the caller to interpolate) when it does not
+// converge to the continuation's tolerance in 20 iterations.
+bool point_on_curve(const hb::InterfaceModeResidual& epmc, double lambda, double tolerance, Eigen::VectorXd& y) {
+  hb::InterfaceModeResidual::Evaluation e;
+  for (int it = 0; it < 20; ++it) {
+    epmc.evaluate(y, lambda, true, e);
+    if (!e.ok || !e.residual.allFinite()) return false;
+    if (e.residual.lpNorm<Eigen::Infinity>() <= tolerance) return true;
+    const Eigen::VectorXd dy = e.d_state.partialPivLu().solve(-e.residual);
+    if (!dy.allFinite()) return false;
+    y += dy;
+  }
+  epmc.evaluate(y, lambda, false, e);
+  return e.ok && e.residual.lpNorm<Eigen::Infinity>() <= tolerance;
 }
 
 }  // namespace
@@ -159,12 +183,43 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) cons
         } else {
           const continuation::InterfaceBackbone bb = continuation::trace_interface_backbone(interface_model(), o);
           ++counters_.curves;
+          std::vector<double> lambdas;
           for (const auto& pt : bb.points) {
             curve.abscissa.push_back(pt.state.amplitude);
             curve.frequency_hz.push_back(pt.state.omega / kTwoPi);
             curve.damping_ratio.push_back(pt.state.damping_ratio);
+            lambdas.push_back(std::log10(pt.state.amplitude));
           }
           if (!bb.completed()) curve.message = bb.message;  // points beyond the last one fail in residuals()
+          // The values at the measured amplitudes on the curve itself (not interpolated between
+          // continuation points, whose error would move with the parameters).
+          hb::InterfaceModeOptions mo;
+          mo.mode = t.mode;
+          mo.balance = nm.balance;
+          mo.balance.dense_jacobian = true;
+          const hb::InterfaceModeResidual epmc(interface_model(), mo);
+          if (epmc.unknowns() <= kDenseCorrectionLimit) {
+            for (const fit::TargetPoint& tp : t.points) {
+              const double at = std::log10(tp.abscissa);
+              const auto hi = std::upper_bound(lambdas.begin(), lambdas.end(), at);
+              if (hi == lambdas.begin() || hi == lambdas.end()) {  // outside: residuals() reports it
+                curve.at_points.clear();
+                break;
+              }
+              const std::size_t k1 = static_cast<std::size_t>(hi - lambdas.begin()), k = k1 - 1;
+              const double w = (at - lambdas[k]) / (lambdas[k1] - lambdas[k]);
+              Eigen::VectorXd y = (1.0 - w) * bb.points[k].unknowns + w * bb.points[k1].unknowns;
+              const bool damping = tp.quantity == fit::Quantity::damping_ratio;
+              double value = damping ? (1.0 - w) * curve.damping_ratio[k] + w * curve.damping_ratio[k1]
+                                     : (1.0 - w) * curve.frequency_hz[k] + w * curve.frequency_hz[k1];
+              if (point_on_curve(epmc, at, nm.continuation.residual_tolerance, y)) {
+                const hb::InterfaceModeState st = epmc.state(y, at);
+                value = damping ? st.damping_ratio : st.omega / kTwoPi;
+                ++counters_.corrected;
+              }
+              curve.at_points.push_back(value);
+            }
+          }
         }
       } else {  // frf: the case's analysis.frf at the target's force level, its output's |fundamental|
         const io::FeFrfSpec& fs = *c.dynamics->frf;

@@ -30,6 +30,7 @@ class FeFitModel {
   struct Counters {
     int preload_solved = 0, preload_cached = 0, modes_solved = 0, modes_cached = 0;
     int condensed = 0, condensation_cached = 0, curves = 0;
+    int corrected = 0;  ///< backbone values put on the curve at the measured amplitude by Newton
   };
 
   /// `case_text`/`file_name`: the case as read (its fit section is dropped from every variant).

@@ -347,7 +347,8 @@ int FitCommand::run() const {
     summary["stages"] = {{"preload", {{"solved", k.preload_solved}, {"from_cache", k.preload_cached}}},
                          {"modes", {{"solved", k.modes_solved}, {"from_cache", k.modes_cached}}},
                          {"condensation", {{"solved", k.condensed}, {"from_cache", k.condensation_cached}}},
-                         {"damping_curves", k.curves}};
+                         {"damping_curves", k.curves},
+                         {"values_put_on_the_curve", k.corrected}};
   }
   write_summary(dir / "fit.json", summary);
   if (!quiet_) {

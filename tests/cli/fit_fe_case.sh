@@ -28,6 +28,7 @@ st = s["stages"]
 n = s["model_evaluations"]
 assert st["preload"]["solved"] == 1 and st["modes"]["solved"] == 1 and st["condensation"]["solved"] == 1, st
 assert st["condensation"]["from_cache"] >= n - 1, (st, n)
+assert st["values_put_on_the_curve"] >= 0.9 * 16 * st["damping_curves"], st  # 8 amplitudes x (f, zeta), on the curve
 print(f"ok: zeta = {z:.6g} +- {se:.2g} (truth 0.005) in {n} evaluations, {s['seconds']['fit']:.1f} s; "
       f"preload, modes and condensation computed once, read {st['condensation']['from_cache']} times")
 PY
