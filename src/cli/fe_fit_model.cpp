@@ -95,12 +95,7 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) cons
     const io::FeCase c = io::parse_fe_case(io::set_fe_fit_parameters(text_, stage_names, stage_values), file_);
     const std::optional<io::FeCase> dynamic = dynamic_only ? std::optional<io::FeCase>(case_at(values)) : std::nullopt;
     // ---- preload (stage cache: recomputed only when the model or analysis.preload changed) -------
-    preload::PreloadModel model;
-    model.mesh = &c.mesh;
-    model.structure = fe::assemble(c.mesh, c.material_per_part);
-    model.interfaces = c.interfaces;
-    model.bolts = c.bolts;
-    model.constraints = c.constraints;
+    const preload::PreloadModel model = io::preload_model(c);
     std::optional<preload::PreloadResult> p = cache_.load_preload(c.fingerprints.preload);
     if (p && p->displacement.size() == c.mesh.num_dofs()) {
       ++counters_.preload_cached;

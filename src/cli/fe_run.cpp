@@ -76,19 +76,13 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   summary["cache"] = {{"enabled", cache.enabled()}, {"directory", cache.directory().string()}};
 
   // ---- structure -------------------------------------------------------------------------
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
+  const preload::PreloadModel model = io::preload_model(c);
   const fe::StructuralMatrices& structure = model.structure;
   summary["model"]["mass_kg"] = structure.total_mass;
   summary["timings"]["assembly_seconds"] = structure.seconds;
   std::fprintf(stderr, "model: %d nodes, %d elements, %d DOFs, mass %.4g kg (assembly %.2f s)\n",
                c.mesh.num_nodes(), c.mesh.num_elements(), c.mesh.num_dofs(), structure.total_mass,
                structure.seconds);
-
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  model.constraints = c.constraints;
 
   // ---- preload ---------------------------------------------------------------------------
   Eigen::SparseMatrix<double> stiffness = structure.stiffness;

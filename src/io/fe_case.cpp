@@ -15,6 +15,7 @@
 #include <set>
 
 #include "jointhb/contact/harmonic_loop.hpp"
+#include "jointhb/fe/assembly.hpp"
 #include "jointhb/fe/box_mesh.hpp"
 #include "jointhb/fe/gmsh_reader.hpp"
 #include "jointhb/fe/inp_reader.hpp"
@@ -505,6 +506,16 @@ class FeCaseReader {
 FeCase parse_fe_case(const std::string& text, const std::string& file_name) {
   const std::filesystem::path dir = std::filesystem::path(file_name).parent_path();
   return FeCaseReader(file_name, dir).read(yaml::load(text, file_name));
+}
+
+preload::PreloadModel preload_model(const FeCase& c) {
+  preload::PreloadModel model;
+  model.mesh = &c.mesh;
+  model.structure = fe::assemble(c.mesh, c.material_per_part);
+  model.interfaces = c.interfaces;
+  model.bolts = c.bolts;
+  model.constraints = c.constraints;
+  return model;
 }
 
 FeCase read_fe_case(const std::filesystem::path& file) {

@@ -150,12 +150,7 @@ Measurement run(const Refinement& r, double reuse_ratio) {
   const auto start = Clock::now();
   // build: the case (mesh, interface, bolts) and the structural matrices
   const io::FeCase c = io::parse_fe_case(lap_case(r), "fe_scaling.yaml");
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  model.constraints = c.constraints;
+  const preload::PreloadModel model = io::preload_model(c);
   s.build_seconds = seconds_since(start);
   s.rss_after_build = peak_rss_mib();
   s.dofs = c.mesh.num_dofs();

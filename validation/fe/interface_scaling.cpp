@@ -101,12 +101,7 @@ Built build(const Mesh& mesh) {
   lo.ny = mesh.ny;
   lo.nz = 1;
   io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lo), "lap.yaml");
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  model.constraints = c.constraints;
+  const preload::PreloadModel model = io::preload_model(c);
   const preload::PreloadResult p = preload::solve_preload(model, c.preload);
   const int n = c.mesh.num_dofs();
   const int drive = nearest_node(c.mesh, {0.160, 0.015, 0.008});

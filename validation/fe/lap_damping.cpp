@@ -176,12 +176,7 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
   lo.ny = r.ny;
   lo.nz = r.nz;
   io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lo), "lap.yaml");
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  model.constraints = c.constraints;
+  const preload::PreloadModel model = io::preload_model(c);
   const auto t0 = std::chrono::steady_clock::now();
   const preload::PreloadResult p = preload::solve_preload(model, c.preload);
   const int n = c.mesh.num_dofs();

@@ -89,4 +89,8 @@ inline constexpr int fe_fingerprint_version = 1;
 FeCase read_fe_case(const std::filesystem::path& file);
 FeCase parse_fe_case(const std::string& text, const std::string& file_name);
 
+/// The preload model of a case: its mesh (by pointer: `c` must outlive the model), the assembled
+/// structure (fe::assemble), interfaces, bolts and constraints.
+preload::PreloadModel preload_model(const FeCase& c);
+
 }  // namespace jointhb::io
