@@ -66,8 +66,8 @@ InterfaceBackbone trace_interface_backbone(
       out.d_state_product = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
         return epmc.apply_jacobian(*at, y, lambda, v);
       };
-      out.make_preconditioner = [&epmc, at, y, lambda]() -> LinearOperator {
-        return epmc.preconditioner(*at, y, lambda);
+      out.make_preconditioner = [&epmc, at, y, lambda, kind = options.preconditioner]() -> LinearOperator {
+        return epmc.preconditioner(*at, y, lambda, kind);
       };
     } else if (jacobian) {
       out.d_state = std::move(last.d_state);
@@ -91,7 +91,8 @@ InterfaceBackbone trace_interface_backbone(
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = epmc.balance().timings();
   curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
-                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner};
+                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner,
+                   t.preconditioner_apply};
   return curve;
 }
 
@@ -156,10 +157,8 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
       e.d_state_product = [&balance, at, omega](const Eigen::VectorXd& v) {
         return balance.apply_jacobian(*at, omega, 0.0, v);
       };
-      e.make_preconditioner = [&balance, at, omega]() -> LinearOperator {
-        std::shared_ptr<const hb::InterfaceHarmonicPreconditioner> pc =
-            balance.harmonic_preconditioner(*at, omega, 0.0);
-        return [pc](const Eigen::VectorXd& v) { return pc->solve(v); };
+      e.make_preconditioner = [&balance, at, omega, kind = options.preconditioner]() -> LinearOperator {
+        return balance.preconditioner(*at, omega, 0.0, kind);
       };
     } else if (jacobian) {
       e.d_state = std::move(last.jacobian);
@@ -191,7 +190,8 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = balance.timings();
   curve.timings = {t.aft, t.assembly, r.linear_solve_seconds, support::seconds_since(start), t.evaluations,
-                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner};
+                   t.jacobians, r.factorisations, r.krylov_iterations, t.products, t.preconditioner,
+                   t.preconditioner_apply};
   return curve;
 }
 

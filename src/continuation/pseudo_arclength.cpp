@@ -333,14 +333,21 @@ class Tracer {
     };
     bool fresh = false;
     std::string why;
+    // Adaptive refresh: rebuild from this sample once the GMRES steps that the lagged
+    // preconditioner needed beyond its first solve have cost as much as building it did.
+    const bool stale = options_.preconditioner_refresh == PreconditionerRefresh::adaptive &&
+                       approximate_inverse_ && refresh_.wasted_seconds >= refresh_.build_seconds;
     for (;;) {
-      if (!approximate_inverse_ || !why.empty()) {  // none yet, or the lagged one just failed
+      if (!approximate_inverse_ || !why.empty() || (stale && !fresh)) {  // none, stale, or it just failed
+        const auto build = Clock::now();
         approximate_inverse_ = sample.make_preconditioner
                                    ? sample.make_preconditioner()
                                    : LinearOperator([](const VectorXd& v) { return v; });
+        refresh_ = {.build_seconds = seconds_since(build)};
         ++result_.factorisations;
         fresh = true;
       }
+      const auto gmres_start = Clock::now();
       const auto k_inverse = [&](const VectorXd& v) {
         return VectorXd(rs * approximate_inverse_(v).cwiseQuotient(state_scale_));
       };
@@ -378,6 +385,7 @@ class Tracer {
         if (!g.converged && true_residual > 0.5 * previous) break;  // stagnation: not worth a restart
       }
       result_.krylov_iterations += iterations;
+      refresh_.record(iterations, seconds_since(gmres_start), fresh);
       if (converged) {
         out = std::move(z);
         why.clear();
@@ -443,6 +451,20 @@ class Tracer {
   VectorXd state_scale_;
   std::unique_ptr<support::LapackLu> preconditioner_;  // newton_krylov: the lagged LU
   LinearOperator approximate_inverse_;  // matrix-free: the lagged approximate inverse of R_x
+  // What the lagged approximate inverse has cost (PreconditionerRefresh::adaptive).
+  struct RefreshLedger {
+    double build_seconds = 0.0;   // building it
+    int baseline = -1;            // GMRES steps of its first solve
+    double wasted_seconds = 0.0;  // steps beyond the baseline in later solves, in seconds
+    void record(int iterations, double seconds, bool first) {
+      if (first && baseline < 0) {
+        baseline = iterations;
+        return;
+      }
+      if (iterations > baseline && iterations > 0)
+        wasted_seconds += (iterations - baseline) * seconds / iterations;
+    }
+  } refresh_;
   Index preconditioner_size_ = 0;
 };
 

@@ -14,40 +14,17 @@
 #include "../support/blas_gemm.hpp"
 #include "../support/lapack_lu.hpp"
 #include "../support/stopwatch.hpp"
+#include "residual_coefficients.hpp"
 
 namespace jointhb::hb {
 namespace {
 
-using cd = std::complex<double>;
+using detail::cd;
+using detail::ResidualCoefficients;
+using detail::residual_coefficients;
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-// The residual-mode coefficients of harmonic k (eq. T-23): h ≈ c0/μ + c1/μ², with their
-// derivatives in Ω and ξ.
-struct ResidualCoefficients {
-  cd c0, c1, c0_omega, c1_omega, c0_xi, c1_xi;
-};
-
-ResidualCoefficients residual_coefficients(const InterfaceModel& m, int k, double omega,
-                                           double xi) {
-  const double kw = k * omega;
-  const double s = m.residual_shift, a = m.rayleigh_mass, b = m.rayleigh_stiffness;
-  const cd i(0.0, 1.0);
-  const cd beta = 1.0 + i * kw * b;
-  const cd w = s * beta - kw * kw + i * kw * (a - xi);
-  const cd beta_omega = i * double(k) * b;
-  const cd w_omega = s * beta_omega - 2.0 * k * kw + i * double(k) * (a - xi);
-  const cd w_xi = -i * kw;
-  ResidualCoefficients r;
-  r.c0 = 1.0 / beta;
-  r.c1 = -w / (beta * beta);
-  r.c0_omega = -beta_omega / (beta * beta);
-  r.c1_omega = -w_omega / (beta * beta) + 2.0 * w * beta_omega / (beta * beta * beta);
-  r.c0_xi = 0.0;
-  r.c1_xi = -w_xi / (beta * beta);
-  return r;
-}
 
 // out(:, ia/ib) += (c0 R0 + c1 R1) applied to the pair (a, b) given as W0 = R0 [a b], W1 = R1 [a b]:
 // X = a − i b, X' = c0 W0 X + c1 W1 X, a' = Re X', b' = −Im X'.
@@ -650,6 +627,32 @@ std::shared_ptr<const InterfaceHarmonicPreconditioner> InterfaceBalance::harmoni
   d.timings.preconditioner += support::seconds_since(t0);
   ++d.timings.preconditioners;
   return pc;
+}
+
+std::function<VectorXd(const VectorXd&)> InterfaceBalance::preconditioner(
+    const InterfaceBalanceEvaluation& at, double omega, double xi, InterfacePreconditioner kind) const {
+  InterfaceBalanceTimings* timings = &impl_->timings;
+  if (kind == InterfacePreconditioner::harmonic_blocks) {
+    std::shared_ptr<const InterfaceHarmonicPreconditioner> h = harmonic_preconditioner(at, omega, xi);
+    return [h, timings](const VectorXd& v) {
+      const auto t0 = support::Clock::now();
+      VectorXd z = h->solve(v);
+      timings->preconditioner_apply += support::seconds_since(t0);
+      ++timings->preconditioner_calls;
+      return z;
+    };
+  }
+  const auto t0 = support::Clock::now();
+  auto local = std::make_shared<const InterfaceLocalPreconditioner>(*this, at, omega, xi);
+  timings->preconditioner += support::seconds_since(t0);
+  ++timings->preconditioners;
+  return [local, timings](const VectorXd& v) {
+    const auto t1 = support::Clock::now();
+    VectorXd z = local->solve(v);
+    timings->preconditioner_apply += support::seconds_since(t1);
+    ++timings->preconditioner_calls;
+    return z;
+  };
 }
 
 VectorXd InterfaceBalance::linear_solution(double omega, const VectorXd& load) const {

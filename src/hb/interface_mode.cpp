@@ -102,23 +102,22 @@ Eigen::VectorXd InterfaceModeResidual::apply_jacobian(const Evaluation& at, cons
 // M = [J̃ C; Eᵀ 0], C = [∂R/∂Ω, ∂R/∂ξ]/q, Eᵀ picks (η_f a₁, η_f b₁):
 //   W = J̃⁻¹ C, S = Eᵀ W (2 × 2);  z₂ = S⁻¹ (Eᵀ J̃⁻¹ v₁ − v₂),  z₁ = J̃⁻¹ v₁ − W z₂.
 std::function<Eigen::VectorXd(const Eigen::VectorXd&)> InterfaceModeResidual::preconditioner(
-    const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda) const {
+    const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda, InterfacePreconditioner kind) const {
   const Eigen::Index U = balance_.unknowns();
   const double q = std::pow(10.0, lambda);
   const double omega = y_hat[U], xi = y_hat[U + 1];
   const int a1 = balance_.basis().cosine_index(1);
   const Eigen::Index ia = balance_.modal_index(mode_, a1), ib = ia + 1;
-  std::shared_ptr<const InterfaceHarmonicPreconditioner> pc =
-      balance_.harmonic_preconditioner(at.balance, omega, xi);
+  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)> pc = balance_.preconditioner(at.balance, omega, xi, kind);
   Eigen::MatrixXd w(U, 2);
-  w.col(0) = pc->solve(at.balance.d_omega / q);
-  w.col(1) = pc->solve(at.balance.d_xi / q);
+  w.col(0) = pc(at.balance.d_omega / q);
+  w.col(1) = pc(at.balance.d_xi / q);
   Eigen::Matrix2d s;
   s << w(ia, 0), w(ia, 1), w(ib, 0), w(ib, 1);
   const Eigen::Matrix2d s_inverse = s.inverse();
   return [pc, w, s_inverse, U, ia, ib](const Eigen::VectorXd& v) {
     Eigen::VectorXd z(U + 2);
-    const Eigen::VectorXd w1 = pc->solve(v.head(U));
+    const Eigen::VectorXd w1 = pc(v.head(U));
     const Eigen::Vector2d z2 = s_inverse * Eigen::Vector2d(w1[ia] - v[U], w1[ib] - v[U + 1]);
     z.head(U) = w1 - w * z2;
     z.tail(2) = z2;

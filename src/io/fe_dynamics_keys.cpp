@@ -166,9 +166,6 @@ class DynamicsReader {
                                             "fields", "volume_fields"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
-    o.continuation.residual_tolerance = 1e-10;
-    o.continuation.initial_step = 0.05;
-    o.continuation.max_step = 0.3;
     if (const auto* e = f.find("mode")) {
       const std::string key = f.path_of("mode");
       o.modes.clear();
@@ -215,7 +212,6 @@ class DynamicsReader {
                                             "periodic_tolerance", "tangential_stiffness", "continuation"});
     FeFrfSpec o;
     o.balance.harmonics = 1;
-    o.continuation.residual_tolerance = 1e-10;
     const auto* hz = f.find("frequency_hz");
     const auto* omega = f.find("omega");
     if (hz && omega) r_.fail(omega->key, f.path_of("omega"), "give either omega [rad/s] or frequency_hz [Hz], not both");

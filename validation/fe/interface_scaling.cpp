@@ -128,7 +128,11 @@ struct Limits {
   double dense_run_limit = 4000; // unknowns: also run the dense_lu reference curve
   double budget = 400.0;         // s: predicted damping-curve time above which it is not run
   bool matrix_free_only = false; // --matrix-free-only: no dense Jacobian, dense Krylov or dense LU
+  // --preconditioner point_local|harmonic_blocks, --refresh adaptive|on_failure (matrix-free curve)
+  hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
+  continuation::PreconditionerRefresh refresh = continuation::PreconditionerRefresh::adaptive;
 };
+Limits g_limits;  // the command line's solver choices, read by trace()
 
 struct Row {
   std::string label;
@@ -182,6 +186,8 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   bo.continuation.max_points = 200;
   bo.continuation.linear_solver = solver;
   bo.matrix_free = matrix_free;
+  bo.preconditioner = g_limits.preconditioner;
+  bo.continuation.preconditioner_refresh = g_limits.refresh;
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (csv) std::fprintf(csv, "q,frequency_hz,damping_ratio,slipping_points,iterations\n");
   Curve c;
@@ -367,9 +373,19 @@ int main(int argc, char** argv) {
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--budget" && i + 1 < argc) lim.budget = std::atof(argv[++i]);
     else if (a == "--matrix-free-only") lim.matrix_free_only = true;
+    else if (a == "--preconditioner" && i + 1 < argc) {
+      const std::string v = argv[++i];
+      lim.preconditioner = v == "harmonic_blocks" ? hb::InterfacePreconditioner::harmonic_blocks
+                                                  : hb::InterfacePreconditioner::point_local;
+    } else if (a == "--refresh" && i + 1 < argc) {
+      const std::string v = argv[++i];
+      lim.refresh = v == "on_failure" ? continuation::PreconditionerRefresh::on_failure
+                                      : continuation::PreconditionerRefresh::adaptive;
+    }
     else if (prefix.empty() && !a.empty() && a[0] != '-') prefix = a;
     else prefix.clear(), i = argc;
   }
+  g_limits = lim;
   if (prefix.empty()) {
     std::fprintf(stderr, "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] [--matrix-free-only] OUTPUT_PREFIX\n", argv[0]);
     return 2;

@@ -21,7 +21,8 @@ struct InterfaceTimings {
   int factorisations = 0;     ///< LU factorisations of bordered matrices
   int krylov_iterations = 0;  ///< GMRES iterations (LinearSolver::newton_krylov)
   double products = 0.0;        ///< matrix-free Jacobian-vector products [s]
-  double preconditioner = 0.0;  ///< building harmonic preconditioners [s]
+  double preconditioner = 0.0;  ///< building preconditioners [s]
+  double preconditioner_apply = 0.0;  ///< applying preconditioners (inside the linear solves) [s]
 };
 
 struct InterfaceBackboneOptions {
@@ -34,6 +35,10 @@ struct InterfaceBackboneOptions {
   /// the dense Jacobian on the lap, the same points to 1e-14); false: the dense Jacobian with the
   /// lagged LU. dense_lu always uses the dense Jacobian.
   bool matrix_free = true;
+  /// The approximate inverse that preconditions GMRES (matrix-free only): the point-local J_loc
+  /// (eq. T-34, O(P) to build and apply, rebuilt as the contact state changes) or the harmonic
+  /// block-Jacobi J̃ (T-32c, O(H P³) to build).
+  hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
@@ -78,6 +83,8 @@ struct InterfaceFrfOptions {
   /// As InterfaceBackboneOptions::matrix_free (InterfaceBalance::apply_jacobian and
   /// harmonic_preconditioner).
   bool matrix_free = true;
+  /// As InterfaceBackboneOptions::preconditioner.
+  hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
   hb::InterfaceBalanceOptions balance;
   Options continuation = [] {
     Options o;

@@ -53,6 +53,14 @@ enum class LinearSolver {
                   ///< only when GMRES does not converge in krylov_max_iterations
 };
 
+/// When a matrix-free solve rebuilds its preconditioner (Evaluation::make_preconditioner).
+enum class PreconditionerRefresh {
+  on_failure,  ///< only when GMRES fails with the lagged one
+  adaptive,    ///< also once the GMRES steps it needed beyond its first solve have cost as much
+               ///< time as building it did (a cheap preconditioner follows the state closely, an
+               ///< expensive one is kept longer)
+};
+
 struct Options {
   double initial_step = 1e-2;    ///< s₀ > 0, in scaled arclength
   double min_step = 1e-8;        ///< (0, initial_step]: stop when a halved step falls below it
@@ -82,6 +90,8 @@ struct Options {
   /// newton_krylov: (0, 1e-6] relative residual ‖b − A z‖₂ / ‖b‖₂ of an accepted GMRES solution
   /// (the true residual, recomputed after GMRES).
   double krylov_tolerance = 1e-11;
+  /// newton_krylov with matrix-free Jacobians: when the preconditioner is rebuilt.
+  PreconditionerRefresh preconditioner_refresh = PreconditionerRefresh::adaptive;
 
   [[nodiscard]] std::string validate(Eigen::Index n) const;  ///< empty when valid
 };

@@ -32,11 +32,13 @@
 // result independent of the thread count).
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "jointhb/hb/fourier.hpp"
+#include "jointhb/hb/interface_local_preconditioner.hpp"
 #include "jointhb/hb/interface_model.hpp"
 
 namespace jointhb::hb {
@@ -101,8 +103,9 @@ struct InterfacePointSummary {
 
 struct InterfaceBalanceTimings {
   double aft = 0.0, assembly = 0.0, products = 0.0;  ///< [s]; products: apply_jacobian
-  double preconditioner = 0.0;  ///< [s]: building and factorising harmonic preconditioners
-  int evaluations = 0, jacobians = 0, product_calls = 0, preconditioners = 0;
+  double preconditioner = 0.0;  ///< [s]: building preconditioners (factorisations)
+  double preconditioner_apply = 0.0;  ///< [s]: applying preconditioners (preconditioner())
+  int evaluations = 0, jacobians = 0, product_calls = 0, preconditioners = 0, preconditioner_calls = 0;
 };
 
 /// Block-Jacobi preconditioner over harmonics (docs/theory.md §11, eq. T-31): the inverse of J̃,
@@ -170,6 +173,12 @@ class InterfaceBalance {
   /// parallel (OpenMP over harmonics; the result does not depend on the thread count).
   [[nodiscard]] std::shared_ptr<const InterfaceHarmonicPreconditioner> harmonic_preconditioner(
       const InterfaceBalanceEvaluation& at, double omega, double xi) const;
+
+  /// An approximate inverse v ↦ J⁻¹ v of the Jacobian at the point blocks of `at` (an evaluation
+  /// with the Jacobian) and (Ω, ξ): the point-local J_loc (T-34, InterfaceLocalPreconditioner) or
+  /// the harmonic block-Jacobi J̃ (T-32c). Building and applying it are timed (timings()).
+  [[nodiscard]] std::function<Eigen::VectorXd(const Eigen::VectorXd&)> preconditioner(
+      const InterfaceBalanceEvaluation& at, double omega, double xi, InterfacePreconditioner kind) const;
 
   /// Per contact point (P): what it does over the period at the solution y (the same periodic
   /// states the residual uses, with the traction and gap samples reduced to the fields of

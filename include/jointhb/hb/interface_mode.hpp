@@ -16,6 +16,7 @@
 #include <string>
 
 #include "jointhb/hb/interface_balance.hpp"
+#include "jointhb/hb/interface_local_preconditioner.hpp"
 
 namespace jointhb::hb {
 
@@ -64,11 +65,13 @@ class InterfaceModeResidual {
   /// (Ŷ, λ): [J v_y + (∂R/∂Ω v_Ω + ∂R/∂ξ v_ξ)/q; v_y[η_f, a₁]; v_y[η_f, b₁]].
   [[nodiscard]] Eigen::VectorXd apply_jacobian(const Evaluation& at, const Eigen::VectorXd& y_hat,
                                                double lambda, const Eigen::VectorXd& v) const;
-  /// Approximate inverse of ∂residual/∂Ŷ at `at`: the harmonic block-Jacobi J̃⁻¹ of the balance
-  /// (InterfaceHarmonicPreconditioner, eq. T-31) bordered exactly by the Ω, ξ columns and the two
-  /// normalisation rows (block elimination with a 2 × 2 Schur complement).
+  /// Approximate inverse of ∂residual/∂Ŷ at `at`: an approximate inverse of the balance's
+  /// Jacobian (`kind`: the point-local J_loc⁻¹ of eq. T-34, or the harmonic block-Jacobi J̃⁻¹ of
+  /// eq. T-32c) bordered exactly by the Ω, ξ columns and the two normalisation rows (block
+  /// elimination with a 2 × 2 Schur complement).
   [[nodiscard]] std::function<Eigen::VectorXd(const Eigen::VectorXd&)> preconditioner(
-      const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda) const;
+      const Evaluation& at, const Eigen::VectorXd& y_hat, double lambda,
+      InterfacePreconditioner kind = InterfacePreconditioner::point_local) const;
   /// Diagnostics of a converged point; `at_point` (an evaluation at exactly (Ŷ, λ)) avoids a new
   /// AFT evaluation.
   [[nodiscard]] InterfaceModeState state(const Eigen::VectorXd& y_hat, double lambda,

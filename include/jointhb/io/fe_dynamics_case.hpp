@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/continuation/interface_response.hpp"
 #include "jointhb/hb/interface_balance.hpp"
 
 namespace jointhb::io {
@@ -46,7 +46,9 @@ struct FeNonlinearModesSpec {
   int fields = 5;
   bool volume_fields = true;
   hb::InterfaceBalanceOptions balance;
-  continuation::Options continuation;
+  /// The library's defaults of the interface drivers (matrix-free GMRES, steps, tolerances): the
+  /// case's `continuation:` keys change only what they name.
+  continuation::Options continuation = continuation::InterfaceBackboneOptions{}.continuation;
 };
 
 struct FeFrfSpec {
@@ -54,7 +56,7 @@ struct FeFrfSpec {
   std::vector<double> forces;                 ///< F [N] of F cos Ωt along the excitation, one curve each
   int output = 0;                             ///< index into FeDynamicsSpec::outputs
   hb::InterfaceBalanceOptions balance;
-  continuation::Options continuation;
+  continuation::Options continuation = continuation::InterfaceFrfOptions{}.continuation;  ///< as above
 };
 
 struct FeDynamicsSpec {

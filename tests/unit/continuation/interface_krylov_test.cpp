@@ -75,8 +75,20 @@ TEST(InterfaceMatrixFree, BackboneAndFrfMatchDenseLu) {
   const InterfaceBackbone dense = trace_interface_backbone(model, o);
   o.continuation.linear_solver = LinearSolver::newton_krylov;
   EXPECT_TRUE(o.matrix_free);  // the default
+  EXPECT_EQ(o.preconditioner, hb::InterfacePreconditioner::point_local);  // the default
   const InterfaceBackbone free = trace_interface_backbone(model, o);
   ASSERT_TRUE(dense.completed()) << dense.message;
+  {  // the harmonic block-Jacobi preconditioner, lagged until GMRES fails: the same curve
+    InterfaceBackboneOptions h = o;
+    h.preconditioner = hb::InterfacePreconditioner::harmonic_blocks;
+    h.continuation.preconditioner_refresh = PreconditionerRefresh::on_failure;
+    const InterfaceBackbone harmonic = trace_interface_backbone(model, h);
+    ASSERT_TRUE(harmonic.completed()) << harmonic.message;
+    std::printf("backbone, harmonic blocks: %d preconditioners, %d GMRES; worst %.2e against dense LU\n",
+                harmonic.timings.factorisations, harmonic.timings.krylov_iterations,
+                worst_difference(dense.points, harmonic.points));
+    EXPECT_LT(worst_difference(dense.points, harmonic.points), 1e-8);
+  }
   ASSERT_TRUE(free.completed()) << free.message;
   const auto& a = dense.points.back();
   const auto& b = free.points.back();
