@@ -32,8 +32,18 @@ const std::vector<std::string> kFrfColumns = {
     "dissipation",  "slipping_points", "open_points",     "newton_iterations"};
 
 ordered_json timings_json(const continuation::InterfaceTimings& t) {
-  return {{"aft", t.aft}, {"assembly", t.assembly}, {"linear_solve", t.linear_solve}, {"total", t.total},
-          {"evaluations", t.evaluations}, {"jacobians", t.jacobians}};
+  return {{"aft", t.aft},
+          {"assembly", t.assembly},
+          {"linear_solve", t.linear_solve},
+          {"products", t.products},
+          {"preconditioner_build", t.preconditioner},
+          {"preconditioner_apply", t.preconditioner_apply},
+          {"total", t.total},
+          {"evaluations", t.evaluations},
+          {"jacobians", t.jacobians},
+          {"product_calls", t.product_calls},
+          {"preconditioner_builds", t.factorisations},
+          {"gmres_iterations", t.krylov_iterations}};
 }
 
 }  // namespace
@@ -273,6 +283,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
       std::fprintf(stderr, "damping curve of mode %d: %zu points, f %.6g -> %.6g Hz, zeta %.4g -> %.4g (%s; %.2f s)\n",
                    mode, b.points.size(), b.linear_omega / kTwoPi, last.omega / kTwoPi, b.linear_damping_ratio,
                    last.damping_ratio, stop.c_str(), b.timings.total);
+      std::fprintf(stderr, "  time of the curve: %s\n", b.timings.breakdown().c_str());
       summary["backbones"].push_back({{"mode", mode},
                                       {"status", ok ? "ok" : "stopped"},
                                       {"message", stop},
@@ -325,6 +336,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
         if (p.amplitude_h1 > peak) peak = p.amplitude_h1, peak_hz = p.omega / kTwoPi;
       std::fprintf(stderr, "frf F = %g N: %zu points, peak %.4e m at %.6g Hz (%s; %.2f s)\n", fs.forces[level],
                    r.points.size(), peak, peak_hz, r.message.c_str(), r.timings.total);
+      std::fprintf(stderr, "  time of the curve: %s\n", r.timings.breakdown().c_str());
       summary["frfs"].push_back({{"level", level},
                                  {"force", fs.forces[level]},
                                  {"output", d.outputs[static_cast<std::size_t>(fs.output)].name},

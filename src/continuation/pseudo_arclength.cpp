@@ -76,6 +76,8 @@ struct Sample {
   // Matrix-free Jacobian (Evaluation::d_state_product): v ↦ R_x v, R_λ λ_scale / r_s, and the
   // preconditioner factory.
   LinearOperator product;
+  LinearOperator product_inner;         // cheaper, inexact (Evaluation::d_state_product_inner)
+  double inner_accuracy = 0.0;          // its relative accuracy
   VectorXd d_lambda;
   std::function<LinearOperator()> make_preconditioner;
 };
@@ -295,6 +297,8 @@ class Tracer {
     if (matrix_free) {
       sample.jacobian.resize(0, 0);
       sample.product = std::move(e.d_state_product);
+      sample.product_inner = std::move(e.d_state_product_inner);
+      sample.inner_accuracy = e.inner_product_accuracy;
       sample.make_preconditioner = std::move(e.make_preconditioner);
       sample.d_lambda = e.d_parameter * (options_.parameter_scale / rs);
       return {};
@@ -324,12 +328,18 @@ class Tracer {
                                 VectorXd& out) {
     const auto start = Clock::now();
     const double rs = options_.residual_scale;
-    const auto apply = [&](const VectorXd& z) {
+    const auto bordered = [&](const LinearOperator& product, const VectorXd& z) {
       VectorXd az(n_ + 1);
-      az.head(n_) = sample.product(VectorXd(z.head(n_).cwiseProduct(state_scale_))) / rs +
-                    sample.d_lambda * z(n_);
+      az.head(n_) = product(VectorXd(z.head(n_).cwiseProduct(state_scale_))) / rs + sample.d_lambda * z(n_);
       az(n_) = c.dot(z);
       return az;
+    };
+    const auto apply = [&](const VectorXd& z) { return bordered(sample.product, z); };
+    // Inside a GMRES cycle the cheaper inexact product when there is one; each cycle ends on the
+    // true residual of the exact product, and asks for no more than the inexact product can give.
+    const bool inexact = static_cast<bool>(sample.product_inner);
+    const auto apply_inner = [&](const VectorXd& z) {
+      return inexact ? bordered(sample.product_inner, z) : bordered(sample.product, z);
     };
     bool fresh = false;
     std::string why;
@@ -370,11 +380,13 @@ class Tracer {
       double true_residual = b.norm();
       int iterations = 0;
       bool converged = true_residual == 0.0;
-      for (int cycle = 0; cycle < kMaxRestarts && !converged; ++cycle) {
+      const int cycles = inexact ? 2 * kMaxRestarts : kMaxRestarts;
+      for (int cycle = 0; cycle < cycles && !converged; ++cycle) {
         VectorXd dz;
-        const support::GmresOutcome g = support::gmres(apply, precondition, residual,
-                                                       options_.krylov_max_iterations,
-                                                       options_.krylov_tolerance * b.norm() / true_residual, dz);
+        double cycle_tolerance = options_.krylov_tolerance * b.norm() / true_residual;
+        if (inexact) cycle_tolerance = std::max(cycle_tolerance, 10.0 * sample.inner_accuracy);
+        const support::GmresOutcome g = support::gmres(apply_inner, precondition, residual,
+                                                       options_.krylov_max_iterations, cycle_tolerance, dz);
         iterations += g.iterations;
         if (!dz.allFinite()) break;
         z += dz;

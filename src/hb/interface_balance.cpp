@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <mutex>
 #include <numbers>
 #include <span>
 #include <stdexcept>
@@ -65,6 +66,19 @@ struct InterfaceBalance::Impl {
   // (eq. T-30); empty: the groups' laws.
   std::vector<contact::ContactPoint> frozen;
   mutable InterfaceBalanceTimings timings;
+  // Single-precision copies of R0 and R1 for inexact inner products (apply_jacobian), made once.
+  struct SingleCopies {
+    Eigen::MatrixXf r0, r1;
+  };
+  mutable std::once_flag single_once;
+  mutable SingleCopies single;
+  const SingleCopies& single_copies() const {
+    std::call_once(single_once, [this] {
+      single.r0 = model.residual_flexibility.cast<float>();
+      single.r1 = model.residual_inertia.cast<float>();
+    });
+    return single;
+  }
 
   Impl(InterfaceModel mo, InterfaceBalanceOptions op)
       : model(std::move(mo)), options(op), basis(op.harmonics, op.time_samples, false) {
@@ -209,11 +223,6 @@ struct InterfaceBalance::Impl {
     }
   }
 
-  // Gap rows' residual-mode term R_k(Ω, ξ) V for V = (A N)ᵀ (3P × m), into out.
-  void apply_residual(const MatrixXd& v, double omega, double xi, int which, MatrixXd& out) const {
-    combine_residual(model.residual_flexibility * v, model.residual_inertia * v, omega, xi, which, out);
-  }
-
   // r_k(Ω, ξ) F: the load's residual-mode gaps (3P × m).
   void apply_load_residual(const VectorXd& load, double omega, double xi, int which, MatrixXd& out) const {
     if (load.size() == 0) return;
@@ -328,9 +337,13 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
   if (load.size() != 0) rm -= load * d.model.load_modal.transpose();
   d.apply_modal(eta, omega, xi, 0, rm);
   for (int j = 0; j < d.model.rigid_modes; ++j) rm(0, j) = d.omega_ref * d.omega_ref * eta(0, j);
-  // Gap rows (3P × m), eq. (T-27).
+  // Gap rows (3P × m), eq. (T-27). R0 (A N)ᵀ and R1 (A N)ᵀ once (BLAS), for R and its Ω, ξ derivatives.
   MatrixXd rg = dg.transpose() - phi_g * eta.transpose();
-  d.apply_residual(c.force.transpose(), omega, xi, 0, rg);
+  const MatrixXd force_t = c.force.transpose();
+  MatrixXd w0 = MatrixXd::Zero(3 * P, m), w1 = MatrixXd::Zero(3 * P, m);
+  support::gemm_add(d.model.residual_flexibility, force_t, w0);
+  support::gemm_add(d.model.residual_inertia, force_t, w1);
+  d.combine_residual(w0, w1, omega, xi, 0, rg);
   MatrixXd load_gap = MatrixXd::Zero(3 * P, m);
   d.apply_load_residual(load, omega, xi, 0, load_gap);
   rg -= load_gap;
@@ -349,7 +362,7 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
     d.apply_modal(eta, omega, xi, which, dm);
     for (int j = 0; j < d.model.rigid_modes; ++j) dm(0, j) = 0.0;
     MatrixXd dgap = MatrixXd::Zero(3 * P, m);
-    d.apply_residual(c.force.transpose(), omega, xi, which, dgap);
+    d.combine_residual(w0, w1, omega, xi, which, dgap);
     MatrixXd dl = MatrixXd::Zero(3 * P, m);
     d.apply_load_residual(load, omega, xi, which, dl);
     dgap -= dl;
@@ -440,7 +453,7 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
 }
 
 VectorXd InterfaceBalance::apply_jacobian(const InterfaceBalanceEvaluation& at, double omega,
-                                          double xi, const VectorXd& v) const {
+                                          double xi, const VectorXd& v, bool single_precision) const {
   const Impl& d = *impl_;
   const int m = d.m, ns = d.ns, P = d.P;
   if (v.size() != d.U || at.point_blocks.size() != static_cast<std::size_t>(P))
@@ -472,8 +485,16 @@ VectorXd InterfaceBalance::apply_jacobian(const InterfaceBalanceEvaluation& at, 
   // the m right-hand columns (half the time of a product on the 192-point lap).
   const MatrixXd wt = w.transpose();
   MatrixXd w0 = MatrixXd::Zero(3 * P, m), w1 = MatrixXd::Zero(3 * P, m);
-  support::gemm_add(d.model.residual_flexibility, wt, w0);
-  support::gemm_add(d.model.residual_inertia, wt, w1);
+  if (single_precision) {
+    const Impl::SingleCopies& r = d.single_copies();
+    const Eigen::MatrixXf wf = wt.cast<float>();
+    Eigen::MatrixXf f0 = Eigen::MatrixXf::Zero(3 * P, m), f1 = Eigen::MatrixXf::Zero(3 * P, m);
+    support::gemm_add_by_rows(r.r0, wf, f0, r.r1, f1);
+    w0 = f0.cast<double>();
+    w1 = f1.cast<double>();
+  } else {
+    support::gemm_add_by_rows(d.model.residual_flexibility, wt, w0, d.model.residual_inertia, w1);
+  }
   d.combine_residual(w0, w1, omega, xi, 0, rg);
   VectorXd out(d.U);
   Eigen::Map<MatrixXd>(out.data(), m, ns) = row_modal * rm;

@@ -85,14 +85,15 @@ void InterfaceModeResidual::evaluate(const Eigen::VectorXd& y_hat, double lambda
 }
 
 Eigen::VectorXd InterfaceModeResidual::apply_jacobian(const Evaluation& at, const Eigen::VectorXd& y_hat,
-                                                      double lambda, const Eigen::VectorXd& v) const {
+                                                      double lambda, const Eigen::VectorXd& v,
+                                                      bool single_precision) const {
   const Eigen::Index U = balance_.unknowns();
   const double q = std::pow(10.0, lambda);
   const double omega = y_hat[U], xi = y_hat[U + 1];
   const int a1 = balance_.basis().cosine_index(1);
   const Eigen::Index ia = balance_.modal_index(mode_, a1), ib = ia + 1;
   Eigen::VectorXd out(U + 2);
-  out.head(U) = balance_.apply_jacobian(at.balance, omega, xi, v.head(U)) +
+  out.head(U) = balance_.apply_jacobian(at.balance, omega, xi, v.head(U), single_precision) +
                 (at.balance.d_omega * v[U] + at.balance.d_xi * v[U + 1]) / q;
   out[U] = v[ia];
   out[U + 1] = v[ib];

@@ -131,6 +131,7 @@ struct Limits {
   // --preconditioner point_local|harmonic_blocks, --refresh adaptive|on_failure (matrix-free curve)
   hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
   continuation::PreconditionerRefresh refresh = continuation::PreconditionerRefresh::adaptive;
+  bool mixed_precision = true;  // --double-products: GMRES products in double precision only
 };
 Limits g_limits;  // the command line's solver choices, read by trace()
 
@@ -188,6 +189,7 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   bo.matrix_free = matrix_free;
   bo.preconditioner = g_limits.preconditioner;
   bo.continuation.preconditioner_refresh = g_limits.refresh;
+  bo.mixed_precision = g_limits.mixed_precision;
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (csv) std::fprintf(csv, "q,frequency_hz,damping_ratio,slipping_points,iterations\n");
   Curve c;
@@ -266,13 +268,14 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
                  r.assembly_s, r.lu_s, r.product_error);
   }
 
-  // The harmonic block-Jacobi preconditioner (T-32c): one build.
+  // The preconditioner of the matrix-free curve (--preconditioner): one build.
   {
     const auto t = Clock::now();
-    const auto pc = free.harmonic_preconditioner(e, omega, xi);
+    const auto pc = free.preconditioner(e, omega, xi, lim.preconditioner);
     r.harmonic_lu_s = since(t);
-    std::fprintf(stderr, "  %s: harmonic preconditioner %.3g s (rcond %.2g)\n", r.label.c_str(), r.harmonic_lu_s,
-                 pc->rcond());
+    std::fprintf(stderr, "  %s: %s preconditioner %.3g s\n", r.label.c_str(),
+                 lim.preconditioner == hb::InterfacePreconditioner::point_local ? "point-local" : "harmonic",
+                 r.harmonic_lu_s);
   }
 
   continuation::InterfaceBackbone reference_curve;  // dense_lu, else dense Krylov
@@ -373,6 +376,7 @@ int main(int argc, char** argv) {
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--budget" && i + 1 < argc) lim.budget = std::atof(argv[++i]);
     else if (a == "--matrix-free-only") lim.matrix_free_only = true;
+    else if (a == "--double-products") lim.mixed_precision = false;
     else if (a == "--preconditioner" && i + 1 < argc) {
       const std::string v = argv[++i];
       lim.preconditioner = v == "harmonic_blocks" ? hb::InterfacePreconditioner::harmonic_blocks
@@ -419,7 +423,7 @@ int main(int argc, char** argv) {
     std::fprintf(t, "label,points,harmonics,kept_modes,unknowns,dense_GiB,build_s,aft_s,aft_blocks_s,dense_assembly_s,"
                     "product_s,lu_s,product_error,curve_points,newton,factorisations,gmres,curve_s,curve_aft_s,"
                     "curve_assembly_s,curve_solve_s,drop,last_residual,dense_curve_s,dense_factorisations,"
-                    "agreement,harmonic_preconditioner_s,mf_points,mf_newton,mf_preconditioners,mf_gmres,mf_s,mf_aft_s,"
+                    "agreement,preconditioner_s,mf_points,mf_newton,mf_preconditioners,mf_gmres,mf_s,mf_aft_s,"
                     "mf_products_s,mf_preconditioner_s,mf_solve_s,mf_drop,mf_last_residual,mf_agreement,peak_rss_MiB,note\n");
   for (const Row& r : rows) {
     std::printf("%-10s U=%-6ld (%d modes) AFT %.3g s, AFT+B %.3g s, assembly %.3g s, product %.3g s, LU %.3g s | "

@@ -60,7 +60,7 @@ print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for r in rows:
     print(f"| {r['label']} | {r['unknowns']} | {float(r['dense_GiB']):.3g} | {fmt(num(r,'aft_s'),' s')} | "
           f"{fmt(num(r,'aft_blocks_s'),' s')} | {fmt(num(r,'dense_assembly_s'),' s')} | {fmt(num(r,'product_s'),' s')} | "
-          f"{fmt(num(r,'lu_s'),' s')} | {fmt(num(r,'harmonic_preconditioner_s'),' s')} |")
+          f"{fmt(num(r,'lu_s'),' s')} | {fmt(num(r,'preconditioner_s'),' s')} |")
 print()
 print("| config | solver | curve [s] | points | Newton | LU / PC builds | GMRES | AFT [s] | assembly or products [s] | solve [s] | drop | last ‖R‖∞ | agreement | peak RSS [MiB] |")
 print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
@@ -95,7 +95,7 @@ for r in rows:
 print()
 print("| quantity | exponent in P | exponent in m = 2H+1 | configurations |")
 print("| --- | ---: | ---: | ---: |")
-for key in ["aft_blocks_s", "dense_assembly_s", "product_s", "lu_s", "harmonic_preconditioner_s"]:
+for key in ["aft_blocks_s", "dense_assembly_s", "product_s", "lu_s", "preconditioner_s"]:
     f = fit(rows, key)
     if f:
         print(f"| {key} | {f[0]:.2f} | {f[1]:.2f} | {f[2]} |")

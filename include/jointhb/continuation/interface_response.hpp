@@ -23,6 +23,10 @@ struct InterfaceTimings {
   double products = 0.0;        ///< matrix-free Jacobian-vector products [s]
   double preconditioner = 0.0;  ///< building preconditioners [s]
   double preconditioner_apply = 0.0;  ///< applying preconditioners (inside the linear solves) [s]
+  int product_calls = 0, preconditioner_calls = 0;
+  /// One line: where the time went (AFT; residual assembly; in the linear solves the products,
+  /// the preconditioner applications and the rest of GMRES; preconditioner builds; other).
+  [[nodiscard]] std::string breakdown() const;
 };
 
 struct InterfaceBackboneOptions {
@@ -39,6 +43,10 @@ struct InterfaceBackboneOptions {
   /// (eq. T-34, O(P) to build and apply, rebuilt as the contact state changes) or the harmonic
   /// block-Jacobi J̃ (T-32c, O(H P³) to build).
   hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
+  /// Matrix-free only: inside GMRES cycles, R0 and R1 applied in single precision (half the
+  /// memory traffic); every cycle ends on the double-precision true residual, so the accepted
+  /// Newton steps, hence the curve, are unchanged (mixed-precision iterative refinement).
+  bool mixed_precision = true;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
@@ -85,6 +93,7 @@ struct InterfaceFrfOptions {
   bool matrix_free = true;
   /// As InterfaceBackboneOptions::preconditioner.
   hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
+  bool mixed_precision = true;  ///< as InterfaceBackboneOptions::mixed_precision
   hb::InterfaceBalanceOptions balance;
   Options continuation = [] {
     Options o;

@@ -38,6 +38,12 @@ struct Evaluation {
   /// With d_state_product: builds an approximate inverse v ↦ M⁻¹ v of ∂R/∂x at this point (kept
   /// for later iterations until GMRES fails with it); empty: no preconditioner.
   std::function<LinearOperator()> make_preconditioner;
+  /// Optional, with d_state_product: a cheaper approximation of it (e.g. in single precision),
+  /// accurate to inner_product_accuracy relative, used inside GMRES cycles; each cycle's solution
+  /// is checked on the true residual with d_state_product, so the accepted solution is the same
+  /// (mixed-precision iterative refinement: docs/continuation.md §2).
+  LinearOperator d_state_product_inner;
+  double inner_product_accuracy = 1e-6;  ///< relative accuracy of d_state_product_inner
   bool ok = true;               ///< false: the point cannot be evaluated (the step is rejected)
   std::string message;          ///< why not, when !ok
 };

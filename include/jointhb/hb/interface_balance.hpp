@@ -165,8 +165,12 @@ class InterfaceBalance {
   /// of an evaluation `at` (with a Jacobian) at (Ω, ξ): the linear part of eq. (T-26, T-27) with
   /// A N replaced by its directional derivative B v (per point). Cost O(ns·3P·m + (3P)²·m +
   /// 9P·m²) instead of O(U²) = O((3P)²·m²). Equals jacobian · v to round-off.
+  /// single_precision: R0 and R1 applied from single-precision copies (made at the first such
+  /// call; sgemm, half the memory traffic): a product accurate to ~1e-7 relative, for the inner
+  /// iterations of a solve whose residual is checked with the double-precision product.
   [[nodiscard]] Eigen::VectorXd apply_jacobian(const InterfaceBalanceEvaluation& at, double omega,
-                                               double xi, const Eigen::VectorXd& v) const;
+                                               double xi, const Eigen::VectorXd& v,
+                                               bool single_precision = false) const;
 
   /// The harmonic block-Jacobi preconditioner (InterfaceHarmonicPreconditioner) at the point
   /// blocks of `at` (an evaluation with the Jacobian) and (Ω, ξ). Factorises the H + 1 blocks in

@@ -39,14 +39,17 @@ class InterfaceLocalPreconditioner {
   /// From the point blocks of `at` (an evaluation with the Jacobian) at (Ω, ξ). Throws
   /// std::invalid_argument when `at` has no point blocks. The per-point factorisations run in
   /// parallel (OpenMP); the result does not depend on the thread count.
+  /// group_size ≥ 1: R is kept within groups of up to this many points that it couples most
+  /// strongly (neighbourhoods; 1: each point alone, eq. T-34).
   InterfaceLocalPreconditioner(const InterfaceBalance& balance, const InterfaceBalanceEvaluation& at,
-                               double omega, double xi);
+                               double omega, double xi, int group_size = 1);
   ~InterfaceLocalPreconditioner();
 
   /// J_loc⁻¹ v (size U, scaled rows as InterfaceBalance::evaluate).
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& v) const;
   /// Points whose E_p was numerically singular and left out (E_p = I taken instead).
   [[nodiscard]] int singular_points() const;
+  [[nodiscard]] int groups() const;
 
  private:
   struct Impl;

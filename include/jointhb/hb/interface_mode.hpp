@@ -63,8 +63,10 @@ class InterfaceModeResidual {
   void evaluate(const Eigen::VectorXd& y_hat, double lambda, bool jacobian, Evaluation& out) const;
   /// ∂residual/∂Ŷ · v without the matrix, from an evaluation `at` (with the Jacobian) at
   /// (Ŷ, λ): [J v_y + (∂R/∂Ω v_Ω + ∂R/∂ξ v_ξ)/q; v_y[η_f, a₁]; v_y[η_f, b₁]].
+  /// single_precision: as InterfaceBalance::apply_jacobian (an inexact inner product).
   [[nodiscard]] Eigen::VectorXd apply_jacobian(const Evaluation& at, const Eigen::VectorXd& y_hat,
-                                               double lambda, const Eigen::VectorXd& v) const;
+                                               double lambda, const Eigen::VectorXd& v,
+                                               bool single_precision = false) const;
   /// Approximate inverse of ∂residual/∂Ŷ at `at`: an approximate inverse of the balance's
   /// Jacobian (`kind`: the point-local J_loc⁻¹ of eq. T-34, or the harmonic block-Jacobi J̃⁻¹ of
   /// eq. T-32c) bordered exactly by the Ω, ξ columns and the two normalisation rows (block

@@ -91,6 +91,27 @@ TEST(InterfaceLocalPreconditioner, ExactAtTheStuckLimitAndApproximateInSlip) {
   EXPECT_LT(slipping, 1.0);
 }
 
+// One group holding every point keeps all of R: J_loc = J, the inverse is exact.
+TEST(InterfaceLocalPreconditioner, OneGroupOfAllPointsIsTheExactInverse) {
+  const Structure s = make_structure(5, 4, 11, 0.5, true);
+  const InterfaceBalance hb(make_model(s, 6, true), {.harmonics = 3, .time_samples = 64});
+  const double omega = 1.05 * std::sqrt(hb.model().omega2[0]);
+  const VectorXd load = hb.cosine_load(20.0);
+  InterfaceBalanceEvaluation e;
+  hb.evaluate(perturbed_linear_state(hb, omega, load, 5), omega, 1.5, load, true, e);
+  ASSERT_GT(e.slipping_points, 0);
+  const InterfaceLocalPreconditioner all(hb, e, omega, 1.5, hb.points());
+  const InterfaceLocalPreconditioner pairs(hb, e, omega, 1.5, 2);
+  EXPECT_EQ(all.groups(), 1);
+  EXPECT_EQ(pairs.groups(), 3);  // 5 points: two pairs and one alone
+  const VectorXd v = VectorXd::LinSpaced(hb.unknowns(), -1.0, 2.0);
+  const double exact = (all.solve(e.jacobian * v) - v).norm() / v.norm();
+  const double paired = (pairs.solve(e.jacobian * v) - v).norm() / v.norm();
+  std::printf("|M⁻¹ J v − v| / |v|: one group %.2e, pairs %.2e\n", exact, paired);
+  EXPECT_LT(exact, 1e-10);
+  EXPECT_GT(paired, 1e-8);
+}
+
 TEST(InterfaceLocalPreconditioner, IndependentOfThreadCount) {
   const Structure s = make_structure(40, 4, 13, 0.5, true);
   const InterfaceBalance hb(make_model(s, 6, true), {.harmonics = 2, .time_samples = 32, .dense_jacobian = false});
