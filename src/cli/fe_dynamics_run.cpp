@@ -150,7 +150,7 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
                  cache.file("interface", key).string().c_str(), im.num_modes(), im.rigid_modes, im.num_points());
   } else {
     reduction::ModalInterfaceResult r = reduction::build_modal_interface(model, preload, load, outputs, settings.options);
-    im = r.model;
+    im = std::move(r.model);
     recovery = std::move(r.recovery);
     std::fprintf(stderr, "interface model: %s\n", r.brief().c_str());
     ij["cache"] = "miss";

@@ -57,6 +57,9 @@ constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
 // Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
 constexpr int kMaxRestarts = 4;
+// Adaptive refresh: a preconditioner that costs at most this fraction of the last GMRES solve to
+// build is rebuilt before every solve (it follows the state for next to nothing).
+constexpr double kCheapRebuild = 0.1;
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {
@@ -345,8 +348,9 @@ class Tracer {
     std::string why;
     // Adaptive refresh: rebuild from this sample once the GMRES steps that the lagged
     // preconditioner needed beyond its first solve have cost as much as building it did.
-    const bool stale = options_.preconditioner_refresh == PreconditionerRefresh::adaptive &&
-                       approximate_inverse_ && refresh_.wasted_seconds >= refresh_.build_seconds;
+    const bool stale = options_.preconditioner_refresh == PreconditionerRefresh::adaptive && approximate_inverse_ &&
+                       (refresh_.wasted_seconds >= refresh_.build_seconds ||
+                        refresh_.build_seconds <= kCheapRebuild * refresh_.last_solve_seconds);
     for (;;) {
       if (!approximate_inverse_ || !why.empty() || (stale && !fresh)) {  // none, stale, or it just failed
         const auto build = Clock::now();
@@ -468,7 +472,9 @@ class Tracer {
     double build_seconds = 0.0;   // building it
     int baseline = -1;            // GMRES steps of its first solve
     double wasted_seconds = 0.0;  // steps beyond the baseline in later solves, in seconds
+    double last_solve_seconds = 0.0;  // GMRES time of the last solve
     void record(int iterations, double seconds, bool first) {
+      last_solve_seconds = seconds;
       if (first && baseline < 0) {
         baseline = iterations;
         return;
