@@ -150,9 +150,9 @@ int run_fe_dynamics(const io::FeCase& c, const preload::PreloadModel& model, con
                  cache.file("interface", key).string().c_str(), im.num_modes(), im.rigid_modes, im.num_points());
   } else {
     reduction::ModalInterfaceResult r = reduction::build_modal_interface(model, preload, load, outputs, settings.options);
+    std::fprintf(stderr, "interface model: %s\n", r.brief().c_str());
     im = std::move(r.model);
     recovery = std::move(r.recovery);
-    std::fprintf(stderr, "interface model: %s\n", r.brief().c_str());
     ij["cache"] = "miss";
     ij["truncated_by_max_modes"] = r.truncated_by_max_modes;
     ij["seconds"] = {{"modes", r.modes_seconds}, {"factor", r.factor_seconds}, {"residual", r.residual_seconds},
