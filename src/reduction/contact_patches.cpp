@@ -19,6 +19,22 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using SpMat = Eigen::SparseMatrix<double>;
 
+// W R Wᵀ for a dense R (3P × 3P) and a sparse W (3P_c × 3P, a few entries per column): T = R Wᵀ
+// column by column as weighted sums of columns of R, then W T column by column — both read R and
+// T along their columns (Eigen's dense × sparse products read R by rows: 51 s instead of ~1 s at
+// 6 400 points).
+MatrixXd galerkin(const MatrixXd& R, const SpMat& W) {
+  const SpMat Wt = W.transpose();
+  MatrixXd T = MatrixXd::Zero(R.rows(), Wt.cols());
+#pragma omp parallel for schedule(static)
+  for (Index c = 0; c < Wt.outerSize(); ++c)
+    for (SpMat::InnerIterator it(Wt, c); it; ++it) T.col(c) += it.value() * R.col(it.row());
+  MatrixXd out(W.rows(), T.cols());
+#pragma omp parallel for schedule(static)
+  for (Index c = 0; c < T.cols(); ++c) out.col(c) = W * T.col(c);
+  return out;
+}
+
 }  // namespace
 
 std::string ContactPatchOptions::validate() const {
@@ -125,10 +141,8 @@ ContactPatchResult merge_contact_patches(const hb::InterfaceModel& model, const 
   SpMat W(3 * Pc, 3 * P);
   W.setFromTriplets(w.begin(), w.end());
   m.gap_shapes = W * model.gap_shapes;
-  const MatrixXd r0 = model.residual_flexibility * W.transpose();
-  const MatrixXd r1 = model.residual_inertia * W.transpose();
-  m.residual_flexibility = W * r0;
-  m.residual_inertia = W * r1;
+  m.residual_flexibility = galerkin(model.residual_flexibility, W);
+  m.residual_inertia = galerkin(model.residual_inertia, W);
   m.residual_flexibility = 0.5 * (m.residual_flexibility + m.residual_flexibility.transpose()).eval();
   m.residual_inertia = 0.5 * (m.residual_inertia + m.residual_inertia.transpose()).eval();
   m.load_residual0 = W * model.load_residual0;

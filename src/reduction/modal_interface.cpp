@@ -22,10 +22,10 @@ using support::seconds_since;
 
 constexpr double kTwoPi = 6.283185307179586;
 
-// C = alpha op(A) op(B) + beta C through the BLAS (op = transpose when the flag is set).
 // Columns per block of the residual solves and of Wᵀ M W.
 constexpr Eigen::Index kSolveBlock = 512;
 
+// C = alpha op(A) op(B) + beta C through the BLAS (op = transpose when the flag is set).
 void gemm(bool transpose_a, bool transpose_b, double alpha, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
           double beta, Eigen::MatrixXd& C) {
   const Eigen::Index m = transpose_a ? A.cols() : A.rows(), k = transpose_a ? A.rows() : A.cols();
@@ -257,15 +257,15 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   Eigen::MatrixXd W(n, width);
   {
     const SpMat Gdt = Gd.transpose();
-    for (Eigen::Index first = 0; first < width; first += kSolveBlock) {
-      const Eigen::Index cols = std::min(kSolveBlock, width - first);
+    for (Eigen::Index from = 0; from < width; from += kSolveBlock) {
+      const Eigen::Index cols = std::min(kSolveBlock, width - from);
       Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, cols);
-      for (Eigen::Index j = first; j < first + cols; ++j) {
-        if (j < distinct) B.col(j - first) = Gdt.col(j);
-        else if (j == col_f) B.col(j - first) = f;
-        else B.col(j - first) = c[static_cast<std::size_t>(j - col_f - 1)];
+      for (Eigen::Index j = from; j < from + cols; ++j) {
+        if (j < distinct) B.col(j - from) = Gdt.col(j);
+        else if (j == col_f) B.col(j - from) = f;
+        else B.col(j - from) = c[static_cast<std::size_t>(j - col_f - 1)];
       }
-      W.middleCols(first, cols) = factor.solve(B);
+      W.middleCols(from, cols) = factor.solve(B);
     }
   }
   // Deflation W ← (I − ΦΦᵀM) W, twice: the second pass removes what round-off left of the kept
@@ -276,15 +276,23 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
     gemm(true, false, 1.0, MPhi, W, 0.0, coefficients);  // ΦᵀM W
     gemm(false, false, -1.0, Phi, coefficients, 1.0, W);  // W −= Φ (ΦᵀM W)
   }
-  // Q = Wᵀ M W (R1, load and output first-order terms), by blocks of columns of M W.
+  // Q = Wᵀ M W (R1, load and output first-order terms; O(n · width²), the largest cost of the
+  // condensation of a fine interface), by blocks of columns of M W, each only down to its own
+  // diagonal block: Q is symmetric, the rest is mirrored (half the flops).
   Eigen::MatrixXd Q(width, width);
-  for (Eigen::Index first = 0; first < width; first += kSolveBlock) {
-    const Eigen::Index cols = std::min(kSolveBlock, width - first);
-    const Eigen::MatrixXd MWb = M * W.middleCols(first, cols);
-    Eigen::MatrixXd Qb(width, cols);
-    gemm(true, false, 1.0, W, MWb, 0.0, Qb);
-    Q.middleCols(first, cols) = Qb;
+  for (Eigen::Index from = 0; from < width; from += kSolveBlock) {
+    const Eigen::Index cols = std::min(kSolveBlock, width - from), upto = from + cols;
+    const Eigen::MatrixXd MWb = M * W.middleCols(from, cols);
+    // Q(0:upto, from:upto) = W(:, 0:upto)ᵀ (M W)(:, from:upto)
+    const int rows_q = static_cast<int>(upto), cols_q = static_cast<int>(cols), inner = static_cast<int>(n);
+    const double one = 1.0, zero = 0.0;
+    const char ta = 'T', tb = 'N';
+    const int ld = static_cast<int>(std::max<Eigen::Index>(1, n)), ldc = static_cast<int>(width);
+    dgemm_(&ta, &tb, &rows_q, &cols_q, &inner, &one, W.data(), &ld, MWb.data(), &ld, &zero, Q.data() + from * width,
+           &ldc);
   }
+  for (Eigen::Index j = 0; j < width; ++j)
+    for (Eigen::Index i = (j / kSolveBlock + 1) * kSolveBlock; i < width; ++i) Q(i, j) = Q(j, i);
   // G W on the distinct rows only (R0, load and output quasi-static terms); row i of G W is row
   // rep[i] of Gd W.
   const Eigen::MatrixXd GdW = Gd * W;

@@ -16,29 +16,6 @@ extern "C" void sgemm_(const char* transa, const char* transb, const int* m, con
 
 namespace jointhb::support {
 
-/// C += A B (column-major Eigen matrices; sizes checked).
-inline void gemm_add(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, Eigen::MatrixXd& C) {
-  if (A.cols() != B.rows() || C.rows() != A.rows() || C.cols() != B.cols())
-    throw std::invalid_argument("gemm_add: sizes do not match");
-  if (A.size() == 0 || B.size() == 0) return;
-  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.cols()), k = static_cast<int>(A.cols());
-  const double one = 1.0;
-  const char no = 'N';
-  dgemm_(&no, &no, &m, &n, &k, &one, A.data(), &m, B.data(), &k, &one, C.data(), &m);
-}
-
-/// C += A B in single precision (sgemm): half the memory traffic of gemm_add for the
-/// memory-bound products of a large A by a few columns.
-inline void gemm_add(const Eigen::MatrixXf& A, const Eigen::MatrixXf& B, Eigen::MatrixXf& C) {
-  if (A.cols() != B.rows() || C.rows() != A.rows() || C.cols() != B.cols())
-    throw std::invalid_argument("gemm_add: sizes do not match");
-  if (A.size() == 0 || B.size() == 0) return;
-  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.cols()), k = static_cast<int>(A.cols());
-  const float one = 1.0f;
-  const char no = 'N';
-  sgemm_(&no, &no, &m, &n, &k, &one, A.data(), &m, B.data(), &k, &one, C.data(), &m);
-}
-
 // C(m × n, ldc) += A(m × k, lda) B(k × n, ldb) on raw column-major storage.
 inline void gemm_raw(int m, int n, int k, const double* a, int lda, const double* b, int ldb, double* c, int ldc) {
   const double one = 1.0;
@@ -49,6 +26,17 @@ inline void gemm_raw(int m, int n, int k, const float* a, int lda, const float* 
   const float one = 1.0f;
   const char no = 'N';
   sgemm_(&no, &no, &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
+}
+
+/// C += A B (column-major Eigen matrices of double, or of float through sgemm: half the memory
+/// traffic of a large A by a few columns; sizes checked).
+template <class Matrix>
+void gemm_add(const Matrix& A, const Matrix& B, Matrix& C) {
+  if (A.cols() != B.rows() || C.rows() != A.rows() || C.cols() != B.cols())
+    throw std::invalid_argument("gemm_add: sizes do not match");
+  if (A.size() == 0 || B.size() == 0) return;
+  const int m = static_cast<int>(A.rows()), n = static_cast<int>(B.cols()), k = static_cast<int>(A.cols());
+  gemm_raw(m, n, k, A.data(), m, B.data(), k, C.data(), m);
 }
 
 /// C0 += A0 B and C1 += A1 B for two large square A (the residual flexibility and inertia) and a

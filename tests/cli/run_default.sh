@@ -11,6 +11,7 @@ run_capture run -o "$WORK/out"
 [ "$STATUS" -eq 0 ] || fail "run exited $STATUS: $(cat "$ERR")"
 [ -s "$OUT" ] && fail "run printed on stdout: $(cat "$OUT")"
 grep -q 'damping curve of mode 1' "$ERR" || fail "stderr has no damping-curve line: $(cat "$ERR")"
+grep -q 'time of the curve: .*GMRES iterations' "$ERR" || fail "stderr has no time breakdown of the curve: $(cat "$ERR")"
 for f in summary.json preload_steps.csv contact_lap.csv contact_lap.vtu modes.csv interface_model.csv backbone.csv; do
   [ -s "$WORK/out/$f" ] || fail "missing $f"
 done
@@ -44,6 +45,9 @@ assert abs((u[1] / q[1]) / (u[0] / q[0]) - 1) < 1e-3, (u[0] / q[0], u[1] / q[1])
 im = s["interface_model"]
 assert im["contact_points"] == 63 and im["contact_patch"]["points_before"] == 192 and im["rigid_modes"] == 6, im
 assert im["cache"] == "miss" and s["preload"]["cache"] == "miss"
+# FE curves are solved matrix-free (GMRES on Jacobian products), never by the dense LU (issue 16)
+t = b["seconds"]
+assert t["gmres_iterations"] > 0 and t["product_calls"] > 0 and t["preconditioner_builds"] > 0, t
 print(f"ok: f {f[0]:.3f} -> {f[-1]:.3f} Hz, zeta {z[0]:.4g} -> {z[-1]:.4g} over {len(rows)} points "
       f"in {b['seconds']['total']:.1f} s (linear solves {b['seconds']['linear_solve']:.1f} s)")
 PY

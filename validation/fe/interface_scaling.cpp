@@ -22,7 +22,11 @@
 // (the dense matrix above `dense_limit` unknowns, or the predicted time above `budget`) is
 // reported with the measured per-iteration costs and the reason, never with an invented time.
 //
-//   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] [--matrix-free-only] OUTPUT_PREFIX
+//   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] [--matrix-free-only]
+//                     [--preconditioner point_local|harmonic_blocks] [--refresh adaptive|on_failure]
+//                     [--double-products] OUTPUT_PREFIX
+// The last three choose the matrix-free curve's solver (defaults: the library's), to pair the
+// solver before issue 16 (harmonic_blocks, on_failure, double products) with today's.
 // --ci: the ≈100-point mesh at H = 1 only, all three solvers (ctest, ~10–20 s), bounds:
 // agreement < 1e-8, product < 1e-12 of Σ|J||v|, the curves reach the drop. --only: one configuration (label
 // P<points>_H<h>, one per process for the peak memory: interface_scaling.sh). --matrix-free-only:
@@ -379,10 +383,12 @@ int main(int argc, char** argv) {
     else if (a == "--double-products") lim.mixed_precision = false;
     else if (a == "--preconditioner" && i + 1 < argc) {
       const std::string v = argv[++i];
+      if (v != "harmonic_blocks" && v != "point_local") prefix.clear(), i = argc;
       lim.preconditioner = v == "harmonic_blocks" ? hb::InterfacePreconditioner::harmonic_blocks
                                                   : hb::InterfacePreconditioner::point_local;
     } else if (a == "--refresh" && i + 1 < argc) {
       const std::string v = argv[++i];
+      if (v != "on_failure" && v != "adaptive") prefix.clear(), i = argc;
       lim.refresh = v == "on_failure" ? continuation::PreconditionerRefresh::on_failure
                                       : continuation::PreconditionerRefresh::adaptive;
     }
@@ -391,7 +397,11 @@ int main(int argc, char** argv) {
   }
   g_limits = lim;
   if (prefix.empty()) {
-    std::fprintf(stderr, "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] [--matrix-free-only] OUTPUT_PREFIX\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] [--matrix-free-only] "
+                 "[--preconditioner point_local|harmonic_blocks] [--refresh adaptive|on_failure] [--double-products] "
+                 "OUTPUT_PREFIX\n",
+                 argv[0]);
     return 2;
   }
   const double drop = 0.03;

@@ -55,7 +55,7 @@ def fit(rows, key):
 
 
 rows = list(csv.DictReader(open(sys.argv[1])))
-print("| config | U | dense J [GiB] | AFT | AFT+B_p | dense assembly | product | dense LU | harmonic PC |")
+print("| config | U | dense J [GiB] | AFT | AFT+B_p | dense assembly | product | dense LU | preconditioner build |")
 print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for r in rows:
     print(f"| {r['label']} | {r['unknowns']} | {float(r['dense_GiB']):.3g} | {fmt(num(r,'aft_s'),' s')} | "
@@ -95,7 +95,7 @@ for r in rows:
 print()
 print("| quantity | exponent in P | exponent in m = 2H+1 | configurations |")
 print("| --- | ---: | ---: | ---: |")
-for key in ["aft_blocks_s", "dense_assembly_s", "product_s", "lu_s", "preconditioner_s"]:
+for key in ["aft_blocks_s", "dense_assembly_s", "product_s", "lu_s", "preconditioner_s", "mf_s"]:
     f = fit(rows, key)
     if f:
         print(f"| {key} | {f[0]:.2f} | {f[1]:.2f} | {f[2]} |")

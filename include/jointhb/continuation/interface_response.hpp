@@ -24,8 +24,9 @@ struct InterfaceTimings {
   double preconditioner = 0.0;  ///< building preconditioners [s]
   double preconditioner_apply = 0.0;  ///< applying preconditioners (inside the linear solves) [s]
   int product_calls = 0, preconditioner_calls = 0;
-  /// One line: where the time went (AFT; residual assembly; in the linear solves the products,
-  /// the preconditioner applications and the rest of GMRES; preconditioner builds; other).
+  /// One line: where the time went (AFT; residual assembly; linear solves with their GMRES
+  /// iterations and preconditioner builds and applications; Jacobian products, inside the
+  /// solves and for the EPMC's ∂R/∂λ; other).
   [[nodiscard]] std::string breakdown() const;
 };
 

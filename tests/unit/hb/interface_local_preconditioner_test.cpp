@@ -16,16 +16,6 @@ namespace {
 
 using namespace jointhb::hb::testing;
 
-VectorXd perturbed_linear_state(const InterfaceBalance& hb, double omega, const VectorXd& load, unsigned seed) {
-  VectorXd y = hb.linear_solution(omega, load);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  const VectorXd scale = hb.unknown_scale();
-  const double size = y.cwiseQuotient(scale).lpNorm<Eigen::Infinity>();
-  for (Eigen::Index i = 0; i < y.size(); ++i) y[i] += 0.05 * size * scale[i] * nd(rng);
-  return y;
-}
-
 // R0, R1 (and the matching load parts stay) with only the 3 × 3 blocks of each point kept.
 InterfaceModel point_diagonal(InterfaceModel m) {
   for (MatrixXd* r : {&m.residual_flexibility, &m.residual_inertia}) {
@@ -59,7 +49,7 @@ TEST(InterfaceLocalPreconditioner, ExactWhereTheResidualFlexibilityCouplesNoPoin
     const double omega = 1.05 * std::sqrt(hb.model().omega2[0]);
     const VectorXd load = hb.cosine_load(20.0);
     InterfaceBalanceEvaluation e;
-    hb.evaluate(perturbed_linear_state(hb, omega, load, 5), omega, 1.5, load, true, e);
+    hb.evaluate(slipping_state(hb, omega, load, 5), omega, 1.5, load, true, e);
     ASSERT_TRUE(e.ok) << e.message;
     ASSERT_GT(e.slipping_points, 0);
     const double err = inverse_error(hb, e, omega, 1.5);
@@ -77,7 +67,7 @@ TEST(InterfaceLocalPreconditioner, ExactAtTheStuckLimitAndApproximateInSlip) {
   const double stuck = inverse_error(hb, e0, omega, 1.5);
   const VectorXd load = hb.cosine_load(20.0);
   InterfaceBalanceEvaluation e;
-  hb.evaluate(perturbed_linear_state(hb, omega, load, 5), omega, 1.5, load, true, e);
+  hb.evaluate(slipping_state(hb, omega, load, 5), omega, 1.5, load, true, e);
   ASSERT_GT(e.slipping_points, 0);
   const double slipping = inverse_error(hb, e, omega, 1.5);
   // The harmonic block-Jacobi preconditioner on the same slipping state, for comparison.
@@ -98,7 +88,7 @@ TEST(InterfaceLocalPreconditioner, OneGroupOfAllPointsIsTheExactInverse) {
   const double omega = 1.05 * std::sqrt(hb.model().omega2[0]);
   const VectorXd load = hb.cosine_load(20.0);
   InterfaceBalanceEvaluation e;
-  hb.evaluate(perturbed_linear_state(hb, omega, load, 5), omega, 1.5, load, true, e);
+  hb.evaluate(slipping_state(hb, omega, load, 5), omega, 1.5, load, true, e);
   ASSERT_GT(e.slipping_points, 0);
   const InterfaceLocalPreconditioner all(hb, e, omega, 1.5, hb.points());
   const InterfaceLocalPreconditioner pairs(hb, e, omega, 1.5, 2);
@@ -117,7 +107,7 @@ TEST(InterfaceLocalPreconditioner, IndependentOfThreadCount) {
   const InterfaceBalance hb(make_model(s, 6, true), {.harmonics = 2, .time_samples = 32, .dense_jacobian = false});
   const double omega = 0.98 * std::sqrt(hb.model().omega2[0]);
   const VectorXd load = hb.cosine_load(30.0);
-  const VectorXd y = perturbed_linear_state(hb, omega, load, 2);
+  const VectorXd y = slipping_state(hb, omega, load, 2);
   const VectorXd v = VectorXd::LinSpaced(hb.unknowns(), -1.0, 2.0);
   const int saved = omp_get_max_threads();
   InterfaceBalanceEvaluation e1, e2;

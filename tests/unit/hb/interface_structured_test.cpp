@@ -18,17 +18,6 @@ namespace {
 
 using namespace jointhb::hb::testing;
 
-// A slipping state: the linear solution at a force that slips, perturbed.
-VectorXd slipping_state(const InterfaceBalance& hb, double omega, const VectorXd& load, unsigned seed) {
-  VectorXd y = hb.linear_solution(omega, load);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  const VectorXd scale = hb.unknown_scale();
-  const double size = y.cwiseQuotient(scale).lpNorm<Eigen::Infinity>();
-  for (Eigen::Index i = 0; i < y.size(); ++i) y[i] += 0.05 * size * scale[i] * nd(rng);
-  return y;
-}
-
 TEST(InterfaceBalanceProduct, MatchesDenseJacobianTimesVector) {
   for (bool gm : {true, false}) {
     const Structure s = make_structure(5, 4, 11, 0.5, gm);

@@ -157,4 +157,17 @@ inline InterfaceModel make_model(const Structure& s, int ns, bool gaul_mayer) {
 }
 
 
+// A slipping state of a balance: the linear solution at a force that slips, perturbed by 5 % of
+// its size per unknown (seeded).
+template <class Balance>
+VectorXd slipping_state(const Balance& hb, double omega, const VectorXd& load, unsigned seed) {
+  VectorXd y = hb.linear_solution(omega, load);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  const VectorXd scale = hb.unknown_scale();
+  const double size = y.cwiseQuotient(scale).lpNorm<Eigen::Infinity>();
+  for (Eigen::Index i = 0; i < y.size(); ++i) y[i] += 0.05 * size * scale[i] * nd(rng);
+  return y;
+}
+
 }  // namespace jointhb::hb::testing
