@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -57,9 +58,6 @@ constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
 // Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
 constexpr int kMaxRestarts = 4;
-// Adaptive refresh: a preconditioner that costs at most this fraction of the last GMRES solve to
-// build is rebuilt before every solve (it follows the state for next to nothing).
-constexpr double kCheapRebuild = 0.1;
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {
@@ -70,6 +68,7 @@ std::string one_line(std::string text) {
 
 // R and its scaled Jacobian at one point.
 struct Sample {
+  std::uint64_t id = 0;  // which evaluation (1, 2, ...): a new Jacobian
   VectorXd y;         // scaled unknowns (x ./ D, λ / λ_scale)
   VectorXd x;         // physical state
   double lambda = 0;  // physical parameter (exact where it was fixed)
@@ -258,6 +257,7 @@ class Tracer {
   // Evaluates R and its Jacobian at y (λ = fixed_lambda when given); empty string when usable.
   std::string evaluate(const VectorXd& y, const std::optional<double>& fixed_lambda,
                        Sample& sample) {
+    sample.id = ++samples_;
     sample.y = y;
     sample.x = y.head(n_).cwiseProduct(state_scale_);
     sample.lambda = fixed_lambda ? *fixed_lambda : y(n_) * options_.parameter_scale;
@@ -346,22 +346,19 @@ class Tracer {
     };
     bool fresh = false;
     std::string why;
-    // Adaptive refresh: rebuild from this sample once the GMRES steps that the lagged
-    // preconditioner needed beyond its first solve have cost as much as building it did.
-    const bool stale = options_.preconditioner_refresh == PreconditionerRefresh::adaptive && approximate_inverse_ &&
-                       (refresh_.wasted_seconds >= refresh_.build_seconds ||
-                        refresh_.build_seconds <= kCheapRebuild * refresh_.last_solve_seconds);
+    // every_jacobian: rebuilt from the first solve at a new Jacobian (counted, not timed, so the
+    // solves do not depend on the machine's speed or the thread count).
+    const bool stale = options_.preconditioner_refresh == PreconditionerRefresh::every_jacobian &&
+                       approximate_inverse_ && preconditioner_sample_ != sample.id;
     for (;;) {
       if (!approximate_inverse_ || !why.empty() || (stale && !fresh)) {  // none, stale, or it just failed
-        const auto build = Clock::now();
         approximate_inverse_ = sample.make_preconditioner
                                    ? sample.make_preconditioner()
                                    : LinearOperator([](const VectorXd& v) { return v; });
-        refresh_ = {.build_seconds = seconds_since(build)};
+        preconditioner_sample_ = sample.id;
         ++result_.factorisations;
         fresh = true;
       }
-      const auto gmres_start = Clock::now();
       const auto k_inverse = [&](const VectorXd& v) {
         return VectorXd(rs * approximate_inverse_(v).cwiseQuotient(state_scale_));
       };
@@ -401,7 +398,6 @@ class Tracer {
         if (!g.converged && true_residual > 0.5 * previous) break;  // stagnation: not worth a restart
       }
       result_.krylov_iterations += iterations;
-      refresh_.record(iterations, seconds_since(gmres_start), fresh);
       if (converged) {
         out = std::move(z);
         why.clear();
@@ -467,22 +463,8 @@ class Tracer {
   VectorXd state_scale_;
   std::unique_ptr<support::LapackLu> preconditioner_;  // newton_krylov: the lagged LU
   LinearOperator approximate_inverse_;  // matrix-free: the lagged approximate inverse of R_x
-  // What the lagged approximate inverse has cost (PreconditionerRefresh::adaptive).
-  struct RefreshLedger {
-    double build_seconds = 0.0;   // building it
-    int baseline = -1;            // GMRES steps of its first solve
-    double wasted_seconds = 0.0;  // steps beyond the baseline in later solves, in seconds
-    double last_solve_seconds = 0.0;  // GMRES time of the last solve
-    void record(int iterations, double seconds, bool first) {
-      last_solve_seconds = seconds;
-      if (first && baseline < 0) {
-        baseline = iterations;
-        return;
-      }
-      if (iterations > baseline && iterations > 0)
-        wasted_seconds += (iterations - baseline) * seconds / iterations;
-    }
-  } refresh_;
+  std::uint64_t preconditioner_sample_ = 0;  // Sample::id the approximate inverse was built at
+  std::uint64_t samples_ = 0;                 // evaluations so far (Sample::id)
   Index preconditioner_size_ = 0;
 };
 

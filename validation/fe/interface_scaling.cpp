@@ -23,7 +23,7 @@
 // reported with the measured per-iteration costs and the reason, never with an invented time.
 //
 //   interface_scaling [--ci] [--only LABEL] [--budget SECONDS] [--matrix-free-only]
-//                     [--preconditioner point_local|harmonic_blocks] [--refresh adaptive|on_failure]
+//                     [--preconditioner point_local|harmonic_blocks] [--refresh every_jacobian|on_failure]
 //                     [--double-products] OUTPUT_PREFIX
 // The last three choose the matrix-free curve's solver (defaults: the library's), to pair the
 // solver before issue 16 (harmonic_blocks, on_failure, double products) with today's.
@@ -132,10 +132,11 @@ struct Limits {
   double dense_run_limit = 4000; // unknowns: also run the dense_lu reference curve
   double budget = 400.0;         // s: predicted damping-curve time above which it is not run
   bool matrix_free_only = false; // --matrix-free-only: no dense Jacobian, dense Krylov or dense LU
-  // --preconditioner point_local|harmonic_blocks, --refresh adaptive|on_failure (matrix-free curve)
+  // --preconditioner point_local|harmonic_blocks, --refresh every_jacobian|on_failure (matrix-free curve)
   hb::InterfacePreconditioner preconditioner = hb::InterfacePreconditioner::point_local;
-  continuation::PreconditionerRefresh refresh = continuation::PreconditionerRefresh::adaptive;
+  continuation::PreconditionerRefresh refresh = continuation::PreconditionerRefresh::every_jacobian;
   bool mixed_precision = true;  // --double-products: GMRES products in double precision only
+  double krylov_tolerance = 0.0;  // --krylov-tolerance T: GMRES relative residual (0: the library's)
 };
 Limits g_limits;  // the command line's solver choices, read by trace()
 
@@ -194,6 +195,7 @@ Curve trace(const hb::InterfaceModel& model, int harmonics, double f1, double dr
   bo.preconditioner = g_limits.preconditioner;
   bo.continuation.preconditioner_refresh = g_limits.refresh;
   bo.mixed_precision = g_limits.mixed_precision;
+  if (g_limits.krylov_tolerance > 0.0) bo.continuation.krylov_tolerance = g_limits.krylov_tolerance;
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (csv) std::fprintf(csv, "q,frequency_hz,damping_ratio,slipping_points,iterations\n");
   Curve c;
@@ -381,6 +383,7 @@ int main(int argc, char** argv) {
     else if (a == "--budget" && i + 1 < argc) lim.budget = std::atof(argv[++i]);
     else if (a == "--matrix-free-only") lim.matrix_free_only = true;
     else if (a == "--double-products") lim.mixed_precision = false;
+    else if (a == "--krylov-tolerance" && i + 1 < argc) lim.krylov_tolerance = std::atof(argv[++i]);
     else if (a == "--preconditioner" && i + 1 < argc) {
       const std::string v = argv[++i];
       if (v != "harmonic_blocks" && v != "point_local") prefix.clear(), i = argc;
@@ -388,9 +391,9 @@ int main(int argc, char** argv) {
                                                   : hb::InterfacePreconditioner::point_local;
     } else if (a == "--refresh" && i + 1 < argc) {
       const std::string v = argv[++i];
-      if (v != "on_failure" && v != "adaptive") prefix.clear(), i = argc;
+      if (v != "on_failure" && v != "every_jacobian") prefix.clear(), i = argc;
       lim.refresh = v == "on_failure" ? continuation::PreconditionerRefresh::on_failure
-                                      : continuation::PreconditionerRefresh::adaptive;
+                                      : continuation::PreconditionerRefresh::every_jacobian;
     }
     else if (prefix.empty() && !a.empty() && a[0] != '-') prefix = a;
     else prefix.clear(), i = argc;
@@ -399,7 +402,7 @@ int main(int argc, char** argv) {
   if (prefix.empty()) {
     std::fprintf(stderr,
                  "usage: %s [--ci] [--only P<points>_H<h>] [--budget SECONDS] [--matrix-free-only] "
-                 "[--preconditioner point_local|harmonic_blocks] [--refresh adaptive|on_failure] [--double-products] "
+                 "[--preconditioner point_local|harmonic_blocks] [--refresh every_jacobian|on_failure] [--double-products] "
                  "OUTPUT_PREFIX\n",
                  argv[0]);
     return 2;

@@ -61,10 +61,10 @@ enum class LinearSolver {
 
 /// When a matrix-free solve rebuilds its preconditioner (Evaluation::make_preconditioner).
 enum class PreconditionerRefresh {
-  on_failure,  ///< only when GMRES fails with the lagged one
-  adaptive,    ///< also once the GMRES steps it needed beyond its first solve have cost as much
-               ///< time as building it did (a cheap preconditioner follows the state closely, an
-               ///< expensive one is kept longer)
+  on_failure,      ///< only when GMRES fails with the lagged one (for an expensive preconditioner)
+  every_jacobian,  ///< at the first solve with each new Jacobian, so that it follows the state
+                   ///< (for a cheap one: the FE drivers' point-local T-34); the tangent at a
+                   ///< converged point reuses the last corrector's
 };
 
 struct Options {
@@ -97,7 +97,7 @@ struct Options {
   /// (the true residual, recomputed after GMRES).
   double krylov_tolerance = 1e-11;
   /// newton_krylov with matrix-free Jacobians: when the preconditioner is rebuilt.
-  PreconditionerRefresh preconditioner_refresh = PreconditionerRefresh::adaptive;
+  PreconditionerRefresh preconditioner_refresh = PreconditionerRefresh::every_jacobian;
 
   [[nodiscard]] std::string validate(Eigen::Index n) const;  ///< empty when valid
 };
