@@ -4,7 +4,7 @@
 # peak memory gathered into one CSV:
 #   validation/fe/lap_fine_cases.sh BUILD_DIR OUTPUT_DIR [CONFIG ...]
 # CONFIG: lap60_H3 lap60_H7 lap60_frf_H3 lap120_H3 cu_H3 (default: all but lap120_H3, which needs
-# ~15 GB and several minutes). lapNN: NN x (NN * 0.3) x 1 elements per plate (60: 475 node pairs,
+# ~12 GB and about 8 minutes). lapNN: NN x (NN * 0.3) x 1 elements per plate (60: 475 node pairs,
 # 120: 1 813); frf: three force levels (2, 10, 40 N) over 870-935 Hz. Writes OUTPUT_DIR/<config>/
 # (the run's outputs) and OUTPUT_DIR/lap_fine_cases.csv; a benchmark, not a test (no bound on a time).
 set -uo pipefail
