@@ -341,9 +341,8 @@ class Tracer {
     // Inside a GMRES cycle the cheaper inexact product when there is one; each cycle ends on the
     // true residual of the exact product, and asks for no more than the inexact product can give.
     const bool inexact = static_cast<bool>(sample.product_inner);
-    const auto apply_inner = [&](const VectorXd& z) {
-      return inexact ? bordered(sample.product_inner, z) : bordered(sample.product, z);
-    };
+    const LinearOperator& inner_product = inexact ? sample.product_inner : sample.product;
+    const auto apply_inner = [&](const VectorXd& z) { return bordered(inner_product, z); };
     bool fresh = false;
     std::string why;
     // every_jacobian: rebuilt from the first solve at a new Jacobian (counted, not timed, so the

@@ -341,8 +341,7 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
   MatrixXd rg = dg.transpose() - phi_g * eta.transpose();
   const MatrixXd force_t = c.force.transpose();
   MatrixXd w0 = MatrixXd::Zero(3 * P, m), w1 = MatrixXd::Zero(3 * P, m);
-  support::gemm_add(d.model.residual_flexibility, force_t, w0);
-  support::gemm_add(d.model.residual_inertia, force_t, w1);
+  support::gemm_add_by_rows(d.model.residual_flexibility, force_t, w0, d.model.residual_inertia, w1);
   d.combine_residual(w0, w1, omega, xi, 0, rg);
   MatrixXd load_gap = MatrixXd::Zero(3 * P, m);
   d.apply_load_residual(load, omega, xi, 0, load_gap);

@@ -36,7 +36,7 @@ struct Evaluation {
   /// make_preconditioner's approximate inverse of ∂R/∂x (docs/continuation.md §2).
   LinearOperator d_state_product;
   /// With d_state_product: builds an approximate inverse v ↦ M⁻¹ v of ∂R/∂x at this point (kept
-  /// for later iterations until GMRES fails with it); empty: no preconditioner.
+  /// for later solves as Options::preconditioner_refresh says); empty: no preconditioner.
   std::function<LinearOperator()> make_preconditioner;
   /// Optional, with d_state_product: a cheaper approximation of it (e.g. in single precision),
   /// accurate to inner_product_accuracy relative, used inside GMRES cycles; each cycle's solution
