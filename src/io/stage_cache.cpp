@@ -14,12 +14,6 @@
 namespace jointhb::io {
 namespace {
 
-__extension__ typedef unsigned __int128 u128;
-
-constexpr u128 fnv128_prime = (static_cast<u128>(1) << 88) + 0x13b;
-constexpr u128 fnv128_offset =
-    (static_cast<u128>(0x6c62272e07bb0142ULL) << 64) | static_cast<u128>(0x62b821756295c58dULL);
-
 std::uint64_t fnv1a64(std::string_view bytes) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
   for (const char c : bytes) {
@@ -282,97 +276,6 @@ static_assert(sizeof(hb::InterfaceOutput) == 96, "InterfaceOutput changed: updat
 #endif
 
 }  // namespace
-
-// ---- Fingerprint ---------------------------------------------------------------------------------
-
-Fingerprint::Fingerprint()
-    : high_(static_cast<std::uint64_t>(fnv128_offset >> 64)), low_(static_cast<std::uint64_t>(fnv128_offset)) {}
-
-Fingerprint Fingerprint::chain(std::string_view parent_hex) {
-  Fingerprint f;
-  f.tag('P');
-  f.add(parent_hex);
-  return f;
-}
-
-void Fingerprint::mix(const void* data, std::size_t size) {
-  u128 h = (static_cast<u128>(high_) << 64) | low_;
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= p[i];
-    h *= fnv128_prime;
-  }
-  high_ = static_cast<std::uint64_t>(h >> 64);
-  low_ = static_cast<std::uint64_t>(h);
-}
-
-Fingerprint& Fingerprint::add_bytes(const void* data, std::size_t size) {
-  Writer w;
-  w.u64(size);
-  const std::string n = w.take();
-  mix(n.data(), n.size());
-  mix(data, size);
-  return *this;
-}
-
-Fingerprint& Fingerprint::add(std::string_view text) {
-  tag('s');
-  return add_bytes(text.data(), text.size());
-}
-
-Fingerprint& Fingerprint::add(std::uint64_t value) {
-  tag('u');
-  Writer w;
-  w.u64(value);
-  const std::string b = w.take();
-  mix(b.data(), b.size());
-  return *this;
-}
-
-Fingerprint& Fingerprint::add(std::int64_t value) {
-  tag('i');
-  Writer w;
-  w.u64(static_cast<std::uint64_t>(value));
-  const std::string b = w.take();
-  mix(b.data(), b.size());
-  return *this;
-}
-
-Fingerprint& Fingerprint::add(int value) { return add(static_cast<std::int64_t>(value)); }
-
-Fingerprint& Fingerprint::add(bool value) {
-  tag('b');
-  const unsigned char b = value ? 1 : 0;
-  mix(&b, 1);
-  return *this;
-}
-
-Fingerprint& Fingerprint::add(double value) {
-  tag('d');
-  Writer w;
-  w.f64(value);
-  const std::string b = w.take();
-  mix(b.data(), b.size());
-  return *this;
-}
-
-Fingerprint& Fingerprint::add(const Eigen::VectorXd& values) {
-  tag('v');
-  Writer w;
-  w.vec(values);
-  const std::string b = w.take();
-  mix(b.data(), b.size());
-  return *this;
-}
-
-Fingerprint& Fingerprint::add_file(const std::filesystem::path& file) {
-  const std::optional<std::string> bytes = file_bytes(file);
-  if (!bytes) throw std::runtime_error(file.string() + ": cannot read the file for its fingerprint");
-  tag('f');
-  return add_bytes(bytes->data(), bytes->size());
-}
-
-std::string Fingerprint::hex() const { return fmt::format("{:016x}{:016x}", high_, low_); }
 
 // ---- payloads ------------------------------------------------------------------------------------
 

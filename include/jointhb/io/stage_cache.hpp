@@ -32,45 +32,17 @@
 #include "jointhb/contact/contact_point.hpp"
 #include "jointhb/hb/interface_model.hpp"
 #include "jointhb/modal/modes.hpp"
+#include "jointhb/pipeline/fingerprint.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/field_recovery.hpp"
 
 
 namespace jointhb::io {
 
+using pipeline::Fingerprint;  // the stage keys (pipeline/fingerprint.hpp)
+
 /// Layout version of the cache files; bump when a serialised type gains, loses or changes a field.
 inline constexpr std::uint32_t stage_cache_format = 1;
-
-/// A 128-bit FNV-1a hash (Fowler–Noll–Vo; prime 2^88 + 2^8 + 0x3b, offset basis
-/// 0x6c62272e07bb014262b821756295c58d) built from typed values. Every value is preceded by a type
-/// tag and strings and vectors by their length, so ("ab", "c") and ("a", "bc") differ.
-class Fingerprint {
- public:
-  Fingerprint();
-  /// A fingerprint that starts with the key of the stage it builds on (its hex()).
-  [[nodiscard]] static Fingerprint chain(std::string_view parent_hex);
-
-  Fingerprint& add(std::string_view text);
-  Fingerprint& add(const char* text) { return add(std::string_view(text)); }
-  Fingerprint& add(double value);  ///< the bit pattern (0.0 and −0.0 differ)
-  Fingerprint& add(int value);
-  Fingerprint& add(std::int64_t value);
-  Fingerprint& add(std::uint64_t value);
-  Fingerprint& add(bool value);
-  Fingerprint& add(const Eigen::VectorXd& values);
-  /// The file's bytes (and its size). Throws std::runtime_error naming the file when unreadable.
-  Fingerprint& add_file(const std::filesystem::path& file);
-  /// Raw bytes with a length prefix.
-  Fingerprint& add_bytes(const void* data, std::size_t size);
-
-  /// 32 lower-case hex digits.
-  [[nodiscard]] std::string hex() const;
-
- private:
-  void mix(const void* data, std::size_t size);
-  void tag(char t) { mix(&t, 1); }
-  std::uint64_t high_, low_;  ///< the 128-bit state
-};
 
 /// The on-disk cache of stage results. All load_* return std::nullopt on a miss; store_* never
 /// throw (a failure is a warning). With enabled = false every load misses and store does nothing.
