@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 #include <optional>
 
 #include "jointhb/fe/assembly.hpp"
@@ -13,6 +14,7 @@
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/io/vtk_writer.hpp"
 #include "jointhb/modal/modes.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "interface_fields.hpp"
 
@@ -57,6 +59,89 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
   io::write_quad_surface_vtu(dir / ("contact_" + label + ".vtu"), mesh.coordinates, quads, data);
 }
 
+ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, const pipeline::StageInfo& info) {
+  ordered_json pj;
+  pj["status"] = p.converged ? "converged" : "failed";
+  pj["message"] = p.message;
+  pj["load_factor"] = p.load_factor;
+  pj["newton_iterations"] = p.total_iterations;
+  pj["factorizations"] = p.factor.factorizations;
+  pj["support"] = p.support_dofs.empty() ? "user constraints" : "3-2-1 (statically determinate)";
+  pj["support_reaction_relative"] = p.support_reaction;
+  pj["factor"] = p.factor_statistics;
+  pj["bolts"] = ordered_json::array();
+  for (std::size_t b = 0; b < c.bolts.size(); ++b)
+    pj["bolts"].push_back({{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
+                           {"head_nodes", c.bolts[b].head_nodes.size()},
+                           {"nut_nodes", c.bolts[b].nut_nodes.size()}});
+  pj["interfaces"] = ordered_json::array();
+  for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
+    const auto& r = p.interfaces[i];
+    pj["interfaces"].push_back({{"name", r.name},
+                                {"points", c.interfaces[i].geometry.num_points()},
+                                {"area", c.interfaces[i].geometry.total_area},
+                                {"clamping_force", r.clamping_force},
+                                {"closed_area_fraction", r.closed_area_fraction},
+                                {"mean_pressure", r.mean_pressure},
+                                {"max_pressure", r.max_pressure},
+                                {"min_gap", r.min_gap},
+                                {"max_gap", r.max_gap}});
+  }
+  pj["seconds"] = {{"total", p.seconds}, {"contact", p.contact_seconds},
+                   {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
+  pj["cache"] = info.from_store ? "hit" : "miss";
+  pj["cache_seconds"] = info.store_seconds;
+  return pj;
+}
+
+// The preload stage's outputs: preload_steps.csv, contact_<iface>.csv/.vtu, preload.vtu.
+void write_preload(const std::filesystem::path& dir, const io::FeCase& c, const preload::PreloadResult& p) {
+  io::CsvWriter steps(dir / "preload_steps.csv",
+                      {"step", "load_factor", "iterations", "line_search_cuts", "residual", "converged"});
+  for (std::size_t k = 0; k < p.steps.size(); ++k) {
+    const auto& s = p.steps[k];
+    steps.write_row({static_cast<double>(k + 1), s.load_factor, static_cast<double>(s.iterations),
+                     static_cast<double>(s.line_search_cuts), s.residual, s.converged ? 1.0 : 0.0});
+  }
+  for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
+    const auto& r = p.interfaces[i];
+    std::fprintf(stderr, "  interface %s: clamping force %.6g N, closed area %.1f %%, max pressure %.4g Pa\n",
+                 r.name.c_str(), r.clamping_force, 100.0 * r.closed_area_fraction, r.max_pressure);
+    write_interface(dir, c.mesh, c.interfaces[i], r);
+  }
+  io::VtkData data;
+  data.add_point_dofs("displacement", p.displacement);
+  io::write_vtu(dir / "preload.vtu", c.mesh, data);
+}
+
+// The modes stage's outputs: modes.csv, modes.vtu.
+void write_modes(const std::filesystem::path& dir, const io::FeCase& c, const fe::DofMap& dofs,
+                 const modal::ModalResult& m) {
+  io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual", "backward_error"});
+  io::VtkData data;
+  for (Eigen::Index j = 0; j < m.eigenvalues.size(); ++j) {
+    csv.write_row({static_cast<double>(j + 1), m.frequencies_hz[j], m.eigenvalues[j], m.residuals[j],
+                   m.backward_errors[j]});
+    data.add_point_dofs(fmt::format("mode_{}", j + 1), dofs.expand(m.shapes.col(j)));
+  }
+  if (m.eigenvalues.size() > 0) io::write_vtu(dir / "modes.vtu", c.mesh, data);
+}
+
+ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& info) {
+  ordered_json mj;
+  mj["status"] = m.status == modal::ModalStatus::converged ? "converged" : "failed";
+  mj["message"] = m.message;
+  mj["frequencies_hz"] = std::vector<double>(m.frequencies_hz.data(), m.frequencies_hz.data() + m.frequencies_hz.size());
+  mj["max_residual"] = m.residuals.size() ? m.residuals.maxCoeff() : 0.0;
+  mj["max_backward_error"] = m.backward_errors.size() ? m.backward_errors.maxCoeff() : 0.0;
+  mj["shift"] = m.shift;
+  mj["iterations"] = m.iterations;
+  mj["seconds"] = m.seconds;
+  mj["cache"] = info.from_store ? "hit" : "miss";
+  mj["cache_seconds"] = info.store_seconds;
+  return mj;
+}
+
 }  // namespace
 
 int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start,
@@ -71,13 +156,19 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                       {"dofs", c.mesh.num_dofs()},
                       {"parts", c.mesh.parts}};
   int code = 0;
-  io::StageCache cache(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
-                       run_options.use_cache);
-  summary["cache"] = {{"enabled", cache.enabled()}, {"directory", cache.directory().string()}};
+  auto cache = std::make_shared<io::StageCache>(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
+                                                run_options.use_cache);
+  summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
+  pipeline::FeAnalysis analysis = c;
+  if (tty) {
+    analysis.preload.progress = [](int step, int it, double r) {
+      std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
+    };
+  }
+  pipeline::FePipeline pipe(c, std::move(analysis), cache);
 
   // ---- structure -------------------------------------------------------------------------
-  const preload::PreloadModel model = io::preload_model(c);
-  const fe::StructuralMatrices& structure = model.structure;
+  const fe::StructuralMatrices& structure = pipe.structure().structure;
   summary["model"]["mass_kg"] = structure.total_mass;
   summary["timings"]["assembly_seconds"] = structure.seconds;
   std::fprintf(stderr, "model: %d nodes, %d elements, %d DOFs, mass %.4g kg (assembly %.2f s)\n",
@@ -85,163 +176,46 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                structure.seconds);
 
   // ---- preload ---------------------------------------------------------------------------
-  Eigen::SparseMatrix<double> stiffness = structure.stiffness;
-  fe::DofMap dofs = fe::DofMap::from_fixed_nodes(c.mesh.num_nodes(), c.constraints);
-  // The dynamic stage needs the preloaded state and the modes about it (defaults when the case
-  // does not give analysis.preload / analysis.modes).
-  const bool dynamics = c.dynamics.has_value();
-  const std::optional<modal::ModalOptions> modal_options =
-      c.modes ? c.modes : (dynamics ? std::optional<modal::ModalOptions>(modal::ModalOptions{}) : std::nullopt);
-  const bool needs_preload =
-      c.preload_requested || ((modal_options || dynamics) && (!c.interfaces.empty() || !c.bolts.empty()));
-  preload::PreloadResult p;
-  modal::ModalResult m;
-  if (needs_preload) {
-    preload::PreloadOptions options = c.preload;
-    if (tty) {
-      options.progress = [](int step, int it, double r) {
-        std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
-      };
-    }
-    const auto cache_start = Clock::now();
-    std::optional<preload::PreloadResult> cached = cache.load_preload(c.fingerprints.preload);
-    if (cached && (cached->interfaces.size() != c.interfaces.size() ||
-                   cached->bolt_forces.size() != c.bolts.size() ||
-                   cached->displacement.size() != c.mesh.num_dofs())) {
-      std::fprintf(stderr, "warning: stage cache: %s does not fit this model; recomputing preload\n",
-                   cache.file("preload", c.fingerprints.preload).string().c_str());
-      cached.reset();
-    }
-    const bool hit = cached.has_value();
-    double cache_seconds = 0.0;
-    if (hit) {
-      p = std::move(*cached);
-      cache_seconds = seconds_since(cache_start);
-      std::fprintf(stderr, "preload: from cache (%s): %s (solved in %.2f s, read in %.3f s)\n",
-                   cache.file("preload", c.fingerprints.preload).string().c_str(), p.message.c_str(),
-                   p.seconds, cache_seconds);
+  if (pipe.needs_preload()) {
+    const preload::PreloadResult& p = pipe.preload();
+    const pipeline::StageInfo& info = pipe.preload_info();
+    if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
+    if (info.from_store) {
+      std::fprintf(stderr, "preload: from cache (%s): %s (solved in %.2f s, read in %.3f s)\n", info.location.c_str(),
+                   p.message.c_str(), p.seconds, info.store_seconds);
     } else {
-      p = preload::solve_preload(model, options);
       if (tty) std::fprintf(stderr, "\n");
       std::fprintf(stderr, "preload: %s (%.2f s)\n", p.message.c_str(), p.seconds);
-      if (p.converged) {
-        const auto store_start = Clock::now();
-        cache.store_preload(c.fingerprints.preload, p);
-        cache_seconds = seconds_since(store_start);
-      }
     }
-    {
-      io::CsvWriter steps(dir / "preload_steps.csv",
-                          {"step", "load_factor", "iterations", "line_search_cuts", "residual", "converged"});
-      for (std::size_t k = 0; k < p.steps.size(); ++k) {
-        const auto& s = p.steps[k];
-        steps.write_row({static_cast<double>(k + 1), s.load_factor, static_cast<double>(s.iterations),
-                         static_cast<double>(s.line_search_cuts), s.residual, s.converged ? 1.0 : 0.0});
-      }
-    }
-    ordered_json pj;
-    pj["status"] = p.converged ? "converged" : "failed";
-    pj["message"] = p.message;
-    pj["load_factor"] = p.load_factor;
-    pj["newton_iterations"] = p.total_iterations;
-    pj["factorizations"] = p.factor.factorizations;
-    pj["support"] = p.support_dofs.empty() ? "user constraints" : "3-2-1 (statically determinate)";
-    pj["support_reaction_relative"] = p.support_reaction;
-    pj["factor"] = p.factor_statistics;
-    pj["bolts"] = ordered_json::array();
-    for (std::size_t b = 0; b < c.bolts.size(); ++b)
-      pj["bolts"].push_back({{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
-                             {"head_nodes", c.bolts[b].head_nodes.size()},
-                             {"nut_nodes", c.bolts[b].nut_nodes.size()}});
-    pj["interfaces"] = ordered_json::array();
-    for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
-      const auto& r = p.interfaces[i];
-      pj["interfaces"].push_back({{"name", r.name},
-                                  {"points", c.interfaces[i].geometry.num_points()},
-                                  {"area", c.interfaces[i].geometry.total_area},
-                                  {"clamping_force", r.clamping_force},
-                                  {"closed_area_fraction", r.closed_area_fraction},
-                                  {"mean_pressure", r.mean_pressure},
-                                  {"max_pressure", r.max_pressure},
-                                  {"min_gap", r.min_gap},
-                                  {"max_gap", r.max_gap}});
-      std::fprintf(stderr, "  interface %s: clamping force %.6g N, closed area %.1f %%, max pressure %.4g Pa\n",
-                   r.name.c_str(), r.clamping_force, 100.0 * r.closed_area_fraction, r.max_pressure);
-      write_interface(dir, c.mesh, c.interfaces[i], r);
-    }
-    pj["seconds"] = {{"total", p.seconds}, {"contact", p.contact_seconds},
-                     {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
-    pj["cache"] = hit ? "hit" : "miss";
-    pj["cache_seconds"] = cache_seconds;
-    summary["preload"] = pj;
-    io::VtkData data;
-    data.add_point_dofs("displacement", p.displacement);
-    io::write_vtu(dir / "preload.vtu", c.mesh, data);
+    write_preload(dir, c, p);
+    summary["preload"] = preload_json(c, p, info);
     if (!p.converged) code = 1;
-    stiffness = p.dynamic_stiffness;
   }
 
   // ---- modes -----------------------------------------------------------------------------
-  if (modal_options && code == 0) {
-    const auto cache_start = Clock::now();
-    std::optional<modal::ModalResult> cached = cache.load_modes(c.fingerprints.modes);
-    if (cached && cached->shapes.rows() != dofs.num_free()) {
-      std::fprintf(stderr, "warning: stage cache: %s does not fit this model; recomputing modes\n",
-                   cache.file("modes", c.fingerprints.modes).string().c_str());
-      cached.reset();
-    }
-    const bool hit = cached.has_value();
-    double cache_seconds = 0.0;
-    if (hit) {
-      m = std::move(*cached);
-      cache_seconds = seconds_since(cache_start);
-      std::fprintf(stderr, "modes: from cache (%s): %s (read in %.3f s)\n",
-                   cache.file("modes", c.fingerprints.modes).string().c_str(), m.brief().c_str(),
-                   cache_seconds);
-    } else {
-      const Eigen::SparseMatrix<double> K = dofs.restrict(stiffness);
-      const Eigen::SparseMatrix<double> M = dofs.restrict(structure.mass);
-      m = modal::compute_modes(K, M, *modal_options);
+  if (pipe.modal_options() && code == 0) {
+    const modal::ModalResult& m = pipe.modes();
+    const pipeline::StageInfo& info = pipe.modes_info();
+    if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
+    if (info.from_store)
+      std::fprintf(stderr, "modes: from cache (%s): %s (read in %.3f s)\n", info.location.c_str(), m.brief().c_str(),
+                   info.store_seconds);
+    else
       std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
-      if (m.status == modal::ModalStatus::converged) {
-        const auto store_start = Clock::now();
-        cache.store_modes(c.fingerprints.modes, m);
-        cache_seconds = seconds_since(store_start);
-      }
-    }
-    io::CsvWriter csv(dir / "modes.csv", {"mode", "frequency_hz", "eigenvalue", "residual", "backward_error"});
-    io::VtkData data;
-    std::vector<std::pair<double, std::filesystem::path>> collection;
-    for (Eigen::Index j = 0; j < m.eigenvalues.size(); ++j) {
-      csv.write_row({static_cast<double>(j + 1), m.frequencies_hz[j], m.eigenvalues[j], m.residuals[j],
-                     m.backward_errors[j]});
-      data.add_point_dofs(fmt::format("mode_{}", j + 1), dofs.expand(m.shapes.col(j)));
-    }
-    if (m.eigenvalues.size() > 0) io::write_vtu(dir / "modes.vtu", c.mesh, data);
-    ordered_json mj;
-    mj["status"] = m.status == modal::ModalStatus::converged ? "converged" : "failed";
-    mj["message"] = m.message;
-    mj["frequencies_hz"] = std::vector<double>(m.frequencies_hz.data(), m.frequencies_hz.data() + m.frequencies_hz.size());
-    mj["max_residual"] = m.residuals.size() ? m.residuals.maxCoeff() : 0.0;
-    mj["max_backward_error"] = m.backward_errors.size() ? m.backward_errors.maxCoeff() : 0.0;
-    mj["shift"] = m.shift;
-    mj["iterations"] = m.iterations;
-    mj["seconds"] = m.seconds;
-    mj["cache"] = hit ? "hit" : "miss";
-    mj["cache_seconds"] = cache_seconds;
-    summary["modes"] = mj;
+    write_modes(dir, c, pipe.dofs(), m);
+    summary["modes"] = modes_json(m, info);
     if (m.status != modal::ModalStatus::converged) code = 1;
   }
 
   // ---- condensation, damping curves, FRFs ---------------------------------------------------
-  if (dynamics && code == 0) {
+  if (c.dynamics && code == 0) {
     if (c.interfaces.empty()) {
       std::fprintf(stderr, "error: analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)\n");
       code = 1;
     } else {
       write_summary(dir / "summary.json", summary);
       try {
-        code = run_fe_dynamics(c, model, p, m, dir, cache, summary);
+        code = run_fe_dynamics(pipe, dir, summary);
       } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         summary["message"] = e.what();

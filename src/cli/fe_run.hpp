@@ -11,7 +11,7 @@
 //
 // Stage cache (io/stage_cache.hpp): the preload and the modes are stored in CACHE_DIR (default
 // DIR/.cache; `--cache-dir`, off with `--no-cache`) as preload-<key>.bin and modes-<key>.bin, the
-// keys being io::FeCase::fingerprints (the model and mesh files, plus analysis.preload, plus
+// keys being pipeline::fe_stage_keys (the typed model, plus analysis.preload, plus
 // analysis.modes). A second run whose model and those settings are unchanged reads the stages
 // instead of solving them ("preload: from cache (FILE)") and writes every output as the first
 // did; summary.json says "cache": "hit" or "miss" per stage, with the original solve time in

@@ -13,11 +13,12 @@
 #include <variant>
 
 #include "cli_support.hpp"
-#include "fe_fit_model.hpp"
 #include "jointhb/fit/discrete_model.hpp"
 #include "jointhb/fit/history.hpp"
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/csv_writer.hpp"
+#include "jointhb/io/stage_cache.hpp"
+#include "jointhb/pipeline/fe_fit_model.hpp"
 #include "plot_results.hpp"
 #include "run_support.hpp"
 
@@ -141,7 +142,8 @@ int FitCommand::run() const {
   // The model is checked once before any output exists (a setup error is bad input).
   std::vector<double> start_values;
   for (const auto& p : section.parameters) start_values.push_back(p.start);
-  std::optional<FeFitModel> fe_model;
+  std::optional<pipeline::FePipeline> fe_pipeline;
+  std::optional<pipeline::FeFitModel> fe_model;
   if (c) {
     io::DiscreteCase check = *c;
     try {
@@ -151,14 +153,14 @@ int FitCommand::run() const {
                        ": fit.parameters: the start values give an invalid model: " + e.what());
     }
   } else {
-    std::ifstream in(case_path_);
-    std::stringstream text;
-    text << in.rdbuf();
-    fe_model.emplace(text.str(), case_path_, names, section.targets,
-                     cache_dir_.empty() ? fs::path(output_dir_) / ".cache" : fs::path(cache_dir_),
-                     section.friction_in_dynamics_only);
+    // The stages are kept on disk (the run's stage cache), so a fit resumed or repeated reads
+    // what an earlier one computed.
+    auto store = std::make_shared<io::StageCache>(
+        cache_dir_.empty() ? fs::path(output_dir_) / ".cache" : fs::path(cache_dir_), true);
+    fe_pipeline.emplace(*fe, *fe, store);
+    fe_model.emplace(*fe_pipeline, names, section.targets, section.friction_in_dynamics_only);
     try {
-      (void)fe_model->case_at(start_values);
+      fe_model->set(start_values);
     } catch (const std::exception& e) {
       throw UsageError(case_path_ + ": fit.parameters: the start values give an invalid case: " + e.what());
     }
@@ -343,12 +345,16 @@ int FitCommand::run() const {
       {"seconds", {{"fit", r.seconds}, {"total", seconds_since(start)}}}};
   if (fe_model) {
     summary["options"]["friction_in_dynamics_only"] = section.friction_in_dynamics_only;
-    const FeFitModel::Counters& k = fe_model->counters();
-    summary["stages"] = {{"preload", {{"solved", k.preload_solved}, {"from_cache", k.preload_cached}}},
-                         {"modes", {{"solved", k.modes_solved}, {"from_cache", k.modes_cached}}},
-                         {"condensation", {{"solved", k.condensed}, {"from_cache", k.condensation_cached}}},
-                         {"damping_curves", k.curves},
-                         {"values_put_on_the_curve", k.corrected}};
+    const pipeline::StageCounters& k = fe_pipeline->counters();
+    // solved: computed; from_cache: read from the stage cache; reused: kept from an earlier
+    // evaluation (its inputs unchanged).
+    summary["stages"] = {
+        {"preload", {{"solved", k.preload_solved}, {"from_cache", k.preload_read}, {"reused", k.preload_reused}}},
+        {"modes", {{"solved", k.modes_solved}, {"from_cache", k.modes_read}, {"reused", k.modes_reused}}},
+        {"condensation",
+         {{"solved", k.condensed}, {"from_cache", k.condensation_read}, {"reused", k.condensation_reused}}},
+        {"damping_curves", k.curves},
+        {"values_put_on_the_curve", fe_model->corrected()}};
   }
   write_summary(dir / "fit.json", summary);
   if (!quiet_) {

@@ -1,7 +1,7 @@
 #include "jointhb/io/fe_case.hpp"
 
 #include "fit_keys.hpp"
-#include "jointhb/io/fe_fit_parameters.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -22,7 +22,6 @@
 #include "jointhb/fe/mesh_checks.hpp"
 #include "jointhb/fe/mesh_file_error.hpp"
 #include "jointhb/io/input_error.hpp"
-#include "jointhb/io/stage_cache.hpp"
 #include "jointhb/io/value_checks.hpp"
 #include "fe_dynamics_keys.hpp"
 #include "yaml_support.hpp"
@@ -33,33 +32,6 @@ namespace {
 using yaml::Fields;
 using yaml::item_path;
 
-// The YAML tree as the reader sees it: node kinds, scalars' text, sequence and mapping order.
-// Comments, quoting and flow/block style do not enter.
-void add_yaml(Fingerprint& f, const YAML::Node& node) {
-  switch (node.Type()) {
-    case YAML::NodeType::Scalar:
-      f.add(1).add(node.Scalar());
-      break;
-    case YAML::NodeType::Sequence:
-      f.add(2).add(static_cast<int>(node.size()));
-      for (const YAML::Node& item : node) add_yaml(f, item);
-      break;
-    case YAML::NodeType::Map:
-      f.add(3).add(static_cast<int>(node.size()));
-      for (auto it = node.begin(); it != node.end(); ++it) {
-        add_yaml(f, it->first);
-        add_yaml(f, it->second);
-      }
-      break;
-    case YAML::NodeType::Null:
-      f.add(4);
-      break;
-    case YAML::NodeType::Undefined:
-      f.add(0);
-      break;
-  }
-}
-
 #ifndef JOINTHB_VERSION
 #define JOINTHB_VERSION "unknown"
 #endif
@@ -67,12 +39,12 @@ void add_yaml(Fingerprint& f, const YAML::Node& node) {
 const std::set<std::string> kAnalysisKeys = {"preload",    "modes",   "damping",         "reduction",
                                              "excitation", "outputs", "nonlinear_modes", "frf"};
 
-// What a fit section of an FE case may name: the parameters of io/fe_fit_parameters.hpp, modal
+// What a fit section of an FE case may name: the parameters of pipeline/fe_pipeline.hpp, modal
 // targets of the elastic modes the modes stage computes at most, backbone targets of the followed
 // modes, FRF targets of analysis.frf (level = index into its force list).
 FitContext fit_context(const FeCase& c) {
   FitContext x;
-  x.names = fe_fit_parameter_names(c);
+  x.names = pipeline::fe_parameter_names(c, c);
   x.modes = c.modes ? c.modes->count : modal::ModalOptions{}.count;
   if (c.dynamics && c.dynamics->nonlinear_modes) {
     const FeNonlinearModesSpec& nm = *c.dynamics->nonlinear_modes;
@@ -101,19 +73,15 @@ class FeCaseReader {
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
-    std::optional<YAML::Node> preload_node, modes_node;
     if (const auto* analysis = top.find("analysis")) {
       read_analysis(analysis->value, c);
       const Fields f = reader_.fields(analysis->value, "analysis", kAnalysisKeys);
-      if (const auto* p = f.find("preload")) preload_node = p->value;
-      if (const auto* m = f.find("modes")) modes_node = m->value;
       for (const char* key : {"damping", "reduction", "excitation", "outputs", "nonlinear_modes", "frf"})
         if (f.has(key)) {
           c.dynamics = read_fe_dynamics(reader_, f, c.mesh);
           break;
         }
     }
-    fingerprint(model->value, preload_node, modes_node, c);
     // fit: last, since its parameter names and targets depend on the model and the analyses.
     if (const auto* section = top.find("fit")) c.fit = read_fit_section(reader_, section->value, "fit", fit_context(c), directory_);
     return c;
@@ -123,24 +91,6 @@ class FeCaseReader {
   yaml::Reader reader_;
   std::filesystem::path directory_;
   std::map<std::string, fe::Material> materials_;
-  std::vector<std::pair<std::string, std::filesystem::path>> mesh_files_;  ///< as written, resolved
-
-  void fingerprint(const YAML::Node& model, const std::optional<YAML::Node>& preload,
-                   const std::optional<YAML::Node>& modes, FeCase& c) const {
-    Fingerprint m;
-    m.add("jointhb fe model").add(fe_fingerprint_version).add(JOINTHB_VERSION);
-    add_yaml(m, model);
-    for (const auto& [name, file] : mesh_files_) m.add(name).add_file(file);
-    c.fingerprints.model = m.hex();
-    Fingerprint p = Fingerprint::chain(c.fingerprints.model);
-    p.add("analysis.preload");
-    if (preload) add_yaml(p, *preload); else p.add("defaults");
-    c.fingerprints.preload = p.hex();
-    Fingerprint d = Fingerprint::chain(c.fingerprints.preload);
-    d.add("analysis.modes");
-    if (modes) add_yaml(d, *modes); else d.add("absent");
-    c.fingerprints.modes = d.hex();
-  }
 
   double positive(const Fields& f, const char* name) const {
     const YAML::Node v = f.find(name)->value;
@@ -258,7 +208,6 @@ class FeCaseReader {
       } else {
         const auto* m = f.find("mesh");
         const std::filesystem::path file = directory_ / reader_.text(m->value, f.path_of("mesh"));
-        mesh_files_.emplace_back(reader_.text(m->value, f.path_of("mesh")), file);
         try {
           const std::string ext = file.extension().string();
           if (ext == ".inp") {
@@ -506,16 +455,6 @@ class FeCaseReader {
 FeCase parse_fe_case(const std::string& text, const std::string& file_name) {
   const std::filesystem::path dir = std::filesystem::path(file_name).parent_path();
   return FeCaseReader(file_name, dir).read(yaml::load(text, file_name));
-}
-
-preload::PreloadModel preload_model(const FeCase& c) {
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  model.constraints = c.constraints;
-  return model;
 }
 
 FeCase read_fe_case(const std::filesystem::path& file) {

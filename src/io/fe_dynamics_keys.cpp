@@ -264,12 +264,6 @@ class DynamicsReader {
 
 }  // namespace
 
-Eigen::VectorXd FeNodeDirection::functional(int num_dofs) const {
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(num_dofs);
-  c.segment<3>(3 * node) = direction;
-  return c;
-}
-
 FeDynamicsSpec read_fe_dynamics(const yaml::Reader& reader, const yaml::Fields& analysis, const fe::Mesh& mesh) {
   return DynamicsReader(reader, mesh).read(analysis);
 }

@@ -35,6 +35,8 @@
 #include "jointhb/io/fe_dynamics_case.hpp"
 #include "jointhb/io/fit_section.hpp"
 #include "jointhb/modal/modes.hpp"
+#include "jointhb/pipeline/fe_analysis.hpp"
+#include "jointhb/pipeline/fe_model.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
 namespace jointhb::io {
@@ -47,40 +49,17 @@ struct FeInterfaceSpec {
   int faces = 0;  ///< zero-thickness elements built
 };
 
-struct FeCase {
-  fe::Mesh mesh;
-  std::vector<fe::Material> material_per_part;   ///< Mesh::parts order
-  std::vector<preload::ContactInterface> interfaces;
-  std::vector<FeInterfaceSpec> interface_specs;  ///< same order
-  std::vector<preload::Bolt> bolts;
-  std::vector<fe::FixedNodes> constraints;
+/// A case as read: the model and the analyses (the pipeline's typed inputs, pipeline/fe_model.hpp
+/// and fe_analysis.hpp) plus what only the reader knows.
+struct FeCase : pipeline::FeModel, pipeline::FeAnalysis {
+  std::vector<FeInterfaceSpec> interface_specs;  ///< same order as interfaces
   std::vector<std::string> constraint_sets;      ///< node set names of the constraints (echo)
-  preload::PreloadOptions preload;               ///< analysis.preload (defaults when absent)
-  bool preload_requested = false;                ///< analysis.preload present (or implied by modes)
-  std::optional<modal::ModalOptions> modes;      ///< analysis.modes
-  /// analysis.nonlinear_modes / frf with their settings (fe_dynamics_case.hpp); they need the
-  /// preload and the modes, which then run with defaults when not given.
-  std::optional<FeDynamicsSpec> dynamics;
-  /// fit: the identification (jointhb fit; io/fe_fit_parameters.hpp names the parameters). Not
-  /// part of any stage key.
+  /// fit: the identification (jointhb fit; the parameters are the pipeline's). Not part of any
+  /// stage key.
   std::optional<FitSection> fit;
   std::vector<std::string> warnings;             ///< e.g. mesh cards that were skipped
   std::string source;
-  /// Keys of the stage cache (io/stage_cache.hpp), 32 hex digits each, computed by the reader:
-  ///   model   = the `model:` node (its YAML tree: keys, values, order; not comments, quoting or
-  ///             flow/block style) + the bytes of every imported mesh file + fe_fingerprint_version
-  ///             + the program version;
-  ///   preload = model + the `analysis.preload` node (or "defaults" when absent);
-  ///   modes   = preload + the `analysis.modes` node (or "absent").
-  /// Other analysis keys (the dynamic stages) do not enter them.
-  struct Fingerprints {
-    std::string model, preload, modes;
-  } fingerprints;
 };
-
-/// Part of every FE stage key: bump when the reader or a solver computes something different for
-/// the same case file (so that results cached by an older build are not reused).
-inline constexpr int fe_fingerprint_version = 1;
 
 /// Reads an FE case. Throws InputError "FILE:LINE:COL: key 'a.b': constraint" for every problem
 /// of the case file, including those found while building the model (an unknown surface, meshes
@@ -89,8 +68,7 @@ inline constexpr int fe_fingerprint_version = 1;
 FeCase read_fe_case(const std::filesystem::path& file);
 FeCase parse_fe_case(const std::string& text, const std::string& file_name);
 
-/// The preload model of a case: its mesh (by pointer: `c` must outlive the model), the assembled
-/// structure (fe::assemble), interfaces, bolts and constraints.
-preload::PreloadModel preload_model(const FeCase& c);
+/// The preload model of a case (pipeline/fe_model.hpp): its mesh by pointer, `c` must outlive it.
+using pipeline::preload_model;
 
 }  // namespace jointhb::io

@@ -1,14 +1,15 @@
 #pragma once
-// Results of the finite-element pipeline's stages (preload, modes, the interface model of the
-// dynamic stage) kept on disk under a hash of their inputs, so that a run whose stage inputs are
-// unchanged (e.g. only the dynamic settings were edited) reads the stage instead of recomputing it.
+// The disk store of the finite-element pipeline's stages (pipeline/stage_store.hpp): preload,
+// modes, the interface model of the dynamic stage, kept under their keys, so that a run whose stage
+// inputs are unchanged (e.g. only the dynamic settings were edited) reads the stage instead of
+// recomputing it.
 //
-// Keys. A stage's key is a Fingerprint of everything the stage reads: the model (the case file's
-// `model:` node and the bytes of every imported mesh file, io::FeCase::fingerprints), the stage's
-// own settings and, by Fingerprint::chain, the key of the stage it builds on (modes ← preload ←
+// Keys (pipeline/fe_model.hpp, fe_stage_keys): a Fingerprint of the typed values a stage reads —
+// the model (mesh, materials, interfaces with their laws, bolts, constraints), the stage's own
+// settings and, by Fingerprint::chain, the key of the stage it builds on (modes ← preload ←
 // model). What is not in a key must not change the stage's result; what is in it may change it.
 // The solver code is not hashed: a change of what a stage computes for the same input must bump
-// io::fe_fingerprint_version (fe_case.hpp) — or run with --no-cache.
+// pipeline::fe_stage_version — or run with --no-cache.
 //
 // Files. DIR/<stage>-<key>.bin, little-endian:
 //   "JHBC"  u32 format version (stage_cache_format)  str stage  str key
@@ -19,7 +20,7 @@
 // stage or key, or a payload that does not parse) and a file of another format version are a miss
 // with a one-line warning on stderr. Failing to create DIR or to write a file (disk full, no
 // permission) is a warning; the run goes on without the cache. Never a crash, never a wrong result
-// (short of a 128-bit hash collision or a stale fe_fingerprint_version).
+// (short of a 128-bit hash collision or a stale pipeline::fe_stage_version).
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -33,6 +34,7 @@
 #include "jointhb/hb/interface_model.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/pipeline/fingerprint.hpp"
+#include "jointhb/pipeline/stage_store.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/field_recovery.hpp"
 
@@ -46,7 +48,7 @@ inline constexpr std::uint32_t stage_cache_format = 1;
 
 /// The on-disk cache of stage results. All load_* return std::nullopt on a miss; store_* never
 /// throw (a failure is a warning). With enabled = false every load misses and store does nothing.
-class StageCache {
+class StageCache final : public pipeline::StageStore {
  public:
   StageCache(std::filesystem::path dir, bool enabled);
 
@@ -54,12 +56,15 @@ class StageCache {
   [[nodiscard]] const std::filesystem::path& directory() const { return dir_; }
   /// DIR/<stage>-<key>.bin
   [[nodiscard]] std::filesystem::path file(std::string_view stage, std::string_view key) const;
+  [[nodiscard]] std::string location(std::string_view stage, std::string_view key) const override {
+    return file(stage, key).string();
+  }
 
-  [[nodiscard]] std::optional<preload::PreloadResult> load_preload(const std::string& key);
-  void store_preload(const std::string& key, const preload::PreloadResult& result);
+  [[nodiscard]] std::optional<preload::PreloadResult> load_preload(const std::string& key) override;
+  void store_preload(const std::string& key, const preload::PreloadResult& result) override;
 
-  [[nodiscard]] std::optional<modal::ModalResult> load_modes(const std::string& key);
-  void store_modes(const std::string& key, const modal::ModalResult& result);
+  [[nodiscard]] std::optional<modal::ModalResult> load_modes(const std::string& key) override;
+  void store_modes(const std::string& key, const modal::ModalResult& result) override;
 
   /// The condensation stage (reduction::build_modal_interface) should key it as
   /// Fingerprint::chain(fingerprints.preload) + its ModalInterfaceOptions (every field, the
@@ -70,13 +75,13 @@ class StageCache {
   /// (they come from the case's model node). A count that differs from the stored groups is a miss
   /// with a warning.
   [[nodiscard]] std::optional<hb::InterfaceModel> load_interface_model(
-      const std::string& key, const std::vector<contact::ContactPoint>& laws);
-  void store_interface_model(const std::string& key, const hb::InterfaceModel& model);
+      const std::string& key, const std::vector<contact::ContactPoint>& laws) override;
+  void store_interface_model(const std::string& key, const hb::InterfaceModel& model) override;
 
   /// The full-field recovery of the condensation (reduction/field_recovery.hpp), keyed as the
   /// interface model it belongs to; stored only when a case asks for full fields.
-  [[nodiscard]] std::optional<reduction::FieldRecovery> load_field_recovery(const std::string& key);
-  void store_field_recovery(const std::string& key, const reduction::FieldRecovery& recovery);
+  [[nodiscard]] std::optional<reduction::FieldRecovery> load_field_recovery(const std::string& key) override;
+  void store_field_recovery(const std::string& key, const reduction::FieldRecovery& recovery) override;
 
   /// The warnings printed so far (each also went to stderr as one line "warning: ...").
   [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }

@@ -9,8 +9,10 @@
 
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/fe_case.hpp"
-#include "jointhb/io/fe_fit_parameters.hpp"
 #include "jointhb/io/input_error.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
+
+namespace pipeline = jointhb::pipeline;
 
 namespace {
 
@@ -102,8 +104,8 @@ TEST(io_FeDynamics, DefaultsAndTheDriveOutput) {
   // The dynamic keys do not enter the preload and modes cache keys.
   const FeCase plain = parse_fe_case(kModel + "  preload: {load_steps: 4}\n", "case.yaml");
   const FeCase dyn = parse_fe_case(kModel + "  preload: {load_steps: 4}\n  nonlinear_modes: {harmonics: 3}\n", "case.yaml");
-  EXPECT_EQ(plain.fingerprints.preload, dyn.fingerprints.preload);
-  EXPECT_EQ(plain.fingerprints.modes, dyn.fingerprints.modes);
+  EXPECT_EQ(pipeline::fe_stage_keys(plain, plain).preload, pipeline::fe_stage_keys(dyn, dyn).preload);
+  EXPECT_EQ(pipeline::fe_stage_keys(plain, plain).modes, pipeline::fe_stage_keys(dyn, dyn).modes);
 }
 
 TEST(io_FeDynamics, BadValuesNameLineKeyAndConstraint) {
@@ -153,28 +155,39 @@ TEST(io_FeDynamics, TheBuiltInDefaultCaseIsTheLapDampingCurve) {
 
 }  // namespace
 
-// Identification parameters of an FE case (io/fe_fit_parameters.hpp): the names offered, the case
-// text with new values (exact to the last bit), and which stage keys a value enters.
+// Identification parameters of an FE case (pipeline/fe_pipeline.hpp): the names offered, the
+// values set exactly, and which stage keys a value enters.
 TEST(io_FeFitParameters, NamesValuesAndStageKeys) {
   const std::string text = with("  damping: {ratio: 0.005}\n  nonlinear_modes: {mode: 1}\n");
   const FeCase base = parse_fe_case(text, "case.yaml");
-  EXPECT_EQ(fe_fit_parameter_names(base),
+  pipeline::FePipeline p(base, base);
+  EXPECT_EQ(p.parameter_names(),
             (std::vector<std::string>{"interfaces.lap.pressure", "interfaces.lap.decay", "interfaces.lap.mu",
                                       "interfaces.lap.n", "interfaces.lap.stiffness_ratio", "damping.ratio"}));
-  // a key left at its default is written out
-  const FeCase k = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.stiffness_ratio"}, {0.7}), "case.yaml");
-  EXPECT_EQ(k.interface_specs[0].stiffness_ratio, 0.7);
+  const pipeline::FeStageKeys k0 = p.keys();
   const double mu = 0.1 + 1.0 / 3.0, zeta = 2.0 / 3.0 * 1e-2;
-  const FeCase a = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.mu"}, {mu}), "case.yaml");
-  EXPECT_EQ(a.interface_specs[0].mu, mu);
-  EXPECT_EQ(a.interfaces[0].law.options().friction_coefficient, mu);
-  EXPECT_NE(a.fingerprints.model, base.fingerprints.model);  // μ enters the (frictional) preload
-  const FeCase b = parse_fe_case(set_fe_fit_parameters(text, {"damping.ratio"}, {zeta}), "case.yaml");
-  EXPECT_EQ(b.dynamics->damping_ratio, zeta);
-  EXPECT_EQ(b.fingerprints.modes, base.fingerprints.modes);  // the damping enters no stage key
-  // the same values give the same keys (the stage cache hits)
-  const FeCase c = parse_fe_case(set_fe_fit_parameters(text, {"interfaces.lap.mu"}, {mu}), "case.yaml");
-  EXPECT_EQ(c.fingerprints.modes, a.fingerprints.modes);
-  EXPECT_THROW((void)set_fe_fit_parameters(text, {"interfaces.other.mu"}, {1.0}), std::invalid_argument);
-  EXPECT_THROW((void)set_fe_fit_parameters(text, {"bolts.b1.preload"}, {1.0}), std::invalid_argument);
+  p.set_parameter("interfaces.lap.mu", mu);
+  EXPECT_EQ(p.parameter("interfaces.lap.mu"), mu);
+  EXPECT_EQ(p.model().interfaces[0].law.options().friction_coefficient, mu);
+  const pipeline::FeStageKeys ka = p.keys();
+  EXPECT_NE(ka.model, k0.model);  // μ enters the (frictional) preload
+  p.set_parameter("damping.ratio", zeta);
+  EXPECT_EQ(p.analysis().dynamics->damping_ratio, zeta);
+  EXPECT_EQ(p.keys().modes, ka.modes);  // the damping enters no stage key
+  p.set_parameter("interfaces.lap.stiffness_ratio", 0.7);
+  EXPECT_EQ(p.model().interfaces[0].law.options().stiffness_ratio, 0.7);
+  EXPECT_NE(p.keys().model, ka.model);
+  // the same values give the same keys (the stage store hits)
+  p.set_parameter("interfaces.lap.stiffness_ratio", base.interfaces[0].law.options().stiffness_ratio);
+  EXPECT_EQ(p.keys().modes, ka.modes);
+  // μ for the dynamics only: no stage key changes, the parameter reads the dynamic value
+  p.set_parameter("interfaces.lap.mu", 0.25, pipeline::ParameterScope::dynamics);
+  EXPECT_EQ(p.keys().modes, ka.modes);
+  EXPECT_EQ(p.parameter("interfaces.lap.mu"), 0.25);
+  EXPECT_THROW(p.set_parameter("interfaces.other.mu", 1.0), std::invalid_argument);
+  EXPECT_THROW(p.set_parameter("bolts.b1.preload", 1.0), std::invalid_argument);
+  EXPECT_THROW(p.set_parameter("interfaces.lap.mu", -0.1), std::invalid_argument);
+  EXPECT_THROW(p.set_parameter("interfaces.lap.decay", 1.0, pipeline::ParameterScope::dynamics), std::invalid_argument);
+  EXPECT_THROW(p.set_parameter("damping.ratio", 1.5), std::invalid_argument);
+  EXPECT_EQ(p.parameter("damping.ratio"), zeta);  // a rejected value changes nothing
 }

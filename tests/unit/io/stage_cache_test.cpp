@@ -1,7 +1,8 @@
 // The stage cache (io/stage_cache.hpp): bit-identical round trips of the cached stage results, a
 // damaged or foreign file is a miss (never a crash), a cache that cannot be written is a warning,
-// and the FE case keys (io::FeCase::fingerprints) change exactly when their inputs change.
+// and the FE stage keys (pipeline::fe_stage_keys of a case) change exactly when their inputs change.
 #include "jointhb/io/stage_cache.hpp"
+#include "jointhb/pipeline/fe_model.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -101,8 +102,9 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
-io::FeCase::Fingerprints keys_of(const std::string& text) {
-  return io::parse_fe_case(text, "lap.yaml").fingerprints;
+jointhb::pipeline::FeStageKeys keys_of(const std::string& text) {
+  const io::FeCase c = io::parse_fe_case(text, "lap.yaml");
+  return jointhb::pipeline::fe_stage_keys(c, c);
 }
 
 const pl::PreloadResult& lap_preload() {
@@ -455,12 +457,11 @@ TEST(FeCaseFingerprints, ChangeOnlyWithTheirInputs) {
     EXPECT_EQ(o.preload, k.preload);
     EXPECT_NE(o.modes, k.modes);
   }
-  // No analysis.preload (defaults) differs from explicit settings.
-  {
-    const auto o = keys_of(replaced(base, "  preload: {load_steps: 4, tolerance: 1.0e-9}\n", ""));
-    EXPECT_EQ(o.model, k.model);
-    EXPECT_NE(o.preload, k.preload);
-  }
+  // The keys hash the typed values: no analysis.preload gives the defaults, which equal the
+  // explicit settings of the base (load_steps 4, tolerance 1e-9), hence the same keys; a value
+  // written differently (1.0e-9 vs 0.000000001) is the same value.
+  same(replaced(base, "  preload: {load_steps: 4, tolerance: 1.0e-9}\n", ""), "defaults written out");
+  same(replaced(base, "tolerance: 1.0e-9", "tolerance: 0.000000001"), "the same number written differently");
 }
 
 TEST(FeCaseFingerprints, ImportedMeshBytesEnterTheModelKey) {
@@ -488,10 +489,14 @@ brick
 analysis:
   modes: {count: 3}
 )");
-  const auto k = io::read_fe_case(dir.path() / "case.yaml").fingerprints;
-  EXPECT_EQ(io::read_fe_case(dir.path() / "case.yaml").fingerprints.model, k.model);
+  const auto keys = [&] {
+    const io::FeCase c = io::read_fe_case(dir.path() / "case.yaml");
+    return jointhb::pipeline::fe_stage_keys(c, c);
+  };
+  const auto k = keys();
+  EXPECT_EQ(keys().model, k.model);
   write_bytes(dir.path() / "brick.inp", replaced(brick, "8, 0., 1., 1.", "8, 0., 1., 1.01"));
-  const auto o = io::read_fe_case(dir.path() / "case.yaml").fingerprints;
+  const auto o = keys();
   EXPECT_NE(o.model, k.model);
   EXPECT_NE(o.preload, k.preload);
   EXPECT_NE(o.modes, k.modes);

@@ -1,0 +1,26 @@
+"""jointhb: vibration of bolted, built-up structures by harmonic balance.
+
+The finite-element pipeline of a case file -- preload, modes, the model condensed to the contact
+interface, damping curves (EPMC) and nonlinear FRFs -- as a Python object. Every stage is
+computed when first needed and kept while its inputs do not change; ``Pipeline.set`` changes a
+parameter and with it exactly the stages that depend on it. Units are SI throughout.
+
+    import jointhb
+    p = jointhb.Pipeline(jointhb.load_case("cases/08-lap-damping/case.yaml"))
+    curve = p.backbone(mode=1)                  # numpy arrays
+    print(curve["frequency_hz"], curve["damping_ratio"])
+
+See docs/python.md.
+"""
+
+from ._core import (  # noqa: F401  (the package's interface)
+    Case,
+    InputError,
+    Pipeline,
+    StageError,
+    default_case,
+    fit,
+    load_case,
+)
+
+__all__ = ["Case", "InputError", "Pipeline", "StageError", "default_case", "fit", "load_case"]

@@ -1,0 +1,571 @@
+// The Python extension `jointhb._core` (pybind11): the finite-element pipeline
+// (pipeline/fe_pipeline.hpp), case files, and the identification, with results as numpy arrays and
+// dicts. The package `jointhb` (src/python/jointhb/__init__.py) re-exports it; docs/python.md is
+// the user's page.
+//
+// Threading: the GIL is released while a stage or a curve computes and taken again for a
+// callback. Ctrl-C: Python's SIGINT handler only sets a flag; it is checked at every accepted point
+// (PyErr_CheckSignals), and a KeyboardInterrupt there — or raised by the callback — ends the
+// curve, which is returned with its accepted points and status "interrupted". The stages before a
+// curve (preload, modes, condensation) run to their end.
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "jointhb/fit/fitter.hpp"
+#include "jointhb/io/case_file.hpp"
+#include "jointhb/io/input_error.hpp"
+#include "jointhb/io/stage_cache.hpp"
+#include "jointhb/pipeline/fe_fit_model.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
+
+namespace py = pybind11;
+using namespace jointhb;
+
+namespace {
+
+// ---- conversions -------------------------------------------------------------------------------
+
+template <class T, class F>
+py::array_t<double> column(const std::vector<T>& rows, F value) {
+  py::array_t<double> a(static_cast<py::ssize_t>(rows.size()));
+  auto v = a.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < rows.size(); ++i) v(static_cast<py::ssize_t>(i)) = value(rows[i]);
+  return a;
+}
+
+py::dict timings_dict(const continuation::InterfaceTimings& t) {
+  py::dict d;
+  d["aft"] = t.aft;
+  d["products"] = t.products;
+  d["preconditioner_build"] = t.preconditioner;
+  d["preconditioner_apply"] = t.preconditioner_apply;
+  d["linear_solve"] = t.linear_solve;
+  d["total"] = t.total;
+  d["gmres_iterations"] = t.krylov_iterations;
+  d["product_calls"] = t.product_calls;
+  d["preconditioner_builds"] = t.factorisations;
+  return d;
+}
+
+py::dict stage_dict(const pipeline::StageInfo& info) {
+  py::dict d;
+  d["key"] = info.key;
+  d["from_store"] = info.from_store;
+  d["location"] = info.location;
+  d["store_seconds"] = info.store_seconds;
+  d["warning"] = info.warning;
+  return d;
+}
+
+py::dict preload_dict(const preload::PreloadResult& p, const pipeline::StageInfo& info) {
+  py::dict d;
+  d["converged"] = p.converged;
+  d["message"] = p.message;
+  d["load_factor"] = p.load_factor;
+  d["newton_iterations"] = p.total_iterations;
+  d["displacement"] = p.displacement;
+  d["bolt_forces"] = p.bolt_forces;
+  py::list interfaces;
+  for (const auto& r : p.interfaces) {
+    py::dict i;
+    i["name"] = r.name;
+    i["clamping_force"] = r.clamping_force;
+    i["closed_area_fraction"] = r.closed_area_fraction;
+    i["mean_pressure"] = r.mean_pressure;
+    i["max_pressure"] = r.max_pressure;
+    i["pressure"] = r.state.pressure;
+    i["gap"] = r.state.gap;
+    i["traction"] = r.state.traction;
+    interfaces.append(i);
+  }
+  d["interfaces"] = interfaces;
+  d["seconds"] = p.seconds;
+  d["stage"] = stage_dict(info);
+  return d;
+}
+
+py::dict modes_dict(const modal::ModalResult& m, const pipeline::StageInfo& info) {
+  py::dict d;
+  d["converged"] = m.status == modal::ModalStatus::converged;
+  d["message"] = m.message;
+  d["frequencies_hz"] = m.frequencies_hz;
+  d["elastic_frequencies_hz"] = pipeline::elastic_frequencies(m);
+  d["residuals"] = m.residuals;
+  d["shapes"] = m.shapes;
+  d["seconds"] = m.seconds;
+  d["stage"] = stage_dict(info);
+  return d;
+}
+
+py::dict interface_dict(const pipeline::InterfaceStage& s) {
+  py::dict d;
+  const hb::InterfaceModel& im = s.model;
+  d["kept_modes"] = im.num_modes();
+  d["rigid_modes"] = im.rigid_modes;
+  d["contact_points"] = im.num_points();
+  d["fine_points"] = s.fine_points;
+  Eigen::VectorXd f = im.omega2.cwiseMax(0.0).cwiseSqrt() / (2.0 * 3.141592653589793);
+  d["frequencies_hz"] = f;
+  d["cutoff_hz"] = s.settings.options.cutoff_hz;
+  d["cutoff_source"] = s.settings.cutoff_source;
+  d["rayleigh_alpha"] = im.rayleigh_mass;
+  d["rayleigh_beta"] = im.rayleigh_stiffness;
+  d["damping_source"] = s.settings.damping_source;
+  d["brief"] = s.brief;
+  d["seconds"] = s.seconds;
+  d["stage"] = stage_dict(s.info);
+  return d;
+}
+
+std::string curve_status(bool ok, bool interrupted, bool stopped) {
+  if (interrupted) return "interrupted";
+  if (ok) return "ok";
+  return stopped ? "stopped" : "failed";
+}
+
+py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
+  using P = pipeline::BackbonePoint;
+  py::dict d;
+  d["mode"] = b.mode;
+  d["amplitude"] = column(b.points, [](const P& p) { return p.amplitude; });
+  d["output_amplitude"] = column(b.points, [](const P& p) { return p.output_amplitude; });
+  d["omega"] = column(b.points, [](const P& p) { return p.omega; });
+  d["frequency_hz"] = column(b.points, [](const P& p) { return p.frequency_hz; });
+  d["damping_ratio"] = column(b.points, [](const P& p) { return p.damping_ratio; });
+  d["W_D"] = column(b.points, [](const P& p) { return p.dissipation; });
+  d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.damping_ratio_energy; });
+  d["slipping_points"] = column(b.points, [](const P& p) { return double(p.slipping_points); });
+  d["open_points"] = column(b.points, [](const P& p) { return double(p.open_points); });
+  d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
+  d["status"] = curve_status(b.ok(), interrupted, b.stopped_by_callback || b.reached_frequency_drop);
+  d["ok"] = b.ok();
+  d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
+                             : b.stop_message;
+  d["energy_gap"] = b.energy_gap;
+  d["energy_warning"] = b.energy_warning;
+  d["linear_frequency_hz"] = b.curve.linear_omega / (2.0 * 3.141592653589793);
+  d["linear_damping_ratio"] = b.curve.linear_damping_ratio;
+  d["harmonics"] = b.harmonics;
+  d["time_samples"] = b.time_samples;
+  d["unknowns"] = b.curve.unknowns;
+  d["newton_iterations_total"] = b.curve.newton_iterations;
+  d["seconds"] = timings_dict(b.curve.timings);
+  return d;
+}
+
+py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
+  using P = pipeline::FrfPoint;
+  py::dict d;
+  d["level"] = r.level;
+  d["force"] = r.force;
+  d["output"] = r.output;
+  d["omega"] = column(r.points, [](const P& p) { return p.omega; });
+  d["frequency_hz"] = column(r.points, [](const P& p) { return p.frequency_hz; });
+  d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
+  d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
+  d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
+  d["slipping_points"] = column(r.points, [](const P& p) { return double(p.slipping_points); });
+  d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
+  d["status"] = curve_status(r.ok(), interrupted, r.stopped_by_callback);
+  d["ok"] = r.ok();
+  d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
+                             : r.curve.message;
+  d["peak_amplitude"] = r.peak_amplitude;
+  d["peak_frequency_hz"] = r.peak_frequency_hz;
+  d["unknowns"] = r.curve.unknowns;
+  d["seconds"] = timings_dict(r.curve.timings);
+  return d;
+}
+
+// ---- callbacks from the computing thread ------------------------------------------------------
+
+/// Turns a Python callable (or None) into a point callback: takes the GIL, calls it with the
+/// point as a dict, stops the curve when it returns False, when it raises KeyboardInterrupt or
+/// when Ctrl-C was pressed. Any other exception of the callback is kept and re-raised once the
+/// curve has returned.
+class PointCallback {
+ public:
+  explicit PointCallback(py::object callback) : callback_(std::move(callback)) {}
+
+  template <class Point>
+  bool operator()(const Point& point, py::dict (*to_dict)(const Point&)) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) return interrupt();
+    if (callback_.is_none()) return true;
+    try {
+      const py::object r = callback_(to_dict(point));
+      return r.is_none() || r.cast<bool>();
+    } catch (py::error_already_set& e) {
+      if (e.matches(PyExc_KeyboardInterrupt)) return interrupt();
+      error_ = std::make_unique<py::error_already_set>(std::move(e));
+      return false;
+    }
+  }
+
+  [[nodiscard]] bool interrupted() const { return interrupted_; }
+  /// Re-raises the callback's own exception (with the GIL held).
+  void rethrow() {
+    if (error_) {
+      std::unique_ptr<py::error_already_set> e = std::move(error_);
+      throw *e;
+    }
+  }
+
+ private:
+  bool interrupt() {
+    PyErr_Clear();
+    interrupted_ = true;
+    return false;
+  }
+  py::object callback_;
+  bool interrupted_ = false;
+  std::unique_ptr<py::error_already_set> error_;
+};
+
+py::dict backbone_point(const pipeline::BackbonePoint& p) {
+  py::dict d;
+  d["mode"] = p.mode;
+  d["amplitude"] = p.amplitude;
+  d["output_amplitude"] = p.output_amplitude;
+  d["frequency_hz"] = p.frequency_hz;
+  d["damping_ratio"] = p.damping_ratio;
+  d["W_D"] = p.dissipation;
+  d["slipping_points"] = p.slipping_points;
+  d["newton_iterations"] = p.newton_iterations;
+  return d;
+}
+
+py::dict frf_point(const pipeline::FrfPoint& p) {
+  py::dict d;
+  d["level"] = p.level;
+  d["force"] = p.force;
+  d["frequency_hz"] = p.frequency_hz;
+  d["amplitude_h1"] = p.amplitude_h1;
+  d["amplitude_max"] = p.amplitude_max;
+  d["dissipation"] = p.dissipation;
+  d["slipping_points"] = p.slipping_points;
+  d["newton_iterations"] = p.newton_iterations;
+  return d;
+}
+
+// ---- the objects -------------------------------------------------------------------------------
+
+/// A finite-element case as read from a file (the model and the analyses it asks for).
+struct Case {
+  std::shared_ptr<const io::FeCase> c;
+};
+
+Case load_case(const std::string& path) {
+  io::CaseFile f = io::read_case_file(path);
+  if (auto* fe = std::get_if<io::FeCase>(&f)) return Case{std::make_shared<io::FeCase>(std::move(*fe))};
+  throw py::value_error(path + ": the Python package runs finite-element cases (model.type fe); run discrete "
+                               "and loop cases with the jointhb program");
+}
+
+Case default_case() {
+  io::CaseFile f = io::parse_case_file(io::default_case_text(), "built-in default case");
+  return Case{std::make_shared<io::FeCase>(std::get<io::FeCase>(std::move(f)))};
+}
+
+class Pipeline {
+ public:
+  Pipeline(const Case& c, const std::optional<std::string>& cache_dir, bool keep_in_memory) : case_(c.c) {
+    std::shared_ptr<pipeline::StageStore> store;
+    if (cache_dir)
+      store = std::make_shared<io::StageCache>(*cache_dir, true);
+    else if (keep_in_memory)
+      store = std::make_shared<pipeline::MemoryStageStore>();
+    pipe_ = std::make_unique<pipeline::FePipeline>(*case_, *case_, std::move(store));
+  }
+
+  py::dict preload() {
+    const preload::PreloadResult* p = nullptr;
+    {
+      py::gil_scoped_release free;
+      p = &pipe_->preload();
+    }
+    return preload_dict(*p, pipe_->preload_info());
+  }
+
+  py::dict modes() {
+    const modal::ModalResult* m = nullptr;
+    {
+      py::gil_scoped_release free;
+      m = &pipe_->modes();
+    }
+    return modes_dict(*m, pipe_->modes_info());
+  }
+
+  py::dict interface_model() {
+    const pipeline::InterfaceStage* s = nullptr;
+    {
+      py::gil_scoped_release free;
+      s = &pipe_->interface_stage();
+    }
+    return interface_dict(*s);
+  }
+
+  py::dict backbone(int mode, const py::object& callback, const std::optional<std::pair<double, double>>& log10_amplitude,
+                    const std::optional<double>& frequency_drop, const std::optional<int>& harmonics,
+                    const std::optional<int>& time_samples) {
+    if (!case_->dynamics || !case_->dynamics->nonlinear_modes)
+      throw py::value_error(case_->source + ": the case has no analysis.nonlinear_modes (give it one in the case file)");
+    pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
+    if (log10_amplitude) nm.log10_amplitude_start = log10_amplitude->first, nm.log10_amplitude_end = log10_amplitude->second;
+    if (frequency_drop) nm.frequency_drop = *frequency_drop;
+    if (harmonics) nm.balance.harmonics = *harmonics;
+    if (time_samples) nm.balance.time_samples = *time_samples;
+    if (const std::string e = nm.balance.validate(); !e.empty()) throw py::value_error("backbone: " + e);
+    PointCallback on_point(callback);
+    pipeline::BackboneCurve b;
+    {
+      py::gil_scoped_release free;
+      b = pipe_->backbone(mode, nm, [&](const pipeline::BackbonePoint& p) { return on_point(p, &backbone_point); });
+    }
+    on_point.rethrow();
+    return backbone_dict(b, on_point.interrupted());
+  }
+
+  py::dict frf(std::size_t level, const py::object& callback, const std::optional<std::pair<double, double>>& frequency_hz,
+               const std::optional<double>& force, const std::optional<int>& harmonics) {
+    if (!case_->dynamics || !case_->dynamics->frf)
+      throw py::value_error(case_->source + ": the case has no analysis.frf (give it one in the case file)");
+    pipeline::FeFrfSpec fs = *case_->dynamics->frf;
+    if (frequency_hz) fs.omega_start = 2.0 * 3.141592653589793 * frequency_hz->first,
+                      fs.omega_end = 2.0 * 3.141592653589793 * frequency_hz->second;
+    if (force) fs.forces = {*force}, level = 0;
+    if (harmonics) fs.balance.harmonics = *harmonics;
+    if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
+    PointCallback on_point(callback);
+    pipeline::FrfCurve r;
+    {
+      py::gil_scoped_release free;
+      r = pipe_->frf(level, fs, [&](const pipeline::FrfPoint& p) { return on_point(p, &frf_point); });
+    }
+    on_point.rethrow();
+    return frf_dict(r, on_point.interrupted());
+  }
+
+  void set(const std::string& name, double value, bool dynamics_only) {
+    pipe_->set_parameter(name, value,
+                         dynamics_only ? pipeline::ParameterScope::dynamics : pipeline::ParameterScope::everywhere);
+  }
+
+  py::dict counters() const {
+    const pipeline::StageCounters& k = pipe_->counters();
+    py::dict d;
+    d["assembled"] = k.assembled;
+    d["preload_solved"] = k.preload_solved;
+    d["preload_read"] = k.preload_read;
+    d["preload_reused"] = k.preload_reused;
+    d["modes_solved"] = k.modes_solved;
+    d["modes_read"] = k.modes_read;
+    d["modes_reused"] = k.modes_reused;
+    d["condensed"] = k.condensed;
+    d["condensation_read"] = k.condensation_read;
+    d["condensation_reused"] = k.condensation_reused;
+    d["curves"] = k.curves;
+    return d;
+  }
+
+  py::dict fit_case() {
+    if (!case_->fit) throw py::value_error(case_->source + ": the case has no fit section");
+    const io::FitSection& s = *case_->fit;
+    std::vector<std::string> names;
+    for (const auto& p : s.parameters) names.push_back(p.name);
+    pipeline::FeFitModel model(*pipe_, names, s.targets, s.friction_in_dynamics_only);
+    fit::FitResult r;
+    {
+      py::gil_scoped_release free;
+      r = fit::fit(model.model(), s.parameters, s.options);
+    }
+    py::dict d = fit_result_dict(r, names);
+    d["values_put_on_the_curve"] = model.corrected();
+    return d;
+  }
+
+  static py::dict fit_result_dict(const fit::FitResult& r, const std::vector<std::string>& names) {
+    py::dict d;
+    d["ok"] = r.ok;
+    py::dict best;
+    for (std::size_t i = 0; i < names.size() && i < r.best.size(); ++i) best[py::str(names[i])] = r.best[i];
+    d["best"] = best;
+    d["values"] = r.best;
+    d["objective"] = r.objective;
+    d["residuals"] = r.residuals;
+    d["evaluations"] = r.evaluations;
+    d["failed_evaluations"] = r.failed_evaluations;
+    d["stop_reason"] = r.stop_reason;
+    d["has_jacobian"] = r.has_jacobian;
+    d["standard_errors"] = r.has_jacobian ? py::cast(r.standard_errors) : py::none();
+    d["warnings"] = r.warnings;
+    d["seconds"] = r.seconds;
+    return d;
+  }
+
+  pipeline::FePipeline& pipe() { return *pipe_; }
+
+ private:
+  std::shared_ptr<const io::FeCase> case_;
+  std::unique_ptr<pipeline::FePipeline> pipe_;
+};
+
+/// fit::fit with a Python objective: values (numpy array) → residuals (sequence of floats), or
+/// None / an exception for a failed evaluation.
+py::dict fit_objective(const py::function& objective, const std::vector<py::dict>& parameters, const py::dict& options) {
+  std::vector<fit::FitParameter> ps;
+  std::vector<std::string> names;
+  for (const py::dict& p : parameters) {
+    fit::FitParameter f;
+    f.name = p["name"].cast<std::string>();
+    f.lower = p["lower"].cast<double>();
+    f.upper = p["upper"].cast<double>();
+    f.start = p.contains("start") ? p["start"].cast<double>() : 0.5 * (f.lower + f.upper);
+    f.log_scale = p.contains("log_scale") && p["log_scale"].cast<bool>();
+    if (const std::string e = f.validate(); !e.empty()) throw py::value_error("fit parameter " + e);
+    ps.push_back(f);
+    names.push_back(f.name);
+  }
+  fit::FitOptions o;
+  for (const auto& [key, value] : options) {
+    const std::string k = key.cast<std::string>();
+    if (k == "algorithm") o.algorithm = value.cast<std::string>();
+    else if (k == "local_algorithm") o.local_algorithm = value.cast<std::string>();
+    else if (k == "xtol") o.xtol = value.cast<double>();
+    else if (k == "ftol_rel") o.ftol_rel = value.cast<double>();
+    else if (k == "max_evaluations") o.max_evaluations = value.cast<int>();
+    else if (k == "starts") o.starts = value.cast<int>();
+    else if (k == "seed") o.seed = value.cast<unsigned>();
+    else throw py::value_error("fit: unknown option '" + k + "'");
+  }
+  if (const std::string e = o.validate(); !e.empty()) throw py::value_error("fit options: " + e);
+  bool interrupted = false;
+  const fit::Model model = [&](const std::vector<double>& values) {
+    fit::Evaluation e;
+    if (interrupted) return fit::Evaluation{false, "interrupted", {}};
+    try {
+      const py::object r = objective(py::cast(values));
+      if (r.is_none()) return fit::Evaluation{false, "the objective returned None", {}};
+      e.residuals = r.cast<std::vector<double>>();
+    } catch (py::error_already_set& err) {
+      if (err.matches(PyExc_KeyboardInterrupt)) interrupted = true;
+      e.ok = false;
+      e.message = err.what();
+    }
+    return e;
+  };
+  const fit::FitResult r = fit::fit(model, ps, o);  // the objective runs Python: the GIL stays held
+  py::dict d = Pipeline::fit_result_dict(r, names);
+  d["interrupted"] = interrupted;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "jointhb: vibration of bolted joints by harmonic balance (the finite-element pipeline)";
+  static py::exception<io::InputError> input_error(m, "InputError", PyExc_ValueError);
+  static py::exception<pipeline::StageError> stage_error(m, "StageError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const io::InputError& e) {
+      // The exception carries the position: file, line, column, key and the violated constraint.
+      py::object exc = input_error(e.what());
+      exc.attr("file") = e.file();
+      exc.attr("line") = e.line();
+      exc.attr("column") = e.column();
+      exc.attr("key") = e.key();
+      exc.attr("constraint") = e.constraint();
+      PyErr_SetObject(input_error.ptr(), exc.ptr());
+    } catch (const pipeline::StageError& e) {
+      stage_error(e.what());
+    }
+  });
+
+  py::class_<Case>(m, "Case", "A finite-element case as read from a case file (model and analyses).")
+      .def_property_readonly("source", [](const Case& c) { return c.c->source; }, "the case file")
+      .def_property_readonly("dofs", [](const Case& c) { return c.c->mesh.num_dofs(); }, "DOFs of the mesh")
+      .def_property_readonly("nodes", [](const Case& c) { return c.c->mesh.num_nodes(); })
+      .def_property_readonly("interfaces",
+                             [](const Case& c) {
+                               std::vector<std::string> n;
+                               for (const auto& i : c.c->interfaces) n.push_back(i.geometry.name);
+                               return n;
+                             })
+      .def_property_readonly("bolts",
+                             [](const Case& c) {
+                               std::vector<std::string> n;
+                               for (const auto& b : c.c->bolts) n.push_back(b.name);
+                               return n;
+                             })
+      .def_property_readonly("has_fit", [](const Case& c) { return c.c->fit.has_value(); })
+      .def_property_readonly("coordinates", [](const Case& c) { return Eigen::MatrixXd(c.c->mesh.coordinates); },
+                             "node coordinates [m], 3 x nodes")
+      .def("__repr__", [](const Case& c) {
+        return "<jointhb.Case " + c.c->source + ": " + std::to_string(c.c->mesh.num_dofs()) + " DOFs>";
+      });
+
+  m.def("load_case", &load_case, py::arg("path"),
+        "Reads a finite-element case file (YAML, docs/case-files.md). Raises jointhb.InputError with "
+        "file, line, column, key and constraint for any problem of the file.");
+  m.def("default_case", &default_case, "The built-in default case: the bolted lap of case 08.");
+
+  py::class_<Pipeline>(m, "Pipeline",
+                       "The pipeline of a finite-element case: preload -> modes -> condensed interface model -> "
+                       "damping curves and FRFs. Each stage is computed when first needed and kept while its "
+                       "inputs are unchanged; set() changes a parameter and so exactly the stages it enters.")
+      .def(py::init<const Case&, const std::optional<std::string>&, bool>(), py::arg("case"),
+           py::arg("cache_dir") = py::none(), py::arg("keep_in_memory") = false,
+           "cache_dir: keep stages on disk there (shared with `jointhb run --cache-dir`); keep_in_memory: keep "
+           "every stage computed in memory, so that returning to earlier parameters reads it.")
+      .def("preload", &Pipeline::preload,
+           "The preloaded static state: converged, message, displacement [m] (3 per node), bolt_forces [N], "
+           "per interface the pressure [Pa], gap [m] and traction [Pa] per contact point.")
+      .def("modes", &Pipeline::modes,
+           "The modes of K_t about the preloaded state: frequencies_hz, elastic_frequencies_hz, shapes (free DOFs).")
+      .def("interface_model", &Pipeline::interface_model,
+           "The condensed interface model: kept and rigid modes, contact points, cutoff, Rayleigh damping.")
+      .def("backbone", &Pipeline::backbone, py::arg("mode") = 1, py::arg("callback") = py::none(), py::kw_only(),
+           py::arg("log10_amplitude") = py::none(), py::arg("frequency_drop") = py::none(),
+           py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(),
+           "The damping curve (EPMC) of elastic mode `mode`: numpy arrays amplitude (q [m sqrt(kg)]), "
+           "frequency_hz, damping_ratio, W_D [J], output_amplitude [m], ...; status, message, seconds. "
+           "callback(point: dict) is called at every accepted point; returning False stops the curve. "
+           "Ctrl-C ends the curve with its accepted points (status 'interrupted'). Keywords override the "
+           "case's analysis.nonlinear_modes.")
+      .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
+           py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
+           "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "
+           "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message.")
+      .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
+                             "interfaces.<name>.pressure|decay|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
+      .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))
+      .def("set", &Pipeline::set, py::arg("name"), py::arg("value"), py::arg("dynamics_only") = false,
+           "Sets a parameter; the stages it enters are recomputed when next needed. dynamics_only (mu, n): "
+           "only in the condensed model's contact laws.")
+      .def_property_readonly("counters", &Pipeline::counters,
+                             "how often each stage was solved, read from the store, or reused")
+      .def_property_readonly("keys",
+                             [](Pipeline& p) {
+                               const pipeline::FeStageKeys k = p.pipe().keys();
+                               return py::dict(py::arg("model") = k.model, py::arg("preload") = k.preload,
+                                               py::arg("modes") = k.modes);
+                             })
+      .def("fit", &Pipeline::fit_case,
+           "Runs the case's fit section (parameters, measured targets, options) on this pipeline.");
+
+  m.def("fit", &fit_objective, py::arg("objective"), py::arg("parameters"), py::arg("options") = py::dict(),
+        "Least squares with NLopt: objective(values: list) -> residuals (or None when it fails); parameters: "
+        "list of dicts {name, lower, upper, start, log_scale}; options: algorithm, xtol, ftol_rel, "
+        "max_evaluations, starts, seed. Returns best values, objective, standard errors.");
+}
