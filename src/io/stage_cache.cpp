@@ -566,7 +566,8 @@ class RecordReader {
   /// Throws when the record has a field that was not read: one this build does not know.
   void finish() const {
     for (const Field& f : fields_)
-      if (!f.read) throw std::runtime_error(fmt::format("{}: unknown field '{}' (type {})", type_, f.name, type_name(f.type)));
+      if (!f.read)
+        throw std::runtime_error(fmt::format("{}: unknown field '{}' (type {})", type_, f.name, type_name(f.type)));
   }
 
   /// A record from r, its value get(RecordReader&), all its fields read.

@@ -51,7 +51,8 @@ constexpr std::size_t largest_brace_initializable() {
 /// The number of members of the aggregate T (see the file comment for what counts as one).
 template <class T>
 constexpr std::size_t aggregate_field_count() {
-  static_assert(std::is_aggregate_v<T>, "aggregate_field_count: T has constructors, private members or bases with them");
+  static_assert(std::is_aggregate_v<T>,
+                "aggregate_field_count: T is not an aggregate (constructors, private members, virtual functions)");
   constexpr std::size_t n = largest_brace_initializable<T, max_aggregate_fields>();
   static_assert(n < max_aggregate_fields, "aggregate_field_count: raise max_aggregate_fields");
   return n;

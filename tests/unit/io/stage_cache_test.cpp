@@ -555,8 +555,8 @@ TEST(StageCacheFormat, PayloadIsTheDocumentedRecord) {
   EXPECT_EQ(r.type, "ModalResult");
   std::vector<std::string> names;
   for (const auto& f : r.fields) names.push_back(f.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"status", "message", "eigenvalues", "frequencies_hz", "shapes", "residuals",
-                                             "backward_errors", "shift", "requested", "iterations",
+  EXPECT_EQ(names, (std::vector<std::string>{"status", "message", "eigenvalues", "frequencies_hz", "shapes",
+                                             "residuals", "backward_errors", "shift", "requested", "iterations",
                                              "operator_applications", "mass_applications", "ncv", "factor",
                                              "factor_seconds", "lanczos_seconds", "seconds"}));
   RawRecord copy = r;
@@ -595,7 +595,8 @@ TEST(StageCacheFormat, FieldSetMismatchThrowsNamingRecordAndFieldAndIsAMiss) {
       (void)io::decode_preload(payload);
       ADD_FAILURE() << what << ": decoded";
     } catch (const std::runtime_error& e) {
-      for (const auto& piece : expected) EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << what << ": " << e.what();
+      for (const auto& piece : expected)
+        EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << what << ": " << e.what();
     }
     const std::size_t before = cache.warnings().size();
     write_cache_file(file, "preload", "k", payload);
