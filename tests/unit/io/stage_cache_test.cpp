@@ -799,7 +799,7 @@ struct WithLibraryTypes {
 struct Empty {};
 }  // namespace
 
-TEST(AggregateFieldCount, CountsMembersNotBytesOrNestedElements) {
+TEST(StageCacheFormat, AggregateFieldCountCountsMembersNotBytesOrNestedElements) {
   using jointhb::io::detail::aggregate_field_count;
   EXPECT_EQ(aggregate_field_count<TwoScalars>(), 2u);
   EXPECT_EQ(aggregate_field_count<ThreeScalars>(), 3u);  // a bool hidden in padding still counts
