@@ -10,6 +10,9 @@
 #include <limits>
 #include <stdexcept>
 #include <system_error>
+#include <type_traits>
+
+#include "jointhb/io/aggregate_field_count.hpp"
 
 namespace jointhb::io {
 namespace {
@@ -24,6 +27,8 @@ std::uint64_t fnv1a64(std::string_view bytes) {
 }
 
 constexpr bool little_endian = std::endian::native == std::endian::little;
+// int arrays are copied as a block on little-endian machines where int is the file's i32.
+constexpr bool int_is_i32 = std::is_same_v<int, std::int32_t>;
 
 /// The whole file; nullopt when it cannot be opened or read.
 std::optional<std::string> file_bytes(const std::filesystem::path& file) {
@@ -37,7 +42,47 @@ std::optional<std::string> file_bytes(const std::filesystem::path& file) {
   return bytes;
 }
 
-// ---- payload encoding ------------------------------------------------------------------------
+// ---- the cached types' fields --------------------------------------------------------------------
+
+// Every struct written below is read and written field by field by name, so a member added to one
+// of them is lost from the cache unless it is also written and read here. These checks make such
+// an addition (or removal) a compile error. They count the members of the aggregate (no sizeof:
+// padding would hide a new bool, and sizes differ between platforms). All serialised structs are
+// aggregates (public data members, no constructors), which aggregate_field_count also asserts.
+// What is not a struct of ours is serialised by its fixed layout (Eigen's dense and sparse
+// matrices, std::vector) and has no members to forget. hb::InterfaceGroup::law (a
+// contact::ContactPoint: a law object, not data) is counted but deliberately not stored: the
+// caller passes the laws to load_interface_model.
+using detail::aggregate_field_count;
+static_assert(aggregate_field_count<preload::PreloadStep>() == 7,
+              "PreloadStep gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<fe::InterfaceContactState>() == 8,
+              "InterfaceContactState gained or lost a field: serialise it in stage_cache.cpp and bump "
+              "stage_cache_format");
+static_assert(aggregate_field_count<preload::InterfaceResult>() == 9,
+              "InterfaceResult gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<fe::DofMap>() == 2,
+              "DofMap gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<fe::SparseCholeskyStatistics>() == 9,
+              "SparseCholeskyStatistics gained or lost a field: serialise it in stage_cache.cpp and bump "
+              "stage_cache_format");
+static_assert(aggregate_field_count<preload::PreloadResult>() == 18,
+              "PreloadResult gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<modal::ModalResult>() == 17,
+              "ModalResult gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<hb::InterfaceGroup>() == 4,
+              "InterfaceGroup gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<hb::ContactPointReference>() == 2,
+              "ContactPointReference gained or lost a field: serialise it in stage_cache.cpp and bump "
+              "stage_cache_format");
+static_assert(aggregate_field_count<hb::InterfaceOutput>() == 6,
+              "InterfaceOutput gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<hb::InterfaceModel>() == 17,
+              "InterfaceModel gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+static_assert(aggregate_field_count<reduction::FieldRecovery>() == 7,
+              "FieldRecovery gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
+
+// ---- bytes -----------------------------------------------------------------------------------------
 
 class Writer {
  public:
@@ -52,9 +97,10 @@ class Writer {
   void i64(long v) { u64(static_cast<std::uint64_t>(v)); }
   void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
   void boolean(bool v) { u8(v ? 1 : 0); }
+  void bytes(std::string_view s) { out_.append(s.data(), s.size()); }
   void str(std::string_view s) {
     u64(s.size());
-    out_.append(s.data(), s.size());
+    bytes(s);
   }
   void doubles(const double* p, std::size_t n) {
     if constexpr (little_endian) {
@@ -64,34 +110,11 @@ class Writer {
     }
   }
   void ints(const int* p, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) i32(p[i]);
-  }
-  void vec(const Eigen::VectorXd& v) {
-    u64(static_cast<std::uint64_t>(v.size()));
-    doubles(v.data(), static_cast<std::size_t>(v.size()));
-  }
-  void mat(const Eigen::MatrixXd& m) {
-    u64(static_cast<std::uint64_t>(m.rows()));
-    u64(static_cast<std::uint64_t>(m.cols()));
-    doubles(m.data(), static_cast<std::size_t>(m.size()));
-  }
-  void mat3(const Eigen::Matrix3d& m) { doubles(m.data(), 9); }
-  void vec3(const Eigen::Vector3d& v) { doubles(v.data(), 3); }
-  void mat3s(const std::vector<Eigen::Matrix3d>& ms) {
-    u64(ms.size());
-    for (const auto& m : ms) mat3(m);
-  }
-  void reals(const std::vector<double>& v) {
-    u64(v.size());
-    doubles(v.data(), v.size());
-  }
-  void integers(const std::vector<int>& v) {
-    u64(v.size());
-    ints(v.data(), v.size());
-  }
-  void flags(const std::vector<bool>& v) {
-    u64(v.size());
-    for (const bool b : v) boolean(b);
+    if constexpr (little_endian && int_is_i32) {
+      out_.append(reinterpret_cast<const char*>(p), n * sizeof(int));
+    } else {
+      for (std::size_t i = 0; i < n; ++i) i32(p[i]);
+    }
   }
   void sparse(const Eigen::SparseMatrix<double>& a) {
     Eigen::SparseMatrix<double> c = a;  // compressed copy: outer, inner, values
@@ -102,6 +125,17 @@ class Writer {
     ints(c.outerIndexPtr(), static_cast<std::size_t>(c.outerSize()) + 1);
     ints(c.innerIndexPtr(), static_cast<std::size_t>(c.nonZeros()));
     doubles(c.valuePtr(), static_cast<std::size_t>(c.nonZeros()));
+  }
+
+  /// Where the next byte goes, and overwriting a u32 or u64 written earlier there: the counts and
+  /// lengths of records are written before their contents and filled in after them, so that a
+  /// nested record needs no buffer of its own (no extra copy of a large matrix).
+  [[nodiscard]] std::size_t position() const { return out_.size(); }
+  void patch_u32(std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) out_[at + k] = static_cast<char>((v >> (8 * k)) & 0xffU);
+  }
+  void patch_u64(std::size_t at, std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) out_[at + k] = static_cast<char>((v >> (8 * k)) & 0xffU);
   }
   std::string take() { return std::move(out_); }
 
@@ -134,17 +168,16 @@ class Reader {
     if (v > 1) throw std::runtime_error("bad boolean");
     return v == 1;
   }
-  std::string str() {
-    const std::string_view b = take(count(1));
-    return std::string(b);
-  }
+  /// A u64 length and that many bytes, as a view into the input.
+  std::string_view str() { return take(count(1)); }
   /// A count of items of `item_size` bytes each that must fit in what is left.
   std::size_t count(std::size_t item_size) {
     const std::uint64_t n = u64();
-    if (item_size > 0 && n > (in_.size() - pos_) / item_size) throw std::runtime_error("truncated or bad size");
+    if (item_size > 0 && n > left() / item_size) throw std::runtime_error("truncated or bad size");
     return static_cast<std::size_t>(n);
   }
   void doubles(double* p, std::size_t n) {
+    if (n > left() / sizeof(double)) throw std::runtime_error("truncated");
     const std::string_view b = take(n * sizeof(double));
     if constexpr (little_endian) {
       if (n > 0) std::memcpy(p, b.data(), b.size());
@@ -154,56 +187,18 @@ class Reader {
     }
   }
   void ints(int* p, std::size_t n) {
-    if (n > (in_.size() - pos_) / 4) throw std::runtime_error("truncated");
-    for (std::size_t i = 0; i < n; ++i) p[i] = i32();
-  }
-  Eigen::VectorXd vec() {
-    Eigen::VectorXd v(static_cast<Eigen::Index>(count(sizeof(double))));
-    doubles(v.data(), static_cast<std::size_t>(v.size()));
-    return v;
-  }
-  Eigen::MatrixXd mat() {
-    const std::uint64_t rows = u64(), cols = u64();
-    const std::uint64_t left = (in_.size() - pos_) / sizeof(double);
-    if (rows > left || (rows > 0 && cols > left / rows)) throw std::runtime_error("truncated or bad size");
-    Eigen::MatrixXd m(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-    doubles(m.data(), static_cast<std::size_t>(m.size()));
-    return m;
-  }
-  Eigen::Matrix3d mat3() {
-    Eigen::Matrix3d m;
-    doubles(m.data(), 9);
-    return m;
-  }
-  Eigen::Vector3d vec3() {
-    Eigen::Vector3d v;
-    doubles(v.data(), 3);
-    return v;
-  }
-  std::vector<Eigen::Matrix3d> mat3s() {
-    std::vector<Eigen::Matrix3d> ms(count(9 * sizeof(double)));
-    for (auto& m : ms) m = mat3();
-    return ms;
-  }
-  std::vector<double> reals() {
-    std::vector<double> v(count(sizeof(double)));
-    doubles(v.data(), v.size());
-    return v;
-  }
-  std::vector<int> integers() {
-    std::vector<int> v(count(4));
-    ints(v.data(), v.size());
-    return v;
-  }
-  std::vector<bool> flags() {
-    std::vector<bool> v(count(1));
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = boolean();
-    return v;
+    if (n > left() / 4) throw std::runtime_error("truncated");
+    if constexpr (little_endian && int_is_i32) {
+      const std::string_view b = take(n * sizeof(int));
+      if (n > 0) std::memcpy(p, b.data(), b.size());
+    } else {
+      for (std::size_t i = 0; i < n; ++i) p[i] = i32();
+    }
   }
   Eigen::SparseMatrix<double> sparse() {
     const std::uint64_t rows = u64(), cols = u64(), nnz = u64();
     const std::uint64_t limit = static_cast<std::uint64_t>(std::numeric_limits<int>::max());
-    if (rows > limit || cols > limit || nnz > (in_.size() - pos_) / 12) throw std::runtime_error("bad sparse matrix size");
+    if (rows > limit || cols > limit || nnz > left() / 12) throw std::runtime_error("bad sparse matrix size");
     Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
     std::vector<int> outer(static_cast<std::size_t>(cols) + 1), inner(static_cast<std::size_t>(nnz));
     ints(outer.data(), outer.size());
@@ -223,296 +218,709 @@ class Reader {
     if (pos_ != in_.size()) throw std::runtime_error(fmt::format("{} trailing bytes", in_.size() - pos_));
   }
   [[nodiscard]] std::size_t position() const { return pos_; }
-
- private:
+  [[nodiscard]] std::size_t left() const { return in_.size() - pos_; }
   std::string_view take(std::size_t n) {
-    if (n > in_.size() - pos_) throw std::runtime_error("truncated");
+    if (n > left()) throw std::runtime_error("truncated");
     const std::string_view b = in_.substr(pos_, n);
     pos_ += n;
     return b;
   }
+
+ private:
   std::string_view in_;
   std::size_t pos_ = 0;
 };
 
-void put(Writer& w, const fe::SparseCholeskyStatistics& s) {
-  w.i64(s.rows);
-  w.i64(s.matrix_nonzeros);
-  w.f64(s.factor_nonzeros);
-  w.i64(s.factor_entries);
-  w.f64(s.factor_flops);
-  w.str(s.ordering);
-  w.i32(s.factorizations);
-  w.f64(s.analyze_seconds);
-  w.f64(s.factorize_seconds);
+// ---- records -------------------------------------------------------------------------------------
+
+/// The one-byte type code of a field (stage_cache.hpp lists them): what the bytes hold, so that a
+/// field whose C++ type changed is a clear mismatch instead of a misread. Never renumber a code.
+enum class FieldType : std::uint8_t {
+  boolean = 1,
+  int32 = 2,
+  int64 = 3,
+  float64 = 4,
+  string = 5,
+  enumeration = 6,
+  float64_array = 7,
+  float64_matrix = 8,
+  int32_array = 9,
+  boolean_array = 10,
+  matrix3_array = 11,
+  vector3_array = 12,
+  sparse_matrix = 13,
+  record = 14,
+  record_list = 15,
+  record_columns = 16,
+};
+
+std::string type_name(std::uint8_t code) {
+  switch (static_cast<FieldType>(code)) {
+    case FieldType::boolean: return "boolean";
+    case FieldType::int32: return "int32";
+    case FieldType::int64: return "int64";
+    case FieldType::float64: return "float64";
+    case FieldType::string: return "string";
+    case FieldType::enumeration: return "enumeration";
+    case FieldType::float64_array: return "float64 array";
+    case FieldType::float64_matrix: return "float64 matrix";
+    case FieldType::int32_array: return "int32 array";
+    case FieldType::boolean_array: return "boolean array";
+    case FieldType::matrix3_array: return "3x3 matrix array";
+    case FieldType::vector3_array: return "3-vector array";
+    case FieldType::sparse_matrix: return "sparse matrix";
+    case FieldType::record: return "record";
+    case FieldType::record_list: return "record list";
+    case FieldType::record_columns: return "record columns";
+  }
+  return "unknown";
 }
 
-fe::SparseCholeskyStatistics get_factor(Reader& r) {
+/// Writes one record: its type name, a u32 field count and the fields (name, type code, u64
+/// length, bytes). The count and each length are filled in when the record or field is complete.
+class RecordWriter {
+ public:
+  RecordWriter(Writer& w, std::string_view type) : w_(w) {
+    w_.str(type);
+    count_at_ = w_.position();
+    w_.u32(0);
+  }
+  RecordWriter(const RecordWriter&) = delete;
+  RecordWriter& operator=(const RecordWriter&) = delete;
+  ~RecordWriter() { w_.patch_u32(count_at_, fields_); }
+
+  void boolean(std::string_view name, bool v) {
+    field(name, FieldType::boolean, [&] { w_.boolean(v); });
+  }
+  void int32(std::string_view name, int v) {
+    field(name, FieldType::int32, [&] { w_.i32(v); });
+  }
+  void int64(std::string_view name, long v) {
+    field(name, FieldType::int64, [&] { w_.i64(v); });
+  }
+  void float64(std::string_view name, double v) {
+    field(name, FieldType::float64, [&] { w_.f64(v); });
+  }
+  void string(std::string_view name, std::string_view v) {
+    field(name, FieldType::string, [&] { w_.bytes(v); });
+  }
+  void enumeration(std::string_view name, std::uint8_t v) {
+    field(name, FieldType::enumeration, [&] { w_.u8(v); });
+  }
+  void reals(std::string_view name, const Eigen::VectorXd& v) {
+    field(name, FieldType::float64_array, [&] { w_.doubles(v.data(), static_cast<std::size_t>(v.size())); });
+  }
+  void reals(std::string_view name, const std::vector<double>& v) {
+    field(name, FieldType::float64_array, [&] { w_.doubles(v.data(), v.size()); });
+  }
+  void matrix(std::string_view name, const Eigen::MatrixXd& m) {
+    field(name, FieldType::float64_matrix, [&] {
+      w_.u64(static_cast<std::uint64_t>(m.rows()));
+      w_.u64(static_cast<std::uint64_t>(m.cols()));
+      w_.doubles(m.data(), static_cast<std::size_t>(m.size()));
+    });
+  }
+  void integers(std::string_view name, const std::vector<int>& v) {
+    field(name, FieldType::int32_array, [&] { w_.ints(v.data(), v.size()); });
+  }
+  void flags(std::string_view name, const std::vector<bool>& v) {
+    field(name, FieldType::boolean_array, [&] {
+      for (const bool b : v) w_.boolean(b);
+    });
+  }
+  void matrices3(std::string_view name, const std::vector<Eigen::Matrix3d>& ms) {
+    field(name, FieldType::matrix3_array, [&] {
+      for (const auto& m : ms) w_.doubles(m.data(), 9);
+    });
+  }
+  /// The `member` 3-vector of each item, one after another.
+  template <class Item>
+  void vectors3(std::string_view name, const std::vector<Item>& items, Eigen::Vector3d Item::*member) {
+    field(name, FieldType::vector3_array, [&] {
+      for (const auto& item : items) w_.doubles((item.*member).data(), 3);
+    });
+  }
+  void sparse(std::string_view name, const Eigen::SparseMatrix<double>& a) {
+    field(name, FieldType::sparse_matrix, [&] { w_.sparse(a); });
+  }
+  /// A nested record: put(RecordWriter&) writes its fields.
+  template <class Put>
+  void record(std::string_view name, std::string_view type, Put put) {
+    field(name, FieldType::record, [&] {
+      RecordWriter r(w_, type);
+      put(r);
+    });
+  }
+  /// A u64 count and one record per item: put(RecordWriter&, const Item&).
+  template <class Item, class Put>
+  void records(std::string_view name, std::string_view type, const std::vector<Item>& items, Put put) {
+    field(name, FieldType::record_list, [&] {
+      w_.u64(items.size());
+      for (const auto& item : items) {
+        RecordWriter r(w_, type);
+        put(r, item);
+      }
+    });
+  }
+  /// Many small items without a record each: a u64 count and one record whose fields hold the
+  /// items' values of that field one after another (put(RecordWriter&) writes them).
+  template <class Put>
+  void columns(std::string_view name, std::string_view type, std::size_t count, Put put) {
+    field(name, FieldType::record_columns, [&] {
+      w_.u64(count);
+      RecordWriter r(w_, type);
+      put(r);
+    });
+  }
+
+ private:
+  template <class Body>
+  void field(std::string_view name, FieldType type, Body body) {
+    w_.str(name);
+    w_.u8(static_cast<std::uint8_t>(type));
+    const std::size_t length_at = w_.position();
+    w_.u64(0);
+    body();
+    w_.patch_u64(length_at, w_.position() - length_at - 8);
+    ++fields_;
+  }
+
+  Writer& w_;
+  std::size_t count_at_ = 0;
+  std::uint32_t fields_ = 0;
+};
+
+/// Reads one record: checks its type name, indexes its fields by name, and hands out each field's
+/// value by name and type code. A field this build expects but the record lacks, a field of
+/// another type code or length, and (at finish) a field this build does not know throw
+/// std::runtime_error naming the record type and the field.
+class RecordReader {
+  // (first: the public members below use their deduced return types)
+  struct Field {
+    std::string_view name;
+    std::uint8_t type = 0;
+    std::string_view bytes;
+    bool read = false;
+  };
+
+  Field& field(std::string_view name, FieldType type) {
+    for (Field& f : fields_) {
+      if (f.name != name) continue;
+      if (f.type != static_cast<std::uint8_t>(type))
+        throw std::runtime_error(fmt::format("{}: field '{}' has type code {} ({}), expected {} ({})", type_, name,
+                                             static_cast<int>(f.type), type_name(f.type), static_cast<int>(type),
+                                             type_name(static_cast<std::uint8_t>(type))));
+      f.read = true;
+      return f;
+    }
+    throw std::runtime_error(fmt::format("{}: field '{}' missing", type_, name));
+  }
+  /// The field's value get(Reader&), which must use all its bytes; a failure names the field.
+  template <class Get>
+  auto value(std::string_view name, FieldType type, Get get) {
+    Reader r(field(name, type).bytes);
+    try {
+      auto v = get(r);
+      r.expect_end();
+      return v;
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("{}: field '{}': {}", type_, name, e.what()));
+    }
+  }
+  template <class Get>
+  auto fixed(std::string_view name, FieldType type, std::size_t length, Get get) {
+    const std::size_t found = field(name, type).bytes.size();
+    if (found != length)
+      throw std::runtime_error(fmt::format("{}: field '{}' has {} bytes, expected {}", type_, name, found, length));
+    return value(name, type, get);
+  }
+  /// The number of items of item_size bytes that make up the rest of r (inside value(), which
+  /// names the field).
+  static std::size_t items(const Reader& r, std::size_t item_size) {
+    if (r.left() % item_size != 0)
+      throw std::runtime_error(fmt::format("{} bytes, not a multiple of {}", r.left(), item_size));
+    return r.left() / item_size;
+  }
+
+ public:
+  RecordReader(Reader& r, std::string_view type) : type_(type) {
+    const std::string_view found = r.str();
+    if (found != type) throw std::runtime_error(fmt::format("expected a {} record, found '{}'", type, found));
+    const std::uint32_t n = r.u32();
+    if (n > r.left() / 17) throw std::runtime_error(fmt::format("{}: truncated (field count {})", type, n));
+    fields_.reserve(n);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      Field f;
+      f.name = r.str();
+      f.type = r.u8();
+      const std::uint64_t length = r.u64();
+      if (length > r.left()) throw std::runtime_error(fmt::format("{}: field '{}' is truncated", type_, f.name));
+      f.bytes = r.take(static_cast<std::size_t>(length));
+      for (const Field& g : fields_)
+        if (g.name == f.name) throw std::runtime_error(fmt::format("{}: field '{}' appears twice", type_, f.name));
+      fields_.push_back(f);
+    }
+  }
+
+  bool boolean(std::string_view name) {
+    return fixed(name, FieldType::boolean, 1, [](Reader& r) { return r.boolean(); });
+  }
+  int int32(std::string_view name) {
+    return fixed(name, FieldType::int32, 4, [](Reader& r) { return r.i32(); });
+  }
+  long int64(std::string_view name) {
+    return fixed(name, FieldType::int64, 8, [](Reader& r) { return r.i64(); });
+  }
+  double float64(std::string_view name) {
+    return fixed(name, FieldType::float64, 8, [](Reader& r) { return r.f64(); });
+  }
+  std::uint8_t enumeration(std::string_view name) {
+    return fixed(name, FieldType::enumeration, 1, [](Reader& r) { return r.u8(); });
+  }
+  std::string string(std::string_view name) { return std::string(field(name, FieldType::string).bytes); }
+  Eigen::VectorXd vector(std::string_view name) {
+    return value(name, FieldType::float64_array, [&](Reader& r) {
+      Eigen::VectorXd v(static_cast<Eigen::Index>(items(r, sizeof(double))));
+      r.doubles(v.data(), static_cast<std::size_t>(v.size()));
+      return v;
+    });
+  }
+  std::vector<double> reals(std::string_view name) {
+    return value(name, FieldType::float64_array, [&](Reader& r) {
+      std::vector<double> v(items(r, sizeof(double)));
+      r.doubles(v.data(), v.size());
+      return v;
+    });
+  }
+  Eigen::MatrixXd matrix(std::string_view name) {
+    return value(name, FieldType::float64_matrix, [&](Reader& r) {
+      const std::uint64_t rows = r.u64(), cols = r.u64();
+      const std::uint64_t left = r.left() / sizeof(double);
+      const auto limit = static_cast<std::uint64_t>(std::numeric_limits<Eigen::Index>::max());
+      if (rows > left || cols > limit || (rows > 0 && cols > left / rows) || rows * cols * sizeof(double) != r.left())
+        throw std::runtime_error(fmt::format("{} × {} does not match its {} bytes", rows, cols, r.left()));
+      Eigen::MatrixXd m(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+      r.doubles(m.data(), static_cast<std::size_t>(m.size()));
+      return m;
+    });
+  }
+  std::vector<int> integers(std::string_view name) {
+    return value(name, FieldType::int32_array, [&](Reader& r) {
+      std::vector<int> v(items(r, 4));
+      r.ints(v.data(), v.size());
+      return v;
+    });
+  }
+  std::vector<bool> flags(std::string_view name) {
+    return value(name, FieldType::boolean_array, [&](Reader& r) {
+      std::vector<bool> v(r.left());
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] = r.boolean();
+      return v;
+    });
+  }
+  std::vector<Eigen::Matrix3d> matrices3(std::string_view name) {
+    return value(name, FieldType::matrix3_array, [&](Reader& r) {
+      std::vector<Eigen::Matrix3d> ms(items(r, 9 * sizeof(double)));
+      for (auto& m : ms) r.doubles(m.data(), 9);
+      return ms;
+    });
+  }
+  /// Sets the `member` 3-vector of each of `items` (their count must match the field's).
+  template <class Item>
+  void vectors3(std::string_view name, std::vector<Item>& items_out, Eigen::Vector3d Item::*member) {
+    value(name, FieldType::vector3_array, [&](Reader& r) {
+      const std::size_t n = items(r, 3 * sizeof(double));
+      if (n != items_out.size())
+        throw std::runtime_error(fmt::format("{} items, the record has {}", n, items_out.size()));
+      for (auto& item : items_out) r.doubles((item.*member).data(), 3);
+      return 0;
+    });
+  }
+  Eigen::SparseMatrix<double> sparse(std::string_view name) {
+    return value(name, FieldType::sparse_matrix, [](Reader& r) { return r.sparse(); });
+  }
+  /// A nested record: get(RecordReader&) returns its value.
+  template <class Get>
+  auto record(std::string_view name, std::string_view type, Get get) {
+    return value(name, FieldType::record, [&](Reader& r) { return read_record(r, type, get); });
+  }
+  /// A list of records: get(RecordReader&) returns each item.
+  template <class Get>
+  auto records(std::string_view name, std::string_view type, Get get) {
+    return value(name, FieldType::record_list, [&](Reader& r) {
+      std::vector<decltype(read_record(r, type, get))> items_out(r.count(8 + type.size() + 4));
+      for (auto& item : items_out) item = read_record(r, type, get);
+      return items_out;
+    });
+  }
+  /// Items written by RecordWriter::columns: get(RecordReader&, std::size_t count) returns them.
+  /// item_bytes (the bytes of one item in all columns) bounds the count before get allocates.
+  template <class Get>
+  auto columns(std::string_view name, std::string_view type, std::size_t item_bytes, Get get) {
+    return value(name, FieldType::record_columns, [&](Reader& r) {
+      const std::size_t count = r.count(item_bytes);
+      return read_record(r, type, [&](RecordReader& rec) { return get(rec, count); });
+    });
+  }
+
+  /// Throws when the record has a field that was not read: one this build does not know.
+  void finish() const {
+    for (const Field& f : fields_)
+      if (!f.read)
+        throw std::runtime_error(fmt::format("{}: unknown field '{}' (type {})", type_, f.name, type_name(f.type)));
+  }
+
+  /// A record from r, its value get(RecordReader&), all its fields read.
+  template <class Get>
+  static auto read_record(Reader& r, std::string_view type, Get get) {
+    RecordReader rec(r, type);
+    auto v = get(rec);
+    rec.finish();
+    return v;
+  }
+
+ private:
+  std::string_view type_;
+  std::vector<Field> fields_;
+};
+
+/// The payload: one top-level record and nothing after it.
+template <class Get>
+auto decode_payload(std::string_view payload, std::string_view type, Get get) {
+  Reader r(payload);
+  auto v = RecordReader::read_record(r, type, get);
+  r.expect_end();
+  return v;
+}
+
+template <class Put>
+std::string encode_payload(std::string_view type, Put put) {
+  Writer w;
+  {
+    RecordWriter r(w, type);
+    put(r);
+  }
+  return w.take();
+}
+
+void put(RecordWriter& w, const fe::SparseCholeskyStatistics& s) {
+  w.int64("rows", s.rows);
+  w.int64("matrix_nonzeros", s.matrix_nonzeros);
+  w.float64("factor_nonzeros", s.factor_nonzeros);
+  w.int64("factor_entries", s.factor_entries);
+  w.float64("factor_flops", s.factor_flops);
+  w.string("ordering", s.ordering);
+  w.int32("factorizations", s.factorizations);
+  w.float64("analyze_seconds", s.analyze_seconds);
+  w.float64("factorize_seconds", s.factorize_seconds);
+}
+
+fe::SparseCholeskyStatistics get_factor(RecordReader& r) {
   fe::SparseCholeskyStatistics s;
-  s.rows = r.i64();
-  s.matrix_nonzeros = r.i64();
-  s.factor_nonzeros = r.f64();
-  s.factor_entries = r.i64();
-  s.factor_flops = r.f64();
-  s.ordering = r.str();
-  s.factorizations = r.i32();
-  s.analyze_seconds = r.f64();
-  s.factorize_seconds = r.f64();
+  s.rows = r.int64("rows");
+  s.matrix_nonzeros = r.int64("matrix_nonzeros");
+  s.factor_nonzeros = r.float64("factor_nonzeros");
+  s.factor_entries = r.int64("factor_entries");
+  s.factor_flops = r.float64("factor_flops");
+  s.ordering = r.string("ordering");
+  s.factorizations = r.int32("factorizations");
+  s.analyze_seconds = r.float64("analyze_seconds");
+  s.factorize_seconds = r.float64("factorize_seconds");
   return s;
 }
-
-// A field added to one of the cached types must be serialised too (and stage_cache_format
-// bumped). The sizes below catch an addition on the usual platform (x86-64, libstdc++).
-#if defined(__x86_64__) && defined(__GLIBCXX__) && !defined(_GLIBCXX_DEBUG)
-static_assert(sizeof(preload::PreloadStep) == 40, "PreloadStep changed: update stage_cache.cpp");
-static_assert(sizeof(preload::InterfaceResult) == 296, "InterfaceResult changed: update stage_cache.cpp");
-static_assert(sizeof(fe::InterfaceContactState) == 208, "InterfaceContactState changed: update stage_cache.cpp");
-static_assert(sizeof(preload::PreloadResult) == 456, "PreloadResult changed: update stage_cache.cpp");
-static_assert(sizeof(fe::SparseCholeskyStatistics) == 96, "SparseCholeskyStatistics changed: update stage_cache.cpp");
-static_assert(sizeof(modal::ModalResult) == 280, "ModalResult changed: update stage_cache.cpp");
-static_assert(sizeof(hb::InterfaceModel) == 312, "InterfaceModel changed: update stage_cache.cpp");
-static_assert(sizeof(hb::InterfaceGroup) == 120, "InterfaceGroup changed: update stage_cache.cpp");
-static_assert(sizeof(hb::InterfaceOutput) == 96, "InterfaceOutput changed: update stage_cache.cpp");
-#endif
 
 }  // namespace
 
 // ---- payloads ------------------------------------------------------------------------------------
 
 std::string encode_preload(const preload::PreloadResult& p) {
-  Writer w;
-  w.boolean(p.converged);
-  w.str(p.message);
-  w.u64(p.steps.size());
-  for (const auto& s : p.steps) {
-    w.f64(s.load_factor);
-    w.i32(s.iterations);
-    w.i32(s.factorizations);
-    w.i32(s.chord_iterations);
-    w.i32(s.line_search_cuts);
-    w.f64(s.residual);
-    w.boolean(s.converged);
-  }
-  w.vec(p.displacement);
-  w.f64(p.load_factor);
-  w.u64(p.interfaces.size());
-  for (const auto& i : p.interfaces) {
-    w.str(i.name);
-    w.vec(i.state.gap);
-    w.vec(i.state.traction);
-    w.vec(i.state.pressure);
-    w.mat3s(i.state.tangent);
-    w.flags(i.state.open);
-    w.i32(i.state.num_open);
-    w.vec(i.state.force);
-    w.sparse(i.state.stiffness);
-    w.f64(i.clamping_force);
-    w.f64(i.closed_area);
-    w.f64(i.closed_area_fraction);
-    w.f64(i.max_pressure);
-    w.f64(i.mean_pressure);
-    w.f64(i.max_gap);
-    w.f64(i.min_gap);
-  }
-  w.reals(p.bolt_forces);
-  w.integers(p.support_dofs);
-  w.f64(p.support_reaction);
-  w.integers(p.dofs.free_of_full);
-  w.integers(p.dofs.full_of_free);
-  w.sparse(p.dynamic_stiffness);
-  w.str(p.factor_statistics);
-  put(w, p.factor);
-  w.i32(p.total_iterations);
-  w.f64(p.assembly_seconds);
-  w.f64(p.contact_seconds);
-  w.f64(p.factor_seconds);
-  w.f64(p.seconds);
-  return w.take();
+  return encode_payload("PreloadResult", [&](RecordWriter& w) {
+    w.boolean("converged", p.converged);
+    w.string("message", p.message);
+    w.records("steps", "PreloadStep", p.steps, [](RecordWriter& ws, const preload::PreloadStep& s) {
+      ws.float64("load_factor", s.load_factor);
+      ws.int32("iterations", s.iterations);
+      ws.int32("factorizations", s.factorizations);
+      ws.int32("chord_iterations", s.chord_iterations);
+      ws.int32("line_search_cuts", s.line_search_cuts);
+      ws.float64("residual", s.residual);
+      ws.boolean("converged", s.converged);
+    });
+    w.reals("displacement", p.displacement);
+    w.float64("load_factor", p.load_factor);
+    w.records("interfaces", "InterfaceResult", p.interfaces, [](RecordWriter& wi, const preload::InterfaceResult& i) {
+      wi.string("name", i.name);
+      wi.record("state", "InterfaceContactState", [&](RecordWriter& wc) {
+        wc.reals("gap", i.state.gap);
+        wc.reals("traction", i.state.traction);
+        wc.reals("pressure", i.state.pressure);
+        wc.matrices3("tangent", i.state.tangent);
+        wc.flags("open", i.state.open);
+        wc.int32("num_open", i.state.num_open);
+        wc.reals("force", i.state.force);
+        wc.sparse("stiffness", i.state.stiffness);
+      });
+      wi.float64("clamping_force", i.clamping_force);
+      wi.float64("closed_area", i.closed_area);
+      wi.float64("closed_area_fraction", i.closed_area_fraction);
+      wi.float64("max_pressure", i.max_pressure);
+      wi.float64("mean_pressure", i.mean_pressure);
+      wi.float64("max_gap", i.max_gap);
+      wi.float64("min_gap", i.min_gap);
+    });
+    w.reals("bolt_forces", p.bolt_forces);
+    w.integers("support_dofs", p.support_dofs);
+    w.float64("support_reaction", p.support_reaction);
+    w.record("dofs", "DofMap", [&](RecordWriter& wd) {
+      wd.integers("free_of_full", p.dofs.free_of_full);
+      wd.integers("full_of_free", p.dofs.full_of_free);
+    });
+    w.sparse("dynamic_stiffness", p.dynamic_stiffness);
+    w.string("factor_statistics", p.factor_statistics);
+    w.record("factor", "SparseCholeskyStatistics", [&](RecordWriter& wf) { put(wf, p.factor); });
+    w.int32("total_iterations", p.total_iterations);
+    w.float64("assembly_seconds", p.assembly_seconds);
+    w.float64("contact_seconds", p.contact_seconds);
+    w.float64("factor_seconds", p.factor_seconds);
+    w.float64("seconds", p.seconds);
+  });
 }
 
 preload::PreloadResult decode_preload(std::string_view payload) {
-  Reader r(payload);
-  preload::PreloadResult p;
-  p.converged = r.boolean();
-  p.message = r.str();
-  p.steps.resize(r.count(33));
-  for (auto& s : p.steps) {
-    s.load_factor = r.f64();
-    s.iterations = r.i32();
-    s.factorizations = r.i32();
-    s.chord_iterations = r.i32();
-    s.line_search_cuts = r.i32();
-    s.residual = r.f64();
-    s.converged = r.boolean();
-  }
-  p.displacement = r.vec();
-  p.load_factor = r.f64();
-  p.interfaces.resize(r.count(1));
-  for (auto& i : p.interfaces) {
-    i.name = r.str();
-    i.state.gap = r.vec();
-    i.state.traction = r.vec();
-    i.state.pressure = r.vec();
-    i.state.tangent = r.mat3s();
-    i.state.open = r.flags();
-    i.state.num_open = r.i32();
-    i.state.force = r.vec();
-    i.state.stiffness = r.sparse();
-    i.clamping_force = r.f64();
-    i.closed_area = r.f64();
-    i.closed_area_fraction = r.f64();
-    i.max_pressure = r.f64();
-    i.mean_pressure = r.f64();
-    i.max_gap = r.f64();
-    i.min_gap = r.f64();
-  }
-  p.bolt_forces = r.reals();
-  p.support_dofs = r.integers();
-  p.support_reaction = r.f64();
-  p.dofs.free_of_full = r.integers();
-  p.dofs.full_of_free = r.integers();
-  p.dynamic_stiffness = r.sparse();
-  p.factor_statistics = r.str();
-  p.factor = get_factor(r);
-  p.total_iterations = r.i32();
-  p.assembly_seconds = r.f64();
-  p.contact_seconds = r.f64();
-  p.factor_seconds = r.f64();
-  p.seconds = r.f64();
-  r.expect_end();
-  return p;
+  return decode_payload(payload, "PreloadResult", [](RecordReader& r) {
+    preload::PreloadResult p;
+    p.converged = r.boolean("converged");
+    p.message = r.string("message");
+    p.steps = r.records("steps", "PreloadStep", [](RecordReader& rs) {
+      preload::PreloadStep s;
+      s.load_factor = rs.float64("load_factor");
+      s.iterations = rs.int32("iterations");
+      s.factorizations = rs.int32("factorizations");
+      s.chord_iterations = rs.int32("chord_iterations");
+      s.line_search_cuts = rs.int32("line_search_cuts");
+      s.residual = rs.float64("residual");
+      s.converged = rs.boolean("converged");
+      return s;
+    });
+    p.displacement = r.vector("displacement");
+    p.load_factor = r.float64("load_factor");
+    p.interfaces = r.records("interfaces", "InterfaceResult", [](RecordReader& ri) {
+      preload::InterfaceResult i;
+      i.name = ri.string("name");
+      i.state = ri.record("state", "InterfaceContactState", [](RecordReader& rc) {
+        fe::InterfaceContactState c;
+        c.gap = rc.vector("gap");
+        c.traction = rc.vector("traction");
+        c.pressure = rc.vector("pressure");
+        c.tangent = rc.matrices3("tangent");
+        c.open = rc.flags("open");
+        c.num_open = rc.int32("num_open");
+        c.force = rc.vector("force");
+        c.stiffness = rc.sparse("stiffness");
+        return c;
+      });
+      i.clamping_force = ri.float64("clamping_force");
+      i.closed_area = ri.float64("closed_area");
+      i.closed_area_fraction = ri.float64("closed_area_fraction");
+      i.max_pressure = ri.float64("max_pressure");
+      i.mean_pressure = ri.float64("mean_pressure");
+      i.max_gap = ri.float64("max_gap");
+      i.min_gap = ri.float64("min_gap");
+      return i;
+    });
+    p.bolt_forces = r.reals("bolt_forces");
+    p.support_dofs = r.integers("support_dofs");
+    p.support_reaction = r.float64("support_reaction");
+    p.dofs = r.record("dofs", "DofMap", [](RecordReader& rd) {
+      fe::DofMap d;
+      d.free_of_full = rd.integers("free_of_full");
+      d.full_of_free = rd.integers("full_of_free");
+      return d;
+    });
+    p.dynamic_stiffness = r.sparse("dynamic_stiffness");
+    p.factor_statistics = r.string("factor_statistics");
+    p.factor = r.record("factor", "SparseCholeskyStatistics", get_factor);
+    p.total_iterations = r.int32("total_iterations");
+    p.assembly_seconds = r.float64("assembly_seconds");
+    p.contact_seconds = r.float64("contact_seconds");
+    p.factor_seconds = r.float64("factor_seconds");
+    p.seconds = r.float64("seconds");
+    return p;
+  });
 }
 
 std::string encode_modes(const modal::ModalResult& m) {
-  Writer w;
-  w.u8(static_cast<std::uint8_t>(m.status));
-  w.str(m.message);
-  w.vec(m.eigenvalues);
-  w.vec(m.frequencies_hz);
-  w.mat(m.shapes);
-  w.vec(m.residuals);
-  w.vec(m.backward_errors);
-  w.f64(m.shift);
-  w.i32(m.requested);
-  w.i32(m.iterations);
-  w.i32(m.operator_applications);
-  w.i32(m.mass_applications);
-  w.i32(m.ncv);
-  put(w, m.factor);
-  w.f64(m.factor_seconds);
-  w.f64(m.lanczos_seconds);
-  w.f64(m.seconds);
-  return w.take();
+  return encode_payload("ModalResult", [&](RecordWriter& w) {
+    w.enumeration("status", static_cast<std::uint8_t>(m.status));
+    w.string("message", m.message);
+    w.reals("eigenvalues", m.eigenvalues);
+    w.reals("frequencies_hz", m.frequencies_hz);
+    w.matrix("shapes", m.shapes);
+    w.reals("residuals", m.residuals);
+    w.reals("backward_errors", m.backward_errors);
+    w.float64("shift", m.shift);
+    w.int32("requested", m.requested);
+    w.int32("iterations", m.iterations);
+    w.int32("operator_applications", m.operator_applications);
+    w.int32("mass_applications", m.mass_applications);
+    w.int32("ncv", m.ncv);
+    w.record("factor", "SparseCholeskyStatistics", [&](RecordWriter& wf) { put(wf, m.factor); });
+    w.float64("factor_seconds", m.factor_seconds);
+    w.float64("lanczos_seconds", m.lanczos_seconds);
+    w.float64("seconds", m.seconds);
+  });
 }
 
 modal::ModalResult decode_modes(std::string_view payload) {
-  Reader r(payload);
-  modal::ModalResult m;
-  const std::uint8_t status = r.u8();
-  if (status > static_cast<std::uint8_t>(modal::ModalStatus::failed)) throw std::runtime_error("bad modal status");
-  m.status = static_cast<modal::ModalStatus>(status);
-  m.message = r.str();
-  m.eigenvalues = r.vec();
-  m.frequencies_hz = r.vec();
-  m.shapes = r.mat();
-  m.residuals = r.vec();
-  m.backward_errors = r.vec();
-  m.shift = r.f64();
-  m.requested = r.i32();
-  m.iterations = r.i32();
-  m.operator_applications = r.i32();
-  m.mass_applications = r.i32();
-  m.ncv = r.i32();
-  m.factor = get_factor(r);
-  m.factor_seconds = r.f64();
-  m.lanczos_seconds = r.f64();
-  m.seconds = r.f64();
-  r.expect_end();
-  return m;
+  return decode_payload(payload, "ModalResult", [](RecordReader& r) {
+    modal::ModalResult m;
+    const std::uint8_t status = r.enumeration("status");
+    if (status > static_cast<std::uint8_t>(modal::ModalStatus::failed))
+      throw std::runtime_error(fmt::format("ModalResult: field 'status' has no enumerator {}", status));
+    m.status = static_cast<modal::ModalStatus>(status);
+    m.message = r.string("message");
+    m.eigenvalues = r.vector("eigenvalues");
+    m.frequencies_hz = r.vector("frequencies_hz");
+    m.shapes = r.matrix("shapes");
+    m.residuals = r.vector("residuals");
+    m.backward_errors = r.vector("backward_errors");
+    m.shift = r.float64("shift");
+    m.requested = r.int32("requested");
+    m.iterations = r.int32("iterations");
+    m.operator_applications = r.int32("operator_applications");
+    m.mass_applications = r.int32("mass_applications");
+    m.ncv = r.int32("ncv");
+    m.factor = r.record("factor", "SparseCholeskyStatistics", get_factor);
+    m.factor_seconds = r.float64("factor_seconds");
+    m.lanczos_seconds = r.float64("lanczos_seconds");
+    m.seconds = r.float64("seconds");
+    return m;
+  });
 }
 
 std::string encode_interface_model(const hb::InterfaceModel& m) {
-  Writer w;
-  w.vec(m.omega2);
-  w.i32(m.rigid_modes);
-  w.mat(m.gap_shapes);
-  w.f64(m.rayleigh_mass);
-  w.f64(m.rayleigh_stiffness);
-  w.f64(m.residual_shift);
-  w.mat(m.residual_flexibility);
-  w.mat(m.residual_inertia);
-  w.u64(m.groups.size());
-  for (const auto& g : m.groups) {
-    w.str(g.name);  // the law is the caller's (see load_interface_model)
-    w.i32(g.first);
-    w.i32(g.count);
-  }
-  w.u64(m.references.size());
-  for (const auto& ref : m.references) {
-    w.vec3(ref.gap);
-    w.vec3(ref.traction);
-  }
-  w.vec(m.areas);
-  w.mat3s(m.stuck_tangents);
-  w.str(m.load_name);
-  w.vec(m.load_modal);
-  w.vec(m.load_residual0);
-  w.vec(m.load_residual1);
-  w.u64(m.outputs.size());
-  for (const auto& o : m.outputs) {
-    w.str(o.name);
-    w.vec(o.modal);
-    w.vec(o.residual0);
-    w.vec(o.residual1);
-    w.f64(o.load_residual0);
-    w.f64(o.load_residual1);
-  }
-  return w.take();
+  return encode_payload("InterfaceModel", [&](RecordWriter& w) {
+    w.reals("omega2", m.omega2);
+    w.int32("rigid_modes", m.rigid_modes);
+    w.matrix("gap_shapes", m.gap_shapes);
+    w.float64("rayleigh_mass", m.rayleigh_mass);
+    w.float64("rayleigh_stiffness", m.rayleigh_stiffness);
+    w.float64("residual_shift", m.residual_shift);
+    w.matrix("residual_flexibility", m.residual_flexibility);
+    w.matrix("residual_inertia", m.residual_inertia);
+    w.records("groups", "InterfaceGroup", m.groups, [](RecordWriter& wg, const hb::InterfaceGroup& g) {
+      wg.string("name", g.name);  // the law is the caller's (see load_interface_model)
+      wg.int32("first", g.first);
+      wg.int32("count", g.count);
+    });
+    // One record per contact point would cost more than the point's 48 bytes of data: columns.
+    w.columns("references", "ContactPointReference", m.references.size(), [&](RecordWriter& wr) {
+      wr.vectors3("gap", m.references, &hb::ContactPointReference::gap);
+      wr.vectors3("traction", m.references, &hb::ContactPointReference::traction);
+    });
+    w.reals("areas", m.areas);
+    w.matrices3("stuck_tangents", m.stuck_tangents);
+    w.string("load_name", m.load_name);
+    w.reals("load_modal", m.load_modal);
+    w.reals("load_residual0", m.load_residual0);
+    w.reals("load_residual1", m.load_residual1);
+    w.records("outputs", "InterfaceOutput", m.outputs, [](RecordWriter& wo, const hb::InterfaceOutput& o) {
+      wo.string("name", o.name);
+      wo.reals("modal", o.modal);
+      wo.reals("residual0", o.residual0);
+      wo.reals("residual1", o.residual1);
+      wo.float64("load_residual0", o.load_residual0);
+      wo.float64("load_residual1", o.load_residual1);
+    });
+  });
 }
 
 hb::InterfaceModel decode_interface_model(std::string_view payload,
                                           const std::vector<contact::ContactPoint>& laws) {
-  Reader r(payload);
-  hb::InterfaceModel m;
-  m.omega2 = r.vec();
-  m.rigid_modes = r.i32();
-  m.gap_shapes = r.mat();
-  m.rayleigh_mass = r.f64();
-  m.rayleigh_stiffness = r.f64();
-  m.residual_shift = r.f64();
-  m.residual_flexibility = r.mat();
-  m.residual_inertia = r.mat();
-  const std::size_t groups = r.count(16);
-  if (groups != laws.size())
-    throw std::invalid_argument(fmt::format("{} interface groups stored, {} contact laws given", groups, laws.size()));
-  for (std::size_t g = 0; g < groups; ++g) {
-    std::string name = r.str();
-    const int first = r.i32();
-    const int count = r.i32();
-    m.groups.push_back(hb::InterfaceGroup{std::move(name), laws[g], first, count});
-  }
-  m.references.resize(r.count(6 * sizeof(double)));
-  for (auto& ref : m.references) {
-    ref.gap = r.vec3();
-    ref.traction = r.vec3();
-  }
-  m.areas = r.vec();
-  m.stuck_tangents = r.mat3s();
-  m.load_name = r.str();
-  m.load_modal = r.vec();
-  m.load_residual0 = r.vec();
-  m.load_residual1 = r.vec();
-  m.outputs.resize(r.count(1));
-  for (auto& o : m.outputs) {
-    o.name = r.str();
-    o.modal = r.vec();
-    o.residual0 = r.vec();
-    o.residual1 = r.vec();
-    o.load_residual0 = r.f64();
-    o.load_residual1 = r.f64();
-  }
-  r.expect_end();
-  return m;
+  return decode_payload(payload, "InterfaceModel", [&](RecordReader& r) {
+    hb::InterfaceModel m;
+    m.omega2 = r.vector("omega2");
+    m.rigid_modes = r.int32("rigid_modes");
+    m.gap_shapes = r.matrix("gap_shapes");
+    m.rayleigh_mass = r.float64("rayleigh_mass");
+    m.rayleigh_stiffness = r.float64("rayleigh_stiffness");
+    m.residual_shift = r.float64("residual_shift");
+    m.residual_flexibility = r.matrix("residual_flexibility");
+    m.residual_inertia = r.matrix("residual_inertia");
+    struct StoredGroup {
+      std::string name;
+      int first = 0, count = 0;
+    };
+    const std::vector<StoredGroup> groups = r.records("groups", "InterfaceGroup", [](RecordReader& rg) {
+      StoredGroup g;
+      g.name = rg.string("name");
+      g.first = rg.int32("first");
+      g.count = rg.int32("count");
+      return g;
+    });
+    if (groups.size() != laws.size())
+      throw std::invalid_argument(fmt::format("{} interface groups stored, {} contact laws given", groups.size(), laws.size()));
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      m.groups.push_back(hb::InterfaceGroup{groups[g].name, laws[g], groups[g].first, groups[g].count});
+    m.references = r.columns("references", "ContactPointReference", 6 * sizeof(double),
+                             [](RecordReader& rr, std::size_t count) {
+      std::vector<hb::ContactPointReference> references(count);
+      rr.vectors3("gap", references, &hb::ContactPointReference::gap);
+      rr.vectors3("traction", references, &hb::ContactPointReference::traction);
+      return references;
+    });
+    m.areas = r.vector("areas");
+    m.stuck_tangents = r.matrices3("stuck_tangents");
+    m.load_name = r.string("load_name");
+    m.load_modal = r.vector("load_modal");
+    m.load_residual0 = r.vector("load_residual0");
+    m.load_residual1 = r.vector("load_residual1");
+    m.outputs = r.records("outputs", "InterfaceOutput", [](RecordReader& ro) {
+      hb::InterfaceOutput o;
+      o.name = ro.string("name");
+      o.modal = ro.vector("modal");
+      o.residual0 = ro.vector("residual0");
+      o.residual1 = ro.vector("residual1");
+      o.load_residual0 = ro.float64("load_residual0");
+      o.load_residual1 = ro.float64("load_residual1");
+      return o;
+    });
+    return m;
+  });
+}
+
+std::string encode_field_recovery(const reduction::FieldRecovery& f) {
+  return encode_payload("FieldRecovery", [&](RecordWriter& w) {
+    w.matrix("modes", f.modes);
+    w.matrix("residual", f.residual);
+    w.integers("column_of_row", f.column_of_row);
+    w.reals("load_residual", f.load_residual);
+    w.integers("full_of_free", f.full_of_free);
+    w.int32("num_full", f.num_full);
+    w.float64("rayleigh_stiffness", f.rayleigh_stiffness);
+  });
+}
+
+reduction::FieldRecovery decode_field_recovery(std::string_view payload) {
+  reduction::FieldRecovery f = decode_payload(payload, "FieldRecovery", [](RecordReader& r) {
+    reduction::FieldRecovery g;
+    g.modes = r.matrix("modes");
+    g.residual = r.matrix("residual");
+    g.column_of_row = r.integers("column_of_row");
+    g.load_residual = r.vector("load_residual");
+    g.full_of_free = r.integers("full_of_free");
+    g.num_full = r.int32("num_full");
+    g.rayleigh_stiffness = r.float64("rayleigh_stiffness");
+    return g;
+  });
+  const auto n = static_cast<Eigen::Index>(f.full_of_free.size());
+  if (f.modes.rows() != n || f.residual.rows() != n || f.load_residual.size() != n)
+    throw std::runtime_error("inconsistent field-recovery sizes");
+  for (int c : f.column_of_row)
+    if (c < 0 || c >= f.residual.cols()) throw std::runtime_error("field-recovery column out of range");
+  for (int d : f.full_of_free)
+    if (d < 0 || d >= f.num_full) throw std::runtime_error("field-recovery DOF out of range");
+  return f;
 }
 
 // ---- StageCache ----------------------------------------------------------------------------------
@@ -611,39 +1019,6 @@ void StageCache::write_payload(std::string_view stage, const std::string& key, c
     if (!temp.empty()) std::filesystem::remove(temp, ignored);
     warn(fmt::format("stage cache: cannot store {}: {}; not cached", path.string(), e.what()));
   }
-}
-
-std::string encode_field_recovery(const reduction::FieldRecovery& f) {
-  Writer w;
-  w.mat(f.modes);
-  w.mat(f.residual);
-  w.integers(f.column_of_row);
-  w.vec(f.load_residual);
-  w.integers(f.full_of_free);
-  w.i32(f.num_full);
-  w.f64(f.rayleigh_stiffness);
-  return w.take();
-}
-
-reduction::FieldRecovery decode_field_recovery(std::string_view payload) {
-  Reader r(payload);
-  reduction::FieldRecovery f;
-  f.modes = r.mat();
-  f.residual = r.mat();
-  f.column_of_row = r.integers();
-  f.load_residual = r.vec();
-  f.full_of_free = r.integers();
-  f.num_full = r.i32();
-  f.rayleigh_stiffness = r.f64();
-  r.expect_end();
-  const auto n = static_cast<Eigen::Index>(f.full_of_free.size());
-  if (f.modes.rows() != n || f.residual.rows() != n || f.load_residual.size() != n)
-    throw std::runtime_error("inconsistent field-recovery sizes");
-  for (int c : f.column_of_row)
-    if (c < 0 || c >= f.residual.cols()) throw std::runtime_error("field-recovery column out of range");
-  for (int d : f.full_of_free)
-    if (d < 0 || d >= f.num_full) throw std::runtime_error("field-recovery DOF out of range");
-  return f;
 }
 
 std::optional<reduction::FieldRecovery> StageCache::load_field_recovery(const std::string& key) {

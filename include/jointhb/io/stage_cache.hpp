@@ -14,12 +14,33 @@
 // Files. DIR/<stage>-<key>.bin, little-endian:
 //   "JHBC"  u32 format version (stage_cache_format)  str stage  str key
 //   u64 payload length   payload   u64 FNV-1a-64 checksum of the payload
-// (str = u64 length + bytes; doubles as their IEEE bit patterns, so a round trip is bit-identical).
+// (str = u64 length + bytes). The payload is one record, self-describing so that a file written by
+// a build whose cached types differ is told apart by name, not misread by position:
+//   record = str type name (the C++ struct, e.g. "PreloadResult")  u32 field count
+//            field × count, each: str field name (the C++ member)  u8 type code  u64 length  bytes
+// Type codes and their bytes (n = the count that the length implies; doubles as their IEEE bit
+// patterns, so a round trip is bit-identical; i32 arrays and f64 arrays are bulk copies):
+//    1 boolean (1 byte, 0 or 1)   2 i32   3 i64   4 f64   5 string (the bytes)
+//    6 enumeration (1 byte: the enumerator's value)
+//    7 f64 array (Eigen::VectorXd, std::vector<double>)
+//    8 f64 matrix: u64 rows, u64 cols, rows × cols f64 column-major (Eigen::MatrixXd)
+//    9 i32 array   10 boolean array (a byte each)   11 3×3 matrix array (9 f64 each, column-major)
+//   12 3-vector array (3 f64 each)
+//   13 sparse matrix: u64 rows, cols, nnz; (cols + 1) i32 column starts, nnz i32 row indices,
+//      nnz f64 values (compressed column storage)
+//   14 record (a nested struct)   15 record list: u64 n, n records (std::vector of a struct)
+//   16 record columns: u64 n, one record whose fields hold the n items' values of that member one
+//      after another (std::vector of a small struct with many items: no per-item names)
+// Decoding reads each field by name; a missing field, an unknown extra field, another type code
+// or length, or another record type name makes decode_* throw std::runtime_error naming the record
+// type and the field. stage_cache.cpp checks at compile time that each cached struct still has the
+// members it serialises (aggregate_field_count.hpp); stage_cache_format is bumped with the layout.
 // Written to a temporary file in DIR and renamed, so a reader never sees a partial file. A
 // missing file is a silent miss; a truncated or corrupted file (bad magic, length, checksum,
-// stage or key, or a payload that does not parse) and a file of another format version are a miss
-// with a one-line warning on stderr. Failing to create DIR or to write a file (disk full, no
-// permission) is a warning; the run goes on without the cache. Never a crash, never a wrong result
+// stage or key, or a payload that does not parse or whose fields differ from this build's) and a
+// file of another format version are a miss with a one-line warning on stderr (naming the file
+// and, for a payload, the record and field). Failing to create DIR or to write a file (disk full,
+// no permission) is a warning; the run goes on without the cache. Never a crash, never a wrong result
 // (short of a 128-bit hash collision or a stale pipeline::fe_stage_version).
 
 #include <Eigen/Core>
@@ -43,8 +64,10 @@ namespace jointhb::io {
 
 using pipeline::Fingerprint;  // the stage keys (pipeline/fingerprint.hpp)
 
-/// Layout version of the cache files; bump when a serialised type gains, loses or changes a field.
-inline constexpr std::uint32_t stage_cache_format = 1;
+/// Layout version of the cache files; bump when a serialised type gains, loses or changes a field
+/// (the field names would tell the difference anyway; the version says it in the warning first).
+/// 1: positional values; 2: self-describing records (above).
+inline constexpr std::uint32_t stage_cache_format = 2;
 
 /// The on-disk cache of stage results. All load_* return std::nullopt on a miss; store_* never
 /// throw (a failure is a warning). With enabled = false every load misses and store does nothing.
@@ -100,7 +123,7 @@ class StageCache final : public pipeline::StageStore {
 
 /// The payload encoding on its own (no header), for tests and for other containers. decode_*
 /// throw std::runtime_error when the bytes do not parse (truncated, inconsistent sizes, trailing
-/// bytes).
+/// bytes) or a record's fields differ from this build's (the message names record and field).
 std::string encode_preload(const preload::PreloadResult& result);
 preload::PreloadResult decode_preload(std::string_view payload);
 std::string encode_modes(const modal::ModalResult& result);

@@ -1,6 +1,8 @@
 // The stage cache (io/stage_cache.hpp): bit-identical round trips of the cached stage results, a
-// damaged or foreign file is a miss (never a crash), a cache that cannot be written is a warning,
-// and the FE stage keys (pipeline::fe_stage_keys of a case) change exactly when their inputs change.
+// damaged or foreign file is a miss (never a crash), a file whose records differ from this build's
+// fields (or of format version 1) is a miss naming the field, a cache that cannot be written is a
+// warning, the member count behind the compile-time field checks, and the FE stage keys
+// (pipeline::fe_stage_keys of a case) change exactly when their inputs change.
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/pipeline/fe_model.hpp"
 
@@ -8,6 +10,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +21,7 @@
 
 #include "jointhb/contact/jenkins_law.hpp"
 #include "jointhb/fe/assembly.hpp"
+#include "jointhb/io/aggregate_field_count.hpp"
 #include "jointhb/io/fe_case.hpp"
 
 namespace io = jointhb::io;
@@ -171,6 +175,139 @@ void expect_same(const modal::ModalResult& a, const modal::ModalResult& b) {
   EXPECT_EQ(io::encode_modes(a), io::encode_modes(b));
 }
 
+
+// ---- the file format, written from its description in stage_cache.hpp --------------------------
+// An independent reader and writer of records, so that the tests can remove, rename, add and
+// retype fields of a real payload and write a file with a valid header and checksum around it.
+
+std::uint64_t le(std::string_view b, std::size_t at, int bytes) {
+  std::uint64_t v = 0;
+  for (int k = 0; k < bytes; ++k) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(b.at(at + k))) << (8 * k);
+  return v;
+}
+void put_le(std::string& out, std::uint64_t v, int bytes) {
+  for (int k = 0; k < bytes; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xffU));
+}
+void put_str(std::string& out, std::string_view s) {
+  put_le(out, s.size(), 8);
+  out.append(s);
+}
+
+struct RawField {
+  std::string name;
+  std::uint8_t code = 0;
+  std::string bytes;
+};
+struct RawRecord {
+  std::string type;
+  std::vector<RawField> fields;
+
+  RawField& field(const std::string& name) {
+    for (auto& f : fields)
+      if (f.name == name) return f;
+    throw std::logic_error("no field " + name);
+  }
+  void erase(const std::string& name) {
+    const auto before = fields.size();
+    std::erase_if(fields, [&](const RawField& f) { return f.name == name; });
+    if (fields.size() != before - 1) throw std::logic_error("no field " + name);
+  }
+};
+
+RawRecord parse_record(std::string_view b) {
+  std::size_t at = 0;
+  const auto str = [&] {
+    const auto n = static_cast<std::size_t>(le(b, at, 8));
+    std::string s(b.substr(at + 8, n));
+    at += 8 + n;
+    return s;
+  };
+  RawRecord r;
+  r.type = str();
+  const auto count = le(b, at, 4);
+  at += 4;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    RawField f;
+    f.name = str();
+    f.code = static_cast<std::uint8_t>(b.at(at));
+    ++at;
+    const auto n = static_cast<std::size_t>(le(b, at, 8));
+    f.bytes = std::string(b.substr(at + 8, n));
+    at += 8 + n;
+    r.fields.push_back(f);
+  }
+  if (at != b.size()) throw std::logic_error("trailing bytes after the record");
+  return r;
+}
+
+std::string emit(const RawRecord& r) {
+  std::string out;
+  put_str(out, r.type);
+  put_le(out, r.fields.size(), 4);
+  for (const auto& f : r.fields) {
+    put_str(out, f.name);
+    out.push_back(static_cast<char>(f.code));
+    put_str(out, f.bytes);
+  }
+  return out;
+}
+
+std::uint64_t fnv1a64(std::string_view bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+/// A cache file with a correct header and checksum around `payload`.
+void write_cache_file(const fs::path& file, std::string_view stage, std::string_view key, const std::string& payload,
+                      std::uint32_t version = io::stage_cache_format) {
+  std::string out = "JHBC";
+  put_le(out, version, 4);
+  put_str(out, stage);
+  put_str(out, key);
+  put_str(out, payload);
+  put_le(out, fnv1a64(payload), 8);
+  write_bytes(file, out);
+}
+
+/// A small preload result with every kind of field filled (no solve).
+pl::PreloadResult hand_made_preload() {
+  pl::PreloadResult p;
+  p.converged = true;
+  p.message = "";
+  p.steps.push_back({0.5, 3, 2, 1, 0, 1e-10, true});
+  p.steps.push_back({1.0, 2, 1, 1, 1, 2e-11, true});
+  p.displacement = Eigen::VectorXd::Random(12);
+  p.load_factor = 1.0;
+  pl::InterfaceResult i;
+  i.name = "lap";
+  i.state.gap = Eigen::VectorXd::Random(6);
+  i.state.traction = Eigen::VectorXd::Random(6);
+  i.state.pressure = Eigen::VectorXd::Random(2);
+  i.state.tangent = {Eigen::Matrix3d::Random(), Eigen::Matrix3d::Random()};
+  i.state.open = {false, true};
+  i.state.num_open = 1;
+  i.state.force = Eigen::VectorXd::Random(12);
+  i.state.stiffness = Eigen::MatrixXd::Identity(12, 12).sparseView();
+  i.clamping_force = 1e4;
+  i.min_gap = -1e-7;
+  p.interfaces.push_back(i);
+  p.bolt_forces = {5000.0, 5000.5};
+  p.support_dofs = {0, 1, 2, 4, 5, 8};
+  p.support_reaction = 1e-15;
+  p.dofs.free_of_full = {0, -1, 1, 2};
+  p.dofs.full_of_free = {0, 2, 3};
+  p.dynamic_stiffness = Eigen::MatrixXd::Identity(12, 12).sparseView();
+  p.factor_statistics = "n=12";
+  p.factor.ordering = "AMD";
+  p.factor.factorizations = 3;
+  p.total_iterations = 5;
+  p.seconds = 0.25;
+  return p;
+}
 }  // namespace
 
 // ---- Fingerprint ---------------------------------------------------------------------------------
@@ -407,6 +544,276 @@ TEST(StageCache, DisabledAndUnwritableCachesDoNotStopTheRun) {
   // Decoding garbage throws (the cache turns that into a miss).
   EXPECT_THROW((void)io::decode_modes("garbage"), std::runtime_error);
   EXPECT_THROW((void)io::decode_preload(std::string(64, '\xff')), std::runtime_error);
+}
+
+// ---- records: fields by name ---------------------------------------------------------------------
+
+TEST(StageCacheFormat, PayloadIsTheDocumentedRecord) {
+  // The top-level record of the modes: type name, the members by their C++ names in order, and
+  // the type codes of stage_cache.hpp. A parse -> emit round trip reproduces the payload exactly,
+  // so the tampering tests below change only what they mean to.
+  const std::string payload = io::encode_modes(hand_made_modes());
+  const RawRecord r = parse_record(payload);
+  EXPECT_EQ(r.type, "ModalResult");
+  std::vector<std::string> names;
+  for (const auto& f : r.fields) names.push_back(f.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"status", "message", "eigenvalues", "frequencies_hz", "shapes",
+                                             "residuals", "backward_errors", "shift", "requested", "iterations",
+                                             "operator_applications", "mass_applications", "ncv", "factor",
+                                             "factor_seconds", "lanczos_seconds", "seconds"}));
+  RawRecord copy = r;
+  EXPECT_EQ(copy.field("status").code, 6);    // enumeration
+  EXPECT_EQ(copy.field("message").code, 5);   // string
+  EXPECT_EQ(copy.field("eigenvalues").code, 7);  // f64 array
+  EXPECT_EQ(copy.field("eigenvalues").bytes.size(), 3 * sizeof(double));
+  EXPECT_EQ(copy.field("shapes").code, 8);    // f64 matrix: rows, cols, values
+  EXPECT_EQ(copy.field("shapes").bytes.size(), 16 + 7 * 3 * sizeof(double));
+  EXPECT_EQ(copy.field("requested").code, 2);  // i32
+  EXPECT_EQ(copy.field("shift").code, 4);      // f64
+  EXPECT_EQ(copy.field("factor").code, 14);    // nested record
+  EXPECT_EQ(parse_record(copy.field("factor").bytes).type, "SparseCholeskyStatistics");
+  EXPECT_EQ(emit(r), payload);
+}
+
+TEST(StageCacheFormat, FieldSetMismatchThrowsNamingRecordAndFieldAndIsAMiss) {
+  const pl::PreloadResult p = hand_made_preload();
+  const std::string good = io::encode_preload(p);
+  const RawRecord base = parse_record(good);
+  ASSERT_EQ(emit(base), good);
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  const fs::path file = cache.file("preload", "k");
+  // The untouched record, rewritten by the test's writer: a hit (the cases below differ only in
+  // what they change).
+  write_cache_file(file, "preload", "k", emit(base));
+  ASSERT_TRUE(cache.load_preload("k").has_value());
+  ASSERT_TRUE(cache.warnings().empty());
+
+  // Each case: decode_preload throws a runtime_error whose message holds every `expected` piece,
+  // and load_preload is a miss with one warning naming the file and the field.
+  const auto expect_mismatch = [&](const RawRecord& r, const std::vector<std::string>& expected, const char* what) {
+    const std::string payload = emit(r);
+    try {
+      (void)io::decode_preload(payload);
+      ADD_FAILURE() << what << ": decoded";
+    } catch (const std::runtime_error& e) {
+      for (const auto& piece : expected)
+        EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << what << ": " << e.what();
+    }
+    const std::size_t before = cache.warnings().size();
+    write_cache_file(file, "preload", "k", payload);
+    EXPECT_FALSE(cache.load_preload("k").has_value()) << what;
+    ASSERT_EQ(cache.warnings().size(), before + 1) << what;
+    const std::string& warning = cache.warnings().back();
+    EXPECT_NE(warning.find(file.string()), std::string::npos) << warning;
+    for (const auto& piece : expected) EXPECT_NE(warning.find(piece), std::string::npos) << what << ": " << warning;
+  };
+
+  {
+    RawRecord r = base;
+    r.erase("bolt_forces");
+    expect_mismatch(r, {"PreloadResult: field 'bolt_forces' missing"}, "removed");
+  }
+  {
+    RawRecord r = base;
+    r.field("bolt_forces").name = "bolt_force";
+    expect_mismatch(r, {"PreloadResult: field 'bolt_forces' missing"}, "renamed");
+  }
+  {
+    RawRecord r = base;
+    r.fields.push_back({"bolt_torques", 7, std::string(16, '\0')});
+    expect_mismatch(r, {"PreloadResult", "unknown field 'bolt_torques'"}, "extra");
+  }
+  {
+    RawRecord r = base;
+    r.field("bolt_forces").code = 9;  // i32 array instead of f64 array: same 16 bytes
+    expect_mismatch(r, {"PreloadResult: field 'bolt_forces'", "type code 9"}, "retyped");
+  }
+  {
+    RawRecord r = base;
+    r.field("load_factor").bytes.resize(4);  // an f64 of 4 bytes
+    expect_mismatch(r, {"PreloadResult: field 'load_factor'", "4 bytes"}, "wrong length");
+  }
+  {
+    RawRecord r = base;
+    r.type = "PreloadResult2";
+    expect_mismatch(r, {"PreloadResult", "'PreloadResult2'"}, "record type");
+  }
+  {
+    RawRecord r = base;
+    RawRecord factor = parse_record(r.field("factor").bytes);
+    factor.erase("ordering");
+    r.field("factor").bytes = emit(factor);
+    expect_mismatch(r, {"SparseCholeskyStatistics: field 'ordering' missing"}, "nested record");
+  }
+  {
+    RawRecord r = base;
+    r.fields.push_back(r.field("message"));
+    expect_mismatch(r, {"PreloadResult: field 'message' appears twice"}, "duplicate");
+  }
+}
+
+TEST(StageCacheFormat, EveryStageLoadNamesTheMismatchedField) {
+  // The other three stages through their load_*: one mismatch each, in a nested record, a record
+  // list and record columns.
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  const auto expect_miss_naming = [&](const std::string& piece, const char* what) {
+    ASSERT_FALSE(cache.warnings().empty()) << what;
+    EXPECT_NE(cache.warnings().back().find(piece), std::string::npos) << what << ": " << cache.warnings().back();
+  };
+  {
+    RawRecord r = parse_record(io::encode_modes(hand_made_modes()));
+    RawRecord factor = parse_record(r.field("factor").bytes);
+    factor.fields.push_back({"solve_seconds", 4, std::string(8, '\0')});
+    r.field("factor").bytes = emit(factor);
+    write_cache_file(cache.file("modes", "k"), "modes", "k", emit(r));
+    EXPECT_FALSE(cache.load_modes("k").has_value());
+    expect_miss_naming("SparseCholeskyStatistics: unknown field 'solve_seconds'", "modes");
+  }
+  {
+    jointhb::reduction::FieldRecovery f;
+    f.modes = Eigen::MatrixXd::Random(2, 1);
+    f.residual = Eigen::MatrixXd::Random(2, 1);
+    f.column_of_row = {0, 0, 0};
+    f.load_residual = Eigen::VectorXd::Random(2);
+    f.full_of_free = {0, 1};
+    f.num_full = 3;
+    RawRecord r = parse_record(io::encode_field_recovery(f));
+    r.field("num_full").code = 3;  // i64 instead of i32
+    r.field("num_full").bytes.resize(8, '\0');
+    write_cache_file(cache.file("recovery", "k"), "recovery", "k", emit(r));
+    EXPECT_FALSE(cache.load_field_recovery("k").has_value());
+    expect_miss_naming("FieldRecovery: field 'num_full' has type code 3", "recovery");
+  }
+  {
+    const auto law = [] {
+      return jointhb::contact::ContactPoint(jointhb::contact::ContactPointOptions{},
+                                            std::make_shared<jointhb::contact::JenkinsLaw>());
+    };
+    jointhb::hb::InterfaceModel m;
+    m.omega2 = Eigen::Vector2d(0.0, 4.0e6);
+    m.gap_shapes = Eigen::MatrixXd::Random(6, 2);
+    m.residual_flexibility = Eigen::MatrixXd::Random(6, 6);
+    m.residual_inertia = Eigen::MatrixXd::Random(6, 6);
+    m.groups.push_back({"a", law(), 0, 2});
+    m.references.resize(2);
+    m.areas = Eigen::Vector2d(1e-6, 1e-6);
+    m.stuck_tangents.assign(2, Eigen::Matrix3d::Identity());
+    m.outputs.push_back({"o", Eigen::Vector2d(1.0, 2.0), Eigen::VectorXd::Zero(6), Eigen::VectorXd::Zero(6), 0.0, 0.0});
+    const std::string good = io::encode_interface_model(m);
+    {
+      RawRecord r = parse_record(good);
+      std::string& columns = r.field("references").bytes;  // u64 count, then the record
+      RawRecord references = parse_record(std::string_view(columns).substr(8));
+      references.erase("traction");
+      columns = columns.substr(0, 8) + emit(references);
+      write_cache_file(cache.file("interface_model", "k"), "interface_model", "k", emit(r));
+      EXPECT_FALSE(cache.load_interface_model("k", {law()}).has_value());
+      expect_miss_naming("ContactPointReference: field 'traction' missing", "interface model references");
+    }
+    {
+      RawRecord r = parse_record(good);
+      r.erase("outputs");
+      write_cache_file(cache.file("interface_model", "k"), "interface_model", "k", emit(r));
+      EXPECT_FALSE(cache.load_interface_model("k", {law()}).has_value());
+      expect_miss_naming("InterfaceModel: field 'outputs' missing", "interface model outputs");
+    }
+    // The good payload through the same writer: a hit.
+    const std::size_t warnings = cache.warnings().size();
+    write_cache_file(cache.file("interface_model", "k"), "interface_model", "k", good);
+    EXPECT_TRUE(cache.load_interface_model("k", {law()}).has_value());
+    EXPECT_EQ(cache.warnings().size(), warnings);
+  }
+}
+
+TEST(StageCacheFormat, VersionOneFileIsAMissWithAWarning) {
+  const modal::ModalResult m = hand_made_modes();
+  TempDir dir;
+  io::StageCache cache(dir.path(), true);
+  const fs::path file = cache.file("modes", "k");
+  write_cache_file(file, "modes", "k", io::encode_modes(m), 1);
+  EXPECT_FALSE(cache.load_modes("k").has_value());
+  ASSERT_EQ(cache.warnings().size(), 1u);
+  const std::string& warning = cache.warnings().back();
+  EXPECT_NE(warning.find("format version 1"), std::string::npos) << warning;
+  EXPECT_NE(warning.find(file.string()), std::string::npos) << warning;
+  // The same bytes with this build's version: a hit.
+  write_cache_file(file, "modes", "k", io::encode_modes(m), io::stage_cache_format);
+  EXPECT_TRUE(cache.load_modes("k").has_value());
+  EXPECT_EQ(cache.warnings().size(), 1u);
+}
+
+TEST(StageCacheFormat, ManyContactPointsCostOnlyTheirData) {
+  // references are stored as columns, not a record per point: one more point adds its reference
+  // (2 × 3 doubles), its stuck tangent (9 doubles) and its area (1 double), nothing else.
+  const auto with_points = [](int points) {
+    jointhb::hb::InterfaceModel m;
+    m.references.resize(static_cast<std::size_t>(points));
+    m.stuck_tangents.assign(static_cast<std::size_t>(points), Eigen::Matrix3d::Identity());
+    m.areas = Eigen::VectorXd::Ones(points);
+    return io::encode_interface_model(m).size();
+  };
+  EXPECT_EQ(with_points(101) - with_points(100), (6 + 9 + 1) * sizeof(double));
+  EXPECT_EQ(with_points(1000) - with_points(100), 900 * (6 + 9 + 1) * sizeof(double));
+}
+
+// ---- the member count behind the compile-time field checks ---------------------------------------
+
+namespace {
+struct ThreeScalars {
+  double x;
+  int i;
+  bool flag;
+};
+struct TwoScalars {  // ThreeScalars without the bool: the same sizeof on x86-64 (padding)
+  double x;
+  int i;
+};
+struct WithDefaults {
+  int a = 1;
+  double b = 2.0;
+  std::string s = "s";
+};
+struct Pair {
+  int first;
+  int second;
+};
+struct WithNestedAggregate {  // brace elision would let {any, any, any} fill pair's two ints
+  Pair pair;
+  int third;
+};
+struct NotDefaultConstructible {
+  explicit NotDefaultConstructible(int) {}
+};
+struct WithNonDefaultConstructibleMember {  // T{} and T{any} are ill-formed, T{any, any} is not
+  int a;
+  NotDefaultConstructible b;
+};
+struct WithLibraryTypes {
+  Eigen::VectorXd v;
+  Eigen::Matrix3d m3;
+  Eigen::SparseMatrix<double> sparse;
+  std::vector<bool> flags;
+  std::vector<Eigen::Matrix3d> tangents;
+  std::string name;
+};
+struct Empty {};
+}  // namespace
+
+TEST(StageCacheFormat, AggregateFieldCountCountsMembersNotBytesOrNestedElements) {
+  using jointhb::io::detail::aggregate_field_count;
+  EXPECT_EQ(aggregate_field_count<TwoScalars>(), 2u);
+  EXPECT_EQ(aggregate_field_count<ThreeScalars>(), 3u);  // a bool hidden in padding still counts
+  EXPECT_EQ(aggregate_field_count<WithDefaults>(), 3u);
+  EXPECT_EQ(aggregate_field_count<Pair>(), 2u);
+  EXPECT_EQ(aggregate_field_count<WithNestedAggregate>(), 2u);
+  EXPECT_EQ(aggregate_field_count<WithNonDefaultConstructibleMember>(), 2u);
+  EXPECT_EQ(aggregate_field_count<WithLibraryTypes>(), 6u);
+  EXPECT_EQ(aggregate_field_count<Empty>(), 0u);
+  // The cached types that hold a class without a default constructor (contact::ContactPoint).
+  EXPECT_EQ(aggregate_field_count<jointhb::hb::InterfaceGroup>(), 4u);
+  static_assert(aggregate_field_count<WithNestedAggregate>() == 2);  // usable in static_assert
 }
 
 // ---- the FE case keys ----------------------------------------------------------------------------
