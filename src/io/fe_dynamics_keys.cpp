@@ -19,13 +19,6 @@ using yaml::item_path;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// Smallest power of two ≥ max(32, 16 H): 16 samples per period of the highest harmonic.
-int default_fe_time_samples(int harmonics) {
-  int n = 32;
-  while (n < 16 * harmonics) n *= 2;
-  return n;
-}
-
 class DynamicsReader {
  public:
   DynamicsReader(const yaml::Reader& reader, const fe::Mesh& mesh) : r_(reader), mesh_(mesh) {}
@@ -146,7 +139,7 @@ class DynamicsReader {
       r_.check(e->value, f.path_of("harmonics"), check_in_range(h, 1, 64));
       b.harmonics = static_cast<int>(h);
     }
-    b.time_samples = default_fe_time_samples(b.harmonics);
+    b.time_samples = pipeline::default_time_samples(b.harmonics);
     if (const auto* e = f.find("time_samples")) {
       const long long n = r_.integer(e->value, f.path_of("time_samples"));
       r_.check(e->value, f.path_of("time_samples"), check_in_range(n, 2 * b.harmonics + 2, 65536));

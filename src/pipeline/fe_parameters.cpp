@@ -102,8 +102,9 @@ double FePipeline::parameter(const std::string& name) const {
     if (n.key == "decay") return o.normal.decay;
     if (n.key == "mu") return o.friction_coefficient;
     if (n.key == "n" && law.law().name() == "gaul-mayer") return law_exponent(law);
-    if (n.key == "stiffness_ratio") return o.stiffness_ratio;
-    if (n.key == "kt") return o.tangential_stiffness;
+    const bool proportional = o.stiffness_model == contact::TangentialStiffnessModel::proportional;
+    if (n.key == "stiffness_ratio" && proportional) return o.stiffness_ratio;
+    if (n.key == "kt" && !proportional) return o.tangential_stiffness;
   } else if (n.group == "bolts" && n.key == "preload") {
     return model_.bolts[index_of(model_.bolts, n.item, [](const auto& b) { return b.name; }, name)].preload;
   } else if (analysis_.dynamics && name == "damping.ratio") {

@@ -15,6 +15,12 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 }  // namespace
 
+int default_time_samples(int harmonics) {
+  int n = 32;
+  while (n < 16 * harmonics) n *= 2;
+  return n;
+}
+
 Eigen::VectorXd FeNodeDirection::functional(int num_dofs) const {
   Eigen::VectorXd c = Eigen::VectorXd::Zero(num_dofs);
   c.segment<3>(3 * node) = direction;

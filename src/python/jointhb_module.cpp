@@ -322,7 +322,7 @@ class Pipeline {
     pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
     if (log10_amplitude) nm.log10_amplitude_start = log10_amplitude->first, nm.log10_amplitude_end = log10_amplitude->second;
     if (frequency_drop) nm.frequency_drop = *frequency_drop;
-    if (harmonics) nm.balance.harmonics = *harmonics;
+    if (harmonics) nm.balance.harmonics = *harmonics, nm.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (time_samples) nm.balance.time_samples = *time_samples;
     if (const std::string e = nm.balance.validate(); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
@@ -343,7 +343,7 @@ class Pipeline {
     if (frequency_hz) fs.omega_start = 2.0 * 3.141592653589793 * frequency_hz->first,
                       fs.omega_end = 2.0 * 3.141592653589793 * frequency_hz->second;
     if (force) fs.forces = {*force}, level = 0;
-    if (harmonics) fs.balance.harmonics = *harmonics;
+    if (harmonics) fs.balance.harmonics = *harmonics, fs.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     pipeline::FrfCurve r;
@@ -480,7 +480,7 @@ PYBIND11_MODULE(_core, m) {
       if (p) std::rethrow_exception(p);
     } catch (const io::InputError& e) {
       // The exception carries the position: file, line, column, key and the violated constraint.
-      py::object exc = input_error(e.what());
+      py::object exc = py::handle(input_error.ptr())(e.what());
       exc.attr("file") = e.file();
       exc.attr("line") = e.line();
       exc.attr("column") = e.column();

@@ -53,6 +53,7 @@
 #include "jointhb/continuation/interface_response.hpp"
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
@@ -175,10 +176,13 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
   lo.nx = r.nx;
   lo.ny = r.ny;
   lo.nz = r.nz;
-  io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lo), "lap.yaml");
-  const preload::PreloadModel model = io::preload_model(c);
+  const io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lo), "lap.yaml");
+  // Structure and preload through the pipeline object (as `jointhb run`); the condensation below
+  // keeps this study's own cutoff and damping rule (a probe model for f_1).
+  pipeline::FePipeline pipe(c, c);
+  const preload::PreloadModel& model = pipe.structure();
   const auto t0 = std::chrono::steady_clock::now();
-  const preload::PreloadResult p = preload::solve_preload(model, c.preload);
+  const preload::PreloadResult& p = pipe.preload();
   const int n = c.mesh.num_dofs();
   const int drive = nearest_node(c.mesh, {0.160, 0.015, 0.008});
   const reduction::ModalLoad load{"end force", Eigen::VectorXd::Unit(n, 3 * drive + 2)};

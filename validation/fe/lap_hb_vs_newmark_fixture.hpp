@@ -12,6 +12,7 @@
 
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
@@ -20,7 +21,8 @@ namespace jointhb::validation {
 
 struct LapFixture {
   io::FeCase c;
-  preload::PreloadModel model;
+  std::unique_ptr<pipeline::FePipeline> pipe;  ///< structure and preload, as `jointhb run` computes them
+  preload::PreloadModel model;                 ///< copies of the pipeline's (the mesh is the pipeline's)
   preload::PreloadResult preload;
   int drive_node = 0;
   [[nodiscard]] int drive_dof() const { return 3 * drive_node + 2; }
@@ -43,12 +45,9 @@ inline std::unique_ptr<LapFixture> make_lap_fixture(int nx, int ny, int nz, doub
   lo.nz = nz;
   lo.footprint_radius = footprint_radius;
   f->c = io::parse_fe_case(lap_case_yaml(lo), "lap.yaml");
-  f->model.mesh = &f->c.mesh;
-  f->model.structure = fe::assemble(f->c.mesh, f->c.material_per_part);
-  f->model.interfaces = f->c.interfaces;
-  f->model.bolts = f->c.bolts;
-  f->model.constraints = f->c.constraints;
-  f->preload = preload::solve_preload(f->model, f->c.preload);
+  f->pipe = std::make_unique<pipeline::FePipeline>(f->c, f->c);
+  f->model = f->pipe->structure();
+  f->preload = f->pipe->preload();
   f->drive_node = nearest_node(f->c.mesh, {0.160, 0.015, 0.008});
   return f;
 }

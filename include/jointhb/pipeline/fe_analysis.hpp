@@ -77,6 +77,10 @@ struct FeDynamicsSpec {
   std::optional<FeFrfSpec> frf;
 };
 
+/// The time samples N_t of the AFT when a case gives only the harmonics H: the smallest power of
+/// two ≥ max(32, 16 H), i.e. 16 samples per period of the highest harmonic.
+[[nodiscard]] int default_time_samples(int harmonics);
+
 /// What is computed on a finite-element model and with which settings.
 struct FeAnalysis {
   preload::PreloadOptions preload;           ///< the preloaded static state (defaults when not given)
