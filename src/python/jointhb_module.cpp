@@ -20,8 +20,12 @@
 #include <string>
 #include <variant>
 
+#include "jointhb/continuation/backbone.hpp"
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/fit/fitter.hpp"
+#include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/io/case_file.hpp"
+#include "jointhb/io/discrete_case.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/pipeline/fe_fit_model.hpp"
@@ -419,6 +423,147 @@ class Pipeline {
   std::unique_ptr<pipeline::FePipeline> pipe_;
 };
 
+// ---- discrete models from numpy arrays -------------------------------------------------------
+
+hb::SparseMatrix sparse_of(const Eigen::MatrixXd& a, const char* name, Eigen::Index n) {
+  if (a.rows() != n || a.cols() != n)
+    throw py::value_error(std::string(name) + ": must be " + std::to_string(n) + " x " + std::to_string(n) + ", got " +
+                          std::to_string(a.rows()) + " x " + std::to_string(a.cols()));
+  if (!a.allFinite()) throw py::value_error(std::string(name) + ": must be finite");
+  return a.sparseView();
+}
+
+template <class T>
+T item(const py::dict& d, const char* key, T fallback) {
+  return d.contains(key) ? d[key].cast<T>() : fallback;
+}
+
+/// M ẍ + C ẋ + K x + f_nl(x) = f(t) with friction contacts (hb/discrete_system.hpp), traced by the
+/// same drivers as a discrete case file (continuation/frf.hpp, backbone.hpp).
+class DiscreteModel {
+ public:
+  DiscreteModel(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, const std::optional<Eigen::MatrixXd>& damping,
+                const std::vector<py::dict>& contacts) {
+    const Eigen::Index n = mass.rows();
+    system_.mass = sparse_of(mass, "mass", n);
+    system_.stiffness = sparse_of(stiffness, "stiffness", n);
+    if (damping) system_.damping = sparse_of(*damping, "damping", n);
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      const py::dict& c = contacts[i];
+      hb::ContactElement e;
+      e.law = item<std::string>(c, "law", "jenkins");
+      const std::vector<int> dofs = item<std::vector<int>>(c, "dofs", {0});
+      if (dofs.empty() || dofs.size() > 2)
+        throw py::value_error("contacts[" + std::to_string(i) + "].dofs: one DOF (to ground) or two");
+      e.dof_a = dofs[0];
+      e.dof_b = dofs.size() == 2 ? dofs[1] : -1;
+      e.stiffness = item<double>(c, "kt0", e.stiffness);
+      e.friction_coefficient = item<double>(c, "mu", e.friction_coefficient);
+      e.normal_force = item<double>(c, "normal_force", e.normal_force);
+      e.exponent = item<double>(c, "n", e.exponent);
+      system_.contacts.push_back(e);
+    }
+    if (const std::string e = system_.validate(); !e.empty()) throw py::value_error("DiscreteModel: " + e);
+  }
+
+  [[nodiscard]] int dofs() const { return system_.dofs(); }
+
+  py::dict linear_modes(bool stuck) const {
+    const hb::LinearModes m = hb::linear_modes(system_, stuck);
+    py::dict d;
+    d["omega"] = m.omega;
+    d["frequency_hz"] = Eigen::VectorXd(m.omega / (2.0 * 3.141592653589793));
+    d["shapes"] = m.shapes;
+    return d;
+  }
+
+  py::dict frf(const Eigen::VectorXd& force, std::pair<double, double> omega, int output_dof, int harmonics,
+               std::optional<int> time_samples, const py::object& callback) const {
+    if (force.size() != system_.dofs()) throw py::value_error("frf: force must have one amplitude per DOF");
+    hb::Excitation x;
+    for (Eigen::Index i = 0; i < force.size(); ++i)
+      if (force[i] != 0.0) x.forces.push_back({static_cast<int>(i), force[i], 1});
+    continuation::FrfOptions o;
+    o.omega_start = omega.first;
+    o.omega_end = omega.second;
+    o.output_dof = output_dof;
+    o.harmonics = harmonics;
+    o.time_samples = time_samples.value_or(io::default_time_samples(harmonics));
+    if (const std::string e = o.validate(system_.dofs()); !e.empty()) throw py::value_error("frf: " + e);
+    PointCallback on_point(callback);
+    continuation::FrfCurve r;
+    {
+      py::gil_scoped_release free;
+      r = continuation::trace_frf(system_, x, o, [&](const continuation::FrfPoint& p) { return on_point(p, &point); });
+    }
+    on_point.rethrow();
+    using P = continuation::FrfPoint;
+    py::dict d;
+    d["omega"] = column(r.points, [](const P& p) { return p.omega; });
+    d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
+    d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
+    d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
+    d["status"] = curve_status(r.completed(), on_point.interrupted(), r.reason == continuation::StopReason::stopped_by_user);
+    d["ok"] = r.completed();
+    d["message"] = r.message;
+    d["harmonics"] = r.kept_harmonics;
+    d["seconds"] = r.timings.total;
+    return d;
+  }
+
+  py::dict backbone(int mode, std::pair<double, double> log10_amplitude, int harmonics, std::optional<int> time_samples,
+                    const py::object& callback) const {
+    continuation::BackboneOptions o;
+    o.mode.mode = mode;
+    o.mode.harmonics = harmonics;
+    o.mode.time_samples = time_samples.value_or(io::default_time_samples(harmonics));
+    o.log10_amplitude_start = log10_amplitude.first;
+    o.log10_amplitude_end = log10_amplitude.second;
+    if (const std::string e = o.validate(system_.dofs()); !e.empty()) throw py::value_error("backbone: " + e);
+    PointCallback on_point(callback);
+    continuation::BackboneCurve b;
+    {
+      py::gil_scoped_release free;
+      b = continuation::trace_backbone(system_, o, [&](const continuation::BackbonePoint& p) { return on_point(p, &point); });
+    }
+    on_point.rethrow();
+    using P = continuation::BackbonePoint;
+    py::dict d;
+    d["amplitude"] = column(b.points, [](const P& p) { return p.state.amplitude; });
+    d["omega"] = column(b.points, [](const P& p) { return p.state.omega; });
+    d["frequency_hz"] = column(b.points, [](const P& p) { return p.state.omega / (2.0 * 3.141592653589793); });
+    d["damping_ratio"] = column(b.points, [](const P& p) { return p.state.damping_ratio; });
+    d["W_D"] = column(b.points, [](const P& p) { return p.state.dissipation; });
+    d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
+    d["status"] = curve_status(b.completed(), on_point.interrupted(), b.reason == continuation::StopReason::stopped_by_user);
+    d["ok"] = b.completed();
+    d["message"] = b.message;
+    d["linear_omega"] = b.linear_omega;
+    d["linear_damping_ratio"] = b.linear_damping_ratio;
+    d["seconds"] = b.seconds;
+    return d;
+  }
+
+ private:
+  static py::dict point(const continuation::FrfPoint& p) {
+    py::dict d;
+    d["omega"] = p.omega;
+    d["amplitude_h1"] = p.amplitude_h1;
+    d["dissipation"] = p.dissipation;
+    return d;
+  }
+  static py::dict point(const continuation::BackbonePoint& p) {
+    py::dict d;
+    d["amplitude"] = p.state.amplitude;
+    d["omega"] = p.state.omega;
+    d["damping_ratio"] = p.state.damping_ratio;
+    d["W_D"] = p.state.dissipation;
+    return d;
+  }
+
+  hb::DiscreteSystem system_;
+};
+
 /// fit::fit with a Python objective: values (numpy array) → residuals (sequence of floats), or
 /// None / an exception for a failed evaluation.
 py::dict fit_objective(const py::function& objective, const std::vector<py::dict>& parameters, const py::dict& options) {
@@ -563,6 +708,26 @@ PYBIND11_MODULE(_core, m) {
                              })
       .def("fit", &Pipeline::fit_case,
            "Runs the case's fit section (parameters, measured targets, options) on this pipeline.");
+
+  py::class_<DiscreteModel>(m, "DiscreteModel",
+                            "A lumped model M x'' + C x' + K x + f_nl(x) = f(t) with friction contacts (SI units).")
+      .def(py::init<const Eigen::MatrixXd&, const Eigen::MatrixXd&, const std::optional<Eigen::MatrixXd>&,
+                    const std::vector<py::dict>&>(),
+           py::arg("mass"), py::arg("stiffness"), py::arg("damping") = py::none(), py::arg("contacts") = std::vector<py::dict>{},
+           "mass, stiffness, damping: n x n arrays [kg, N/m, N s/m]; contacts: dicts {law: 'jenkins' | 'gaul-mayer', "
+           "dofs: [a] (to ground) or [a, b], kt0 [N/m], mu, normal_force [N], n (gaul-mayer)}. ValueError names "
+           "the violated constraint.")
+      .def_property_readonly("dofs", &DiscreteModel::dofs)
+      .def("linear_modes", &DiscreteModel::linear_modes, py::arg("stuck") = true,
+           "Linear modes with the contacts stuck (stiffness kt0) or removed: omega [rad/s], frequency_hz, shapes.")
+      .def("frf", &DiscreteModel::frf, py::arg("force"), py::arg("omega"), py::arg("output_dof") = 0,
+           py::arg("harmonics") = 7, py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
+           "Nonlinear FRF under f(t) = force cos(Omega t) (force: amplitude per DOF [N]) over omega = (start, end) "
+           "[rad/s]: numpy arrays omega, amplitude_h1, amplitude_max [m], dissipation [J]; status, message.")
+      .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = std::pair{-7.0, -3.0},
+           py::arg("harmonics") = 7, py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
+           "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude: numpy arrays amplitude, "
+           "omega, frequency_hz, damping_ratio, W_D; status, message.");
 
   m.def("fit", &fit_objective, py::arg("objective"), py::arg("parameters"), py::arg("options") = py::dict(),
         "Least squares with NLopt: objective(values: list) -> residuals (or None when it fails); parameters: "

@@ -179,3 +179,27 @@ def test_the_example_scripts_run(script, tmp_path):
                        env={**os.environ, "MPLBACKEND": "Agg"})
     assert r.returncode == 0, r.stderr
     assert "ok" in r.stdout.splitlines()[-1], r.stdout
+
+
+def test_a_discrete_model_from_arrays_meets_the_stuck_closed_form():
+    # 1 DOF, Jenkins to ground: below the slip force mu F_N the contact is a spring kt0, so
+    # |X| = F / sqrt((k + kt0 - m w^2)^2 + (c w)^2) exactly (harmonic balance of a linear system).
+    m, k, c, kt0 = 1.0, 1.0, 0.05, 10.0
+    model = jointhb.DiscreteModel([[m]], [[k]], damping=[[c]],
+                                  contacts=[{"law": "jenkins", "dofs": [0], "kt0": kt0, "mu": 0.1, "normal_force": 1.0}])
+    assert model.dofs == 1
+    modes = model.linear_modes()
+    assert abs(modes["omega"][0] - np.sqrt((k + kt0) / m)) < 1e-12
+    r = model.frf(force=np.array([1e-4]), omega=(0.5, 4.5), harmonics=3)
+    assert r["status"] == "ok" and len(r["omega"]) > 10, r["message"]
+    w = r["omega"]
+    exact = 1e-4 / np.sqrt((k + kt0 - m * w**2) ** 2 + (c * w) ** 2)
+    assert np.max(np.abs(r["amplitude_h1"] / exact - 1.0)) < 1e-8
+    assert np.all(r["dissipation"] == 0.0)  # stuck: no friction work
+    b = model.backbone(mode=1, log10_amplitude=(-6.0, -0.5), harmonics=5)
+    assert b["status"] == "ok", b["message"]
+    assert abs(b["omega"][0] / np.sqrt(k + kt0) - 1.0) < 1e-9
+    assert abs(b["damping_ratio"][0] - c / (2.0 * np.sqrt(k + kt0))) < 1e-9
+    assert b["omega"][-1] < b["omega"][0] and b["damping_ratio"][-1] > b["damping_ratio"][0]  # slip softens, damps
+    with pytest.raises(ValueError, match="mass"):
+        jointhb.DiscreteModel([[1.0, 0.0]], [[1.0]])

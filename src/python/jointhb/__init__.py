@@ -15,6 +15,7 @@ See docs/python.md.
 
 from ._core import (  # noqa: F401  (the package's interface)
     Case,
+    DiscreteModel,
     InputError,
     Pipeline,
     StageError,
@@ -23,4 +24,4 @@ from ._core import (  # noqa: F401  (the package's interface)
     load_case,
 )
 
-__all__ = ["Case", "InputError", "Pipeline", "StageError", "default_case", "fit", "load_case"]
+__all__ = ["Case", "DiscreteModel", "InputError", "Pipeline", "StageError", "default_case", "fit", "load_case"]
