@@ -275,6 +275,15 @@ Case load_case(const std::string& path) {
                                "and loop cases with the jointhb program");
 }
 
+/// A case from text (YAML, or JSON, which YAML reads): `file_name` names it in errors and its
+/// directory is where mesh files are looked up.
+Case parse_case(const std::string& text, const std::string& file_name) {
+  io::CaseFile f = io::parse_case_file(text, file_name);
+  if (auto* fe = std::get_if<io::FeCase>(&f)) return Case{std::make_shared<io::FeCase>(std::move(*fe))};
+  throw py::value_error(file_name + ": the Python package runs finite-element cases (model.type fe); use "
+                                    "jointhb.DiscreteModel for lumped models");
+}
+
 Case default_case() {
   io::CaseFile f = io::parse_case_file(io::default_case_text(), "built-in default case");
   return Case{std::make_shared<io::FeCase>(std::get<io::FeCase>(std::move(f)))};
@@ -663,6 +672,9 @@ PYBIND11_MODULE(_core, m) {
   m.def("load_case", &load_case, py::arg("path"),
         "Reads a finite-element case file (YAML, docs/case-files.md). Raises jointhb.InputError with "
         "file, line, column, key and constraint for any problem of the file.");
+  m.def("parse_case", &parse_case, py::arg("text"), py::arg("file_name"),
+        "A finite-element case from YAML or JSON text; file_name names it in errors, its directory is where "
+        "mesh files are found.");
   m.def("default_case", &default_case, "The built-in default case: the bolted lap of case 08.");
 
   py::class_<Pipeline>(m, "Pipeline",

@@ -203,3 +203,57 @@ def test_a_discrete_model_from_arrays_meets_the_stuck_closed_form():
     assert b["omega"][-1] < b["omega"][0] and b["damping_ratio"][-1] > b["damping_ratio"][0]  # slip softens, damps
     with pytest.raises(ValueError, match="mass"):
         jointhb.DiscreteModel([[1.0, 0.0]], [[1.0]])
+
+
+def lap_dict(mu=0.3):
+    """Case 08 written as Python values (the same numbers as cases/08-lap-damping/case.yaml)."""
+    plate = lambda name, x0, z0: {"name": name, "material": "aluminium", "element": "C3D8I",
+                                  "box": {"origin": [x0, 0.0, z0], "size": [0.100, 0.030, 0.004],
+                                          "divisions": [20, 6, 1]}}
+    bolt = lambda name, x: {"name": name, "point": [x, 0.015, 0.0], "direction": [0.0, 0.0, 1.0],
+                            "head": {"surface": "upper.zmax", "radius": 0.0045},
+                            "nut": {"surface": "lower.zmin", "radius": 0.0045}, "stiffness": 5.0e8, "preload": 5000.0}
+    return {"model": {"type": "fe",
+                      "materials": {"aluminium": {"youngs_modulus": 70.0e9, "poissons_ratio": 0.33, "density": 2700.0}},
+                      "parts": [plate("lower", 0.0, 0.0), plate("upper", 0.060, 0.004)],
+                      "interfaces": [{"name": "lap", "bottom": "lower.zmax", "top": "upper.zmin",
+                                      "region": {"min": [0.060, 0.0, 0.0039], "max": [0.100, 0.030, 0.0041]},
+                                      "integration": "nodal",
+                                      "contact": {"pressure": 1.0e6, "decay": 1.0e6, "mu": mu, "law": "gaul-mayer",
+                                                  "n": 0.3333333333333333, "stiffness_ratio": 0.8}}],
+                      "bolts": [bolt("bolt-1", 0.070), bolt("bolt-2", 0.090)]},
+            "analysis": {"preload": {"load_steps": 4, "tolerance": 1.0e-9},
+                         "modes": {"count": 12, "shift_hz": -10.0},
+                         "damping": {"ratio": 0.005}, "reduction": {"cutoff_factor": 20},
+                         "excitation": {"point": [0.160, 0.015, 0.008], "direction": [0, 0, 1]},
+                         "nonlinear_modes": {"mode": 1, "log10_amplitude": [-8, -4], "frequency_drop": 0.03,
+                                             "harmonics": 1}}}
+
+
+def test_a_case_from_python_values_is_the_case_file():
+    # The stage keys hash the typed model and settings: equal keys = the same computation.
+    from_dict = jointhb.Pipeline(jointhb.case_from_dict(lap_dict()))
+    from_file = jointhb.Pipeline(jointhb.load_case(str(SOURCE / "cases/08-lap-damping/case.yaml")))
+    assert from_dict.keys == from_file.keys
+    assert jointhb.Pipeline(jointhb.case_from_dict(lap_dict(mu=0.31))).keys["model"] != from_file.keys["model"]
+    with pytest.raises(jointhb.InputError) as e:
+        jointhb.case_from_dict(lap_dict(mu="much"))
+    assert e.value.key == "model.interfaces[0].contact.mu" and e.value.line > 0
+
+
+def test_the_cases_fit_section_runs_on_the_pipeline(tmp_path):
+    # Case 12's fit reduced further than tests/cli/fit_fe_case.sh (which checks the estimate against
+    # the truth): the damping ratio alone from 4 microslip points and 6 evaluations. The damping
+    # enters no stage, so preload, modes and condensation are computed once for every curve.
+    case_dir = SOURCE / "cases/12-fit-lap"
+    measured = (case_dir / "measured_backbone.csv").read_text().splitlines()[:6]  # comment, header, 4 rows
+    (tmp_path / "measured_backbone.csv").write_text("\n".join(measured) + "\n")
+    text = "\n".join(l for l in (case_dir / "case.yaml").read_text().splitlines() if "interfaces.lap.mu" not in l)
+    text = text.replace("max_evaluations: 80", "max_evaluations: 6")
+    p = jointhb.Pipeline(jointhb.parse_case(text, str(tmp_path / "case.yaml")))
+    r = p.fit()
+    assert r["ok"] and set(r["best"]) == {"damping.ratio"}, r
+    zeta = r["best"]["damping.ratio"]
+    assert abs(zeta - 0.005) < abs(0.015 - 0.005) / 2, zeta  # from the start 0.015 towards the truth
+    c = p.counters
+    assert c["preload_solved"] == 1 and c["condensed"] == 1 and c["curves"] >= 3, c

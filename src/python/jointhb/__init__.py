@@ -22,6 +22,20 @@ from ._core import (  # noqa: F401  (the package's interface)
     default_case,
     fit,
     load_case,
+    parse_case,
 )
 
-__all__ = ["Case", "DiscreteModel", "InputError", "Pipeline", "StageError", "default_case", "fit", "load_case"]
+
+def case_from_dict(case, directory="."):
+    """A finite-element case from Python values: the same keys as a case file (docs/case-files.md),
+    e.g. {"model": {"type": "fe", "materials": {...}, "parts": [...], "interfaces": [...],
+    "bolts": [...]}, "analysis": {...}}. Mesh files are looked up in `directory`. Errors raise
+    jointhb.InputError naming the key path (and a line of the dict written one key per line)."""
+    import json
+    import os
+
+    text = json.dumps(case, indent=1, allow_nan=False)
+    return parse_case(text, os.path.join(str(directory), "<python dict>"))
+
+__all__ = ["Case", "DiscreteModel", "InputError", "Pipeline", "StageError", "case_from_dict", "default_case", "fit",
+           "load_case", "parse_case"]
