@@ -24,6 +24,7 @@
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/fit/fitter.hpp"
 #include "jointhb/hb/discrete_system.hpp"
+#include "jointhb/hb/interface_balance.hpp"
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/discrete_case.hpp"
 #include "jointhb/io/input_error.hpp"
@@ -329,7 +330,7 @@ class Pipeline {
 
   py::dict backbone(int mode, const py::object& callback, const std::optional<std::pair<double, double>>& log10_amplitude,
                     const std::optional<double>& frequency_drop, const std::optional<int>& harmonics,
-                    const std::optional<int>& time_samples) {
+                    const std::optional<int>& time_samples, bool contact_fields) {
     if (!case_->dynamics || !case_->dynamics->nonlinear_modes)
       throw py::value_error(case_->source + ": the case has no analysis.nonlinear_modes (give it one in the case file)");
     pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
@@ -345,7 +346,59 @@ class Pipeline {
       b = pipe_->backbone(mode, nm, [&](const pipeline::BackbonePoint& p) { return on_point(p, &backbone_point); });
     }
     on_point.rethrow();
-    return backbone_dict(b, on_point.interrupted());
+    py::dict d = backbone_dict(b, on_point.interrupted());
+    if (contact_fields) d["contact"] = contact_fields_of(b, nm.balance);
+    return d;
+  }
+
+  /// What every contact point of the model (before the merge of coincident points) does over the
+  /// period at each accepted point of `b` (hb::InterfacePointSummary): arrays points × curve points.
+  py::dict contact_fields_of(const pipeline::BackboneCurve& b, const hb::InterfaceBalanceOptions& balance_options) {
+    const pipeline::InterfaceStage& st = pipe_->interface_stage();
+    const preload::PreloadModel& fe = pipe_->structure();
+    const auto fine = static_cast<Eigen::Index>(st.patch_of_point.size());
+    const auto n = static_cast<Eigen::Index>(b.curve.points.size());
+    Eigen::MatrixXd position(fine, 3);
+    Eigen::VectorXd area(fine);
+    Eigen::MatrixXd wd(n, fine), tangential(n, fine), normal(n, fine), pmin(n, fine), pmax(n, fine), state(n, fine);
+    std::vector<std::string> interface_of;
+    {
+      py::gil_scoped_release free;
+      Eigen::Index k = 0;
+      for (const auto& ci : fe.interfaces)
+        for (const fe::InterfacePoint& pt : ci.geometry.points) {
+          position.row(k) = pt.position.transpose();
+          area[k] = pt.area;
+          ++k;
+          interface_of.push_back(ci.geometry.name);
+        }
+      const hb::InterfaceBalance balance(st.model, balance_options);
+      const Eigen::Index U = balance.unknowns();
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const auto& p = b.curve.points[static_cast<std::size_t>(i)];
+        const std::vector<hb::InterfacePointSummary> s = balance.point_summaries(p.state.amplitude * p.unknowns.head(U));
+        for (Eigen::Index q = 0; q < fine; ++q) {
+          const hb::InterfacePointSummary& v = s[static_cast<std::size_t>(st.patch_of_point[static_cast<std::size_t>(q)])];
+          wd(i, q) = v.dissipation;
+          tangential(i, q) = v.tangential_motion;
+          normal(i, q) = v.normal_motion;
+          pmin(i, q) = v.pressure_min;
+          pmax(i, q) = v.pressure_max;
+          state(i, q) = v.open ? 2.0 : (v.stuck ? 0.0 : 1.0);
+        }
+      }
+    }
+    py::dict d;
+    d["position"] = position;
+    d["area"] = area;
+    d["interface"] = interface_of;
+    d["W_D"] = wd;
+    d["tangential_motion"] = tangential;
+    d["normal_motion"] = normal;
+    d["pressure_min"] = pmin;
+    d["pressure_max"] = pmax;
+    d["state"] = state;
+    return d;
   }
 
   py::dict frf(std::size_t level, const py::object& callback, const std::optional<std::pair<double, double>>& frequency_hz,
@@ -694,12 +747,14 @@ PYBIND11_MODULE(_core, m) {
            "The condensed interface model: kept and rigid modes, contact points, cutoff, Rayleigh damping.")
       .def("backbone", &Pipeline::backbone, py::arg("mode") = 1, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("log10_amplitude") = py::none(), py::arg("frequency_drop") = py::none(),
-           py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(),
+           py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("contact_fields") = false,
            "The damping curve (EPMC) of elastic mode `mode`: numpy arrays amplitude (q [m sqrt(kg)]), "
            "frequency_hz, damping_ratio, W_D [J], output_amplitude [m], ...; status, message, seconds. "
            "callback(point: dict) is called at every accepted point; returning False stops the curve. "
            "Ctrl-C ends the curve with its accepted points (status 'interrupted'). Keywords override the "
-           "case's analysis.nonlinear_modes.")
+           "case's analysis.nonlinear_modes. contact_fields=True adds 'contact': per contact point its "
+           "position [m], area [m^2], interface, and per curve point x contact point W_D [J/m^2 per cycle], "
+           "tangential and normal motion [m], pressure min/max [Pa], state (0 stuck, 1 slipping, 2 open).")
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "

@@ -257,3 +257,16 @@ def test_the_cases_fit_section_runs_on_the_pipeline(tmp_path):
     assert abs(zeta - 0.005) < abs(0.015 - 0.005) / 2, zeta  # from the start 0.015 towards the truth
     c = p.counters
     assert c["preload_solved"] == 1 and c["condensed"] == 1 and c["curves"] >= 3, c
+
+
+def test_contact_fields_along_the_curve_add_up_to_the_dissipation(lap):
+    c = short(lap, contact_fields=True)
+    f = c["contact"]
+    n, points = len(c["amplitude"]), len(f["area"])
+    assert points == 192 and f["W_D"].shape == (n, points) and f["position"].shape == (points, 3)
+    # sum_p A_p W_D,p over the contact points is the curve's W_D [J] (coincident points share the
+    # node pair's value, and their areas add up to the pair's)
+    total = f["W_D"] @ f["area"]
+    assert np.allclose(total, c["W_D"], rtol=1e-9, atol=0.0), (total, c["W_D"])
+    assert set(np.unique(f["state"])) <= {0.0, 1.0, 2.0}
+    assert np.all(f["pressure_max"] >= f["pressure_min"])
