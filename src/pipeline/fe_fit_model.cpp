@@ -6,6 +6,8 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <numbers>
 
 #include "jointhb/hb/interface_mode.hpp"
@@ -115,6 +117,9 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
   mo.balance.dense_jacobian = true;
   const hb::InterfaceModeResidual epmc(pipeline_.interface_stage().model, mo);
   if (epmc.unknowns() > kDenseCorrectionLimit) return curve;
+  // One Newton correction per measured amplitude: a frequency and a damping target at the same
+  // amplitude share it.
+  std::map<double, std::optional<hb::InterfaceModeState>> on_curve;
   for (const fit::TargetPoint& tp : t.points) {
     const double at = std::log10(tp.abscissa);
     const auto hi = std::upper_bound(lambdas.begin(), lambdas.end(), at);
@@ -124,13 +129,18 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
     }
     const std::size_t k1 = static_cast<std::size_t>(hi - lambdas.begin()), k = k1 - 1;
     const double w = (at - lambdas[k]) / (lambdas[k1] - lambdas[k]);
-    Eigen::VectorXd y = (1.0 - w) * bb.curve.points[k].unknowns + w * bb.curve.points[k1].unknowns;
     const bool damping = tp.quantity == fit::Quantity::damping_ratio;
     double value = damping ? (1.0 - w) * curve.damping_ratio[k] + w * curve.damping_ratio[k1]
                            : (1.0 - w) * curve.frequency_hz[k] + w * curve.frequency_hz[k1];
-    if (point_on_curve(epmc, at, nm.continuation.residual_tolerance, y)) {
-      const hb::InterfaceModeState st = epmc.state(y, at);
-      value = damping ? st.damping_ratio : st.omega / kTwoPi;
+    auto found = on_curve.find(at);
+    if (found == on_curve.end()) {
+      Eigen::VectorXd y = (1.0 - w) * bb.curve.points[k].unknowns + w * bb.curve.points[k1].unknowns;
+      std::optional<hb::InterfaceModeState> st;
+      if (point_on_curve(epmc, at, nm.continuation.residual_tolerance, y)) st = epmc.state(y, at);
+      found = on_curve.emplace(at, st).first;
+    }
+    if (const std::optional<hb::InterfaceModeState>& st = found->second) {
+      value = damping ? st->damping_ratio : st->omega / kTwoPi;
       ++corrected_;
     }
     curve.at_points.push_back(value);
