@@ -273,6 +273,11 @@ class FeCaseReader {
       require(node[i], f, {"bottom", "top", "contact"});
       FeInterfaceSpec spec;
       spec.name = f.has("name") ? text(f, "name") : fmt::format("interface{}", i + 1);
+      // Names address parameters (interfaces.<name>.mu) and outputs: they must be unique.
+      for (const FeInterfaceSpec& other : c.interface_specs)
+        if (other.name == spec.name)
+          reader_.fail(f.has("name") ? f.find("name")->value : node[i], f.path_of("name"),
+                       fmt::format("'{}' is used twice (interface names must be unique)", spec.name));
       spec.bottom = surface_name(f.find("bottom")->value, f.path_of("bottom"), c);
       spec.top = surface_name(f.find("top")->value, f.path_of("top"), c);
       fe::InterfaceOptions o;
@@ -348,6 +353,11 @@ class FeCaseReader {
       require(node[i], f, {"point", "head", "nut", "stiffness", "preload"});
       preload::BoltOptions o;
       o.name = f.has("name") ? text(f, "name") : fmt::format("bolt{}", i + 1);
+      // Names address parameters (bolts.<name>.preload): they must be unique.
+      for (const preload::Bolt& other : c.bolts)
+        if (other.name == o.name)
+          reader_.fail(f.has("name") ? f.find("name")->value : node[i], f.path_of("name"),
+                       fmt::format("'{}' is used twice (bolt names must be unique)", o.name));
       o.axis_point = vector3(f.find("point")->value, f.path_of("point"));
       if (f.has("direction")) {
         o.axis_direction = vector3(f.find("direction")->value, f.path_of("direction"));

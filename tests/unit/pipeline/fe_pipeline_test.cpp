@@ -7,12 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <variant>
 
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/io/input_error.hpp"
 
 namespace {
 
@@ -167,6 +169,24 @@ TEST(pipeline_FePipeline, ParameterNamesMatchTheCaseAndUnknownNamesAreRejected) 
   EXPECT_THROW(p.set_parameter("interfaces.lap.n", 1.5), std::invalid_argument);  // n ∈ (0, 1)
   EXPECT_THROW(p.set_parameter("bolts.bolt-1.preload", -1.0), std::invalid_argument);
   EXPECT_THROW(p.set_parameter("nonsense", 1.0), std::invalid_argument);
+}
+
+// Names address parameters (bolts.<name>.preload, interfaces.<name>.mu): the reader refuses a
+// name used twice, at its line and key.
+TEST(pipeline_FePipeline, ParameterNamesAreUniqueInTheCase) {
+  std::string text = io::default_case_text();
+  const auto at = text.find("name: bolt-2");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 12, "name: bolt-1");
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  try {
+    (void)io::parse_case_file(text, "case.yaml");
+    FAIL() << "a bolt name used twice must be refused";
+  } catch (const io::InputError& e) {
+    EXPECT_EQ(e.key(), "model.bolts[1].name");
+    EXPECT_EQ(e.line(), line);
+    EXPECT_NE(e.constraint().find("used twice"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
