@@ -13,7 +13,7 @@
 #include <variant>
 
 #include "cli_support.hpp"
-#include "jointhb/fit/discrete_model.hpp"
+#include "jointhb/pipeline/discrete_fit_model.hpp"
 #include "jointhb/fit/history.hpp"
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/csv_writer.hpp"
@@ -147,7 +147,7 @@ int FitCommand::run() const {
   if (c) {
     io::DiscreteCase check = *c;
     try {
-      fit::set_model_parameters(check, names, start_values);
+      pipeline::set_model_parameters(check, names, start_values);
     } catch (const std::invalid_argument& e) {
       throw UsageError(case_path_ +
                        ": fit.parameters: the start values give an invalid model: " + e.what());
@@ -187,7 +187,7 @@ int FitCommand::run() const {
   for (const auto& row : replay) {
     if (!row.failed) best = std::min(best, row.objective);
   }
-  const fit::Model model = c ? fit::discrete_model(*c, names, section.targets) : fe_model->model();
+  const fit::Model model = c ? pipeline::discrete_model(*c, names, section.targets) : fe_model->model();
   const fit::FitResult r = fit::fit(model, section.parameters, section.options, sink, replay);
   if (progress && shown) std::cerr << '\r' << std::string(78, ' ') << '\r';
 
@@ -197,8 +197,8 @@ int FitCommand::run() const {
     io::DiscreteCase k = *c;
     fit::ModelPrediction pred;
     try {
-      fit::set_model_parameters(k, names, values);
-      pred = fit::predict(k, section.targets);
+      pipeline::set_model_parameters(k, names, values);
+      pred = pipeline::predict(k, section.targets);
     } catch (const std::exception& e) {
       pred.ok = false;
       pred.message = e.what();

@@ -10,7 +10,7 @@
 #include <set>
 #include <sstream>
 
-#include "jointhb/fit/discrete_model.hpp"
+#include "jointhb/pipeline/discrete_fit_model.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/value_checks.hpp"
 
@@ -340,7 +340,7 @@ fit::Target read_target(const yaml::Reader& reader, const YAML::Node& node, cons
 
 FitContext fit_context(const DiscreteCase& c) {
   FitContext x;
-  x.names = fit::discrete_parameter_names(c);
+  x.names = pipeline::discrete_parameter_names(c);
   x.modes = c.system.dofs();
   x.levels = static_cast<int>(c.levels.size());
   if (c.nonlinear_modes)

@@ -30,6 +30,7 @@
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/pipeline/fe_fit_model.hpp"
+#include "jointhb/pipeline/discrete_pipeline.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
 
 namespace py = pybind11;
@@ -269,13 +270,6 @@ struct Case {
   std::shared_ptr<const io::FeCase> c;
 };
 
-Case load_case(const std::string& path) {
-  io::CaseFile f = io::read_case_file(path);
-  if (auto* fe = std::get_if<io::FeCase>(&f)) return Case{std::make_shared<io::FeCase>(std::move(*fe))};
-  throw py::value_error(path + ": the Python package runs finite-element cases (model.type fe); run discrete "
-                               "and loop cases with the jointhb program");
-}
-
 /// A case from text (YAML, or JSON, which YAML reads): `file_name` names it in errors and its
 /// directory is where mesh files are looked up.
 Case parse_case(const std::string& text, const std::string& file_name) {
@@ -500,16 +494,21 @@ T item(const py::dict& d, const char* key, T fallback) {
   return d.contains(key) ? d[key].cast<T>() : fallback;
 }
 
-/// M ẍ + C ẋ + K x + f_nl(x) = f(t) with friction contacts (hb/discrete_system.hpp), traced by the
-/// same drivers as a discrete case file (continuation/frf.hpp, backbone.hpp).
+/// M ẍ + C ẋ + K x + f_nl(x) = f(t) with friction contacts (hb/discrete_system.hpp): the discrete
+/// pipeline (pipeline/discrete_pipeline.hpp), built from arrays or read from a discrete case file.
 class DiscreteModel {
  public:
   DiscreteModel(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& stiffness, const std::optional<Eigen::MatrixXd>& damping,
                 const std::vector<py::dict>& contacts) {
+    pipeline::DiscreteProblem problem;
+    hb::DiscreteSystem& system = problem.system;
     const Eigen::Index n = mass.rows();
-    system_.mass = sparse_of(mass, "mass", n);
-    system_.stiffness = sparse_of(stiffness, "stiffness", n);
-    if (damping) system_.damping = sparse_of(*damping, "damping", n);
+    system.mass = sparse_of(mass, "mass", n);
+    system.stiffness = sparse_of(stiffness, "stiffness", n);
+    if (damping) {
+      system.damping = sparse_of(*damping, "damping", n);
+      problem.damping_model = "matrix";
+    }
     for (std::size_t i = 0; i < contacts.size(); ++i) {
       const py::dict& c = contacts[i];
       hb::ContactElement e;
@@ -523,15 +522,20 @@ class DiscreteModel {
       e.friction_coefficient = item<double>(c, "mu", e.friction_coefficient);
       e.normal_force = item<double>(c, "normal_force", e.normal_force);
       e.exponent = item<double>(c, "n", e.exponent);
-      system_.contacts.push_back(e);
+      system.contacts.push_back(e);
     }
-    if (const std::string e = system_.validate(); !e.empty()) throw py::value_error("DiscreteModel: " + e);
+    if (const std::string e = system.validate(); !e.empty()) throw py::value_error("DiscreteModel: " + e);
+    pipe_ = std::make_unique<pipeline::DiscretePipeline>(std::move(problem));
   }
+  explicit DiscreteModel(pipeline::DiscreteProblem problem, std::string source)
+      : pipe_(std::make_unique<pipeline::DiscretePipeline>(std::move(problem))), source_(std::move(source)) {}
 
-  [[nodiscard]] int dofs() const { return system_.dofs(); }
+  [[nodiscard]] int dofs() const { return pipe_->problem().system.dofs(); }
+  [[nodiscard]] const std::string& source() const { return source_; }
+  pipeline::DiscretePipeline& pipe() { return *pipe_; }
 
-  py::dict linear_modes(bool stuck) const {
-    const hb::LinearModes m = hb::linear_modes(system_, stuck);
+  py::dict linear_modes(bool stuck) {
+    const hb::LinearModes& m = pipe_->linear_modes(stuck);
     py::dict d;
     d["omega"] = m.omega;
     d["frequency_hz"] = Eigen::VectorXd(m.omega / (2.0 * 3.141592653589793));
@@ -539,29 +543,40 @@ class DiscreteModel {
     return d;
   }
 
-  py::dict frf(const Eigen::VectorXd& force, std::pair<double, double> omega, int output_dof, int harmonics,
-               std::optional<int> time_samples, const py::object& callback) const {
-    if (force.size() != system_.dofs()) throw py::value_error("frf: force must have one amplitude per DOF");
+  /// Without `force`: the case's excitation level `level` and analysis.frf settings, each
+  /// overridden by the keywords given.
+  py::dict frf(const std::optional<Eigen::VectorXd>& force, const std::optional<std::pair<double, double>>& omega,
+               std::optional<int> output_dof, std::optional<int> harmonics, std::optional<int> time_samples,
+               std::size_t level, const py::object& callback) {
+    const pipeline::DiscreteProblem& pr = pipe_->problem();
+    continuation::FrfOptions o = pr.frf.value_or(continuation::FrfOptions{});
     hb::Excitation x;
-    for (Eigen::Index i = 0; i < force.size(); ++i)
-      if (force[i] != 0.0) x.forces.push_back({static_cast<int>(i), force[i], 1});
-    continuation::FrfOptions o;
-    o.omega_start = omega.first;
-    o.omega_end = omega.second;
-    o.output_dof = output_dof;
-    o.harmonics = harmonics;
-    o.time_samples = time_samples.value_or(io::default_time_samples(harmonics));
-    if (const std::string e = o.validate(system_.dofs()); !e.empty()) throw py::value_error("frf: " + e);
+    if (force) {
+      if (force->size() != dofs()) throw py::value_error("frf: force must have one amplitude per DOF");
+      for (Eigen::Index i = 0; i < force->size(); ++i)
+        if ((*force)[i] != 0.0) x.forces.push_back({static_cast<int>(i), (*force)[i], 1});
+    } else {
+      if (pr.levels.empty()) throw py::value_error("frf: give force (the model has no excitation levels)");
+      if (level >= pr.levels.size()) throw py::value_error("frf: level beyond the case's excitation levels");
+      x = pr.levels[level];
+    }
+    if (!pr.frf && !omega) throw py::value_error("frf: give omega = (start, end) [rad/s]");
+    if (omega) o.omega_start = omega->first, o.omega_end = omega->second;
+    if (output_dof) o.output_dof = *output_dof;
+    if (harmonics) o.harmonics = *harmonics, o.time_samples = io::default_time_samples(*harmonics);
+    if (time_samples) o.time_samples = *time_samples;
+    if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     continuation::FrfCurve r;
     {
       py::gil_scoped_release free;
-      r = continuation::trace_frf(system_, x, o, [&](const continuation::FrfPoint& p) { return on_point(p, &point); });
+      r = pipe_->frf(x, o, [&](const continuation::FrfPoint& p) { return on_point(p, &point); });
     }
     on_point.rethrow();
     using P = continuation::FrfPoint;
     py::dict d;
     d["omega"] = column(r.points, [](const P& p) { return p.omega; });
+    d["frequency_hz"] = column(r.points, [](const P& p) { return p.omega / (2.0 * 3.141592653589793); });
     d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
     d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
@@ -573,20 +588,20 @@ class DiscreteModel {
     return d;
   }
 
-  py::dict backbone(int mode, std::pair<double, double> log10_amplitude, int harmonics, std::optional<int> time_samples,
-                    const py::object& callback) const {
-    continuation::BackboneOptions o;
+  /// Without keywords: the case's analysis.nonlinear_modes settings (or the defaults).
+  py::dict backbone(int mode, const std::optional<std::pair<double, double>>& log10_amplitude,
+                    std::optional<int> harmonics, std::optional<int> time_samples, const py::object& callback) {
+    continuation::BackboneOptions o = pipe_->problem().nonlinear_modes.value_or(continuation::BackboneOptions{});
     o.mode.mode = mode;
-    o.mode.harmonics = harmonics;
-    o.mode.time_samples = time_samples.value_or(io::default_time_samples(harmonics));
-    o.log10_amplitude_start = log10_amplitude.first;
-    o.log10_amplitude_end = log10_amplitude.second;
-    if (const std::string e = o.validate(system_.dofs()); !e.empty()) throw py::value_error("backbone: " + e);
+    if (harmonics) o.mode.harmonics = *harmonics, o.mode.time_samples = io::default_time_samples(*harmonics);
+    if (time_samples) o.mode.time_samples = *time_samples;
+    if (log10_amplitude) o.log10_amplitude_start = log10_amplitude->first, o.log10_amplitude_end = log10_amplitude->second;
+    if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
     continuation::BackboneCurve b;
     {
       py::gil_scoped_release free;
-      b = continuation::trace_backbone(system_, o, [&](const continuation::BackbonePoint& p) { return on_point(p, &point); });
+      b = pipe_->backbone(o, [&](const continuation::BackbonePoint& p) { return on_point(p, &point); });
     }
     on_point.rethrow();
     using P = continuation::BackbonePoint;
@@ -623,8 +638,20 @@ class DiscreteModel {
     return d;
   }
 
-  hb::DiscreteSystem system_;
+  std::unique_ptr<pipeline::DiscretePipeline> pipe_;
+  std::string source_;
 };
+
+/// A case file of either kind: a Case (finite elements) or a DiscreteModel.
+py::object load_any_case(const std::string& path) {
+  io::CaseFile f = io::read_case_file(path);
+  if (auto* fe = std::get_if<io::FeCase>(&f)) return py::cast(Case{std::make_shared<io::FeCase>(std::move(*fe))});
+  if (auto* d = std::get_if<io::DiscreteCase>(&f)) {
+    const std::string source = d->source;
+    return py::cast(DiscreteModel(static_cast<pipeline::DiscreteProblem&&>(std::move(*d)), source));
+  }
+  throw py::value_error(path + ": a loop-sweep case (no model); run it with `jointhb run`");
+}
 
 /// fit::fit with a Python objective: values (numpy array) → residuals (sequence of floats), or
 /// None / an exception for a failed evaluation.
@@ -722,9 +749,10 @@ PYBIND11_MODULE(_core, m) {
         return "<jointhb.Case " + c.c->source + ": " + std::to_string(c.c->mesh.num_dofs()) + " DOFs>";
       });
 
-  m.def("load_case", &load_case, py::arg("path"),
-        "Reads a finite-element case file (YAML, docs/case-files.md). Raises jointhb.InputError with "
-        "file, line, column, key and constraint for any problem of the file.");
+  m.def("load_case", &load_any_case, py::arg("path"),
+        "Reads a case file (YAML, docs/case-files.md): a finite-element case gives a Case (for Pipeline), a "
+        "discrete one a DiscreteModel. Raises jointhb.InputError with file, line, column, key and constraint "
+        "for any problem of the file.");
   m.def("parse_case", &parse_case, py::arg("text"), py::arg("file_name"),
         "A finite-element case from YAML or JSON text; file_name names it in errors, its directory is where "
         "mesh files are found.");
@@ -785,16 +813,24 @@ PYBIND11_MODULE(_core, m) {
            "dofs: [a] (to ground) or [a, b], kt0 [N/m], mu, normal_force [N], n (gaul-mayer)}. ValueError names "
            "the violated constraint.")
       .def_property_readonly("dofs", &DiscreteModel::dofs)
+      .def_property_readonly("source", &DiscreteModel::source, "the case file it was read from ('' when built)")
       .def("linear_modes", &DiscreteModel::linear_modes, py::arg("stuck") = true,
            "Linear modes with the contacts stuck (stiffness kt0) or removed: omega [rad/s], frequency_hz, shapes.")
-      .def("frf", &DiscreteModel::frf, py::arg("force"), py::arg("omega"), py::arg("output_dof") = 0,
-           py::arg("harmonics") = 7, py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
+      .def("frf", &DiscreteModel::frf, py::arg("force") = py::none(), py::arg("omega") = py::none(),
+           py::arg("output_dof") = py::none(), py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(),
+           py::arg("level") = 0, py::arg("callback") = py::none(),
            "Nonlinear FRF under f(t) = force cos(Omega t) (force: amplitude per DOF [N]) over omega = (start, end) "
-           "[rad/s]: numpy arrays omega, amplitude_h1, amplitude_max [m], dissipation [J]; status, message.")
-      .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = std::pair{-7.0, -3.0},
-           py::arg("harmonics") = 7, py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
-           "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude: numpy arrays amplitude, "
-           "omega, frequency_hz, damping_ratio, W_D; status, message.");
+           "[rad/s]; without force, the case's excitation level `level` and analysis.frf settings. Numpy arrays "
+           "omega, frequency_hz, amplitude_h1, amplitude_max [m], dissipation [J]; status, message.")
+      .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
+           py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
+           "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude (the case's "
+           "analysis.nonlinear_modes settings or the defaults): numpy arrays amplitude, omega, frequency_hz, "
+           "damping_ratio, W_D; status, message.")
+      .def_property_readonly("parameter_names", [](DiscreteModel& d) { return d.pipe().parameter_names(); },
+                             "contacts[i].kt0|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
+      .def("set", [](DiscreteModel& d, const std::string& name, double value) { d.pipe().set_parameter(name, value); },
+           py::arg("name"), py::arg("value"), "Sets a parameter (C is rebuilt for a damping parameter).");
 
   m.def("fit", &fit_objective, py::arg("objective"), py::arg("parameters"), py::arg("options") = py::dict(),
         "Least squares with NLopt: objective(values: list) -> residuals (or None when it fails); parameters: "

@@ -270,3 +270,29 @@ def test_contact_fields_along_the_curve_add_up_to_the_dissipation(lap):
     assert np.allclose(total, c["W_D"], rtol=1e-9, atol=0.0), (total, c["W_D"])
     assert set(np.unique(f["state"])) <= {0.0, 1.0, 2.0}
     assert np.all(f["pressure_max"] >= f["pressure_min"])
+
+
+def test_a_discrete_case_file_gives_the_programs_frf(tmp_path):
+    case = SOURCE / "cases/02-two-dof-frf/case.yaml"
+    subprocess.run([PROGRAM, "run", str(case), "-o", str(tmp_path / "cli")], check=True, capture_output=True)
+    rows = [r for r in csv.DictReader(open(tmp_path / "cli" / "frf.csv")) if r["level"] == "0"]
+    model = jointhb.load_case(str(case))
+    assert isinstance(model, jointhb.DiscreteModel) and model.source.endswith("case.yaml")
+    r = model.frf(level=0)
+    assert r["status"] == "ok" and len(rows) == len(r["omega"])
+    for column in ("omega", "amplitude_h1", "dissipation"):
+        assert np.array_equal(np.array([float(x[column]) for x in rows]), r[column]), column
+    # a parameter: the stuck mode follows kt0 of the first contact
+    names = model.parameter_names
+    assert "contacts[0].kt0" in names
+    before = model.linear_modes()["omega"][0]
+    model.set("contacts[0].kt0", 2.0 * model_param(case, "kt0"))
+    assert model.linear_modes()["omega"][0] > before
+    with pytest.raises(ValueError, match="contacts"):
+        model.set("contacts[0].kt0", -1.0)
+
+
+def model_param(case, key):
+    """The first value of `key` in the case file's contacts (a flow-style map)."""
+    import re
+    return float(re.search(rf"{key}:\s*([-+0-9.eE]+)", case.read_text()).group(1))

@@ -12,7 +12,7 @@
 // measured abscissa outside a predicted curve's range is a failed evaluation (the penalty), not
 // an extrapolation. A model may instead return its values at the measured abscissae directly
 // (PredictedCurve::at_points), as the discrete adapter does after correcting each point onto the
-// curve (fit/discrete_model.hpp).
+// curve (pipeline/discrete_fit_model.hpp).
 
 #include <string>
 #include <vector>

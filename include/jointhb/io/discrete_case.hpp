@@ -25,24 +25,14 @@
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/io/fit_section.hpp"
+#include "jointhb/pipeline/discrete_problem.hpp"
 
 namespace jointhb::io {
 
-struct DiscreteCase {
-  hb::DiscreteSystem system;             ///< M, C, K and contacts; validate() is empty
-  std::vector<hb::Excitation> levels;    ///< one per excitation level (none without excitation)
-  std::vector<double> level_amplitudes;  ///< label of each level: its largest |amplitude| [N]
-  std::optional<continuation::FrfOptions> frf;  ///< analysis.frf, when asked for
-  /// analysis.nonlinear_modes, when asked for (EPMC damping curve of one mode)
-  std::optional<continuation::BackboneOptions> nonlinear_modes;
-  /// The modes whose damping curves are asked for (nonlinear_modes.mode: one number or a list);
-  /// nonlinear_modes->mode.mode is the first.
-  std::vector<int> modes;
-  std::string damping_model = "none";        ///< "none", "rayleigh", "matrix" or "modal" (echo)
-  double rayleigh_alpha = 0.0;               ///< α of C = αM + βK [1/s] (damping_model rayleigh)
-  double rayleigh_beta = 0.0;                ///< β of C = αM + βK [s] (damping_model rayleigh)
-  std::vector<double> modal_damping_ratios;  ///< ζ_i of the lowest modes (damping_model modal)
-  std::string source;                        ///< the case file it was read from
+/// A discrete case as read: the typed problem (pipeline/discrete_problem.hpp) plus what only the
+/// reader knows.
+struct DiscreteCase : pipeline::DiscreteProblem {
+  std::string source;  ///< the case file it was read from
   /// fit: the parameters to identify from measured targets (`jointhb fit`, docs/identification.md)
   std::optional<FitSection> fit;
 };

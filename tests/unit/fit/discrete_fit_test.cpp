@@ -7,11 +7,12 @@
 #include <stdexcept>
 
 #include "jointhb/continuation/frf.hpp"
-#include "jointhb/fit/discrete_model.hpp"
+#include "jointhb/pipeline/discrete_fit_model.hpp"
 #include "jointhb/fit/fitter.hpp"
 #include "jointhb/io/discrete_case.hpp"
 
 namespace jointhb::fit {
+using namespace jointhb::pipeline;  // the discrete adapter (pipeline/discrete_fit_model.hpp)
 namespace {
 
 // Case 03 (one mass, Gaul–Mayer joint to ground) at H = 3.

@@ -1,6 +1,6 @@
 #pragma once
 // The discrete-model adapter of the identification (fit/fitter.hpp): parameter names that address
-// a DiscreteCase, setting them consistently, and the model's prediction of the targets
+// a DiscreteProblem (a discrete case), setting them consistently, and the model's prediction of the targets
 // (fit/targets.hpp) by the existing analyses:
 //   backbone  trace_backbone (EPMC, case analysis.nonlinear_modes settings) of the target's mode,
 //             up to a tenth of a decade beyond the largest measured amplitude (not further than
@@ -22,29 +22,29 @@
 
 #include "jointhb/fit/fitter.hpp"
 #include "jointhb/fit/targets.hpp"
-#include "jointhb/io/discrete_case.hpp"
+#include "jointhb/pipeline/discrete_problem.hpp"
 
-namespace jointhb::fit {
+namespace jointhb::pipeline {
 
 /// The names a discrete case offers: per contact i contacts[i].kt0, .mu, .normal_force (and .n
 /// for gaul-mayer); damping.rayleigh.alpha/.beta (damping model rayleigh), damping.modal[k]
 /// (modal), none for a damping matrix.
-std::vector<std::string> discrete_parameter_names(const io::DiscreteCase& c);
+std::vector<std::string> discrete_parameter_names(const DiscreteProblem& c);
 
 /// Sets the named parameters and rebuilds what depends on them (C for the damping parameters:
 /// αM + βK, or the modal damping matrix of (K, M) as the case reader builds it), then checks the
 /// system (DiscreteSystem::validate). Throws std::invalid_argument naming an unknown parameter
 /// (with the valid names) or the violated constraint.
-void set_model_parameters(io::DiscreteCase& c, const std::vector<std::string>& names,
+void set_model_parameters(DiscreteProblem& c, const std::vector<std::string>& names,
                           const std::vector<double>& values);
 
 /// The case's curves for the targets (one PredictedCurve per target, with at_points).
-ModelPrediction predict(const io::DiscreteCase& c, const std::vector<Target>& targets);
+fit::ModelPrediction predict(const DiscreteProblem& c, const std::vector<fit::Target>& targets);
 
 /// fit()'s model for a discrete case: set_model_parameters on a copy of `base`, predict,
 /// residuals. Failures (a continuation that stops short of a measured point, an invalid parameter
 /// combination) return !ok.
-Model discrete_model(const io::DiscreteCase& base, const std::vector<std::string>& names,
-                     const std::vector<Target>& targets);
+fit::Model discrete_model(const DiscreteProblem& base, const std::vector<std::string>& names,
+                     const std::vector<fit::Target>& targets);
 
-}  // namespace jointhb::fit
+}  // namespace jointhb::pipeline

@@ -1,4 +1,4 @@
-#include "jointhb/fit/discrete_model.hpp"
+#include "jointhb/pipeline/discrete_fit_model.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,9 @@
 #include "jointhb/hb/harmonic_balance.hpp"
 #include "jointhb/hb/nonlinear_mode.hpp"
 
-namespace jointhb::fit {
+namespace jointhb::pipeline {
+
+using namespace jointhb::fit;  // the adapter speaks the identification's types
 
 namespace {
 
@@ -78,7 +80,7 @@ bool bracket(const std::vector<double>& x, double at, const std::vector<double>*
   return found;
 }
 
-PredictedCurve predict_backbone(const io::DiscreteCase& c, const Target& target) {
+PredictedCurve predict_backbone(const DiscreteProblem& c, const Target& target) {
   PredictedCurve out;
   if (!c.nonlinear_modes) {
     out.ok = false;
@@ -145,7 +147,7 @@ PredictedCurve predict_backbone(const io::DiscreteCase& c, const Target& target)
   return out;
 }
 
-PredictedCurve predict_frf(const io::DiscreteCase& c, const Target& target) {
+PredictedCurve predict_frf(const DiscreteProblem& c, const Target& target) {
   PredictedCurve out;
   if (!c.frf) {
     out.ok = false;
@@ -205,7 +207,7 @@ PredictedCurve predict_frf(const io::DiscreteCase& c, const Target& target) {
   return out;
 }
 
-PredictedCurve predict_modal(const io::DiscreteCase& c) {
+PredictedCurve predict_modal(const DiscreteProblem& c) {
   PredictedCurve out;
   const hb::LinearModes modes = hb::linear_modes(c.system, true);
   const Eigen::MatrixXd damping = c.system.damping.rows()
@@ -222,7 +224,7 @@ PredictedCurve predict_modal(const io::DiscreteCase& c) {
 
 }  // namespace
 
-std::vector<std::string> discrete_parameter_names(const io::DiscreteCase& c) {
+std::vector<std::string> discrete_parameter_names(const DiscreteProblem& c) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < c.system.contacts.size(); ++i) {
     for (const char* field : {"kt0", "mu", "normal_force"}) {
@@ -241,7 +243,7 @@ std::vector<std::string> discrete_parameter_names(const io::DiscreteCase& c) {
   return names;
 }
 
-void set_model_parameters(io::DiscreteCase& c, const std::vector<std::string>& names,
+void set_model_parameters(DiscreteProblem& c, const std::vector<std::string>& names,
                           const std::vector<double>& values) {
   if (names.size() != values.size()) {
     throw std::invalid_argument(
@@ -303,7 +305,7 @@ void set_model_parameters(io::DiscreteCase& c, const std::vector<std::string>& n
   }
 }
 
-ModelPrediction predict(const io::DiscreteCase& c, const std::vector<Target>& targets) {
+ModelPrediction predict(const DiscreteProblem& c, const std::vector<Target>& targets) {
   ModelPrediction out;
   for (const auto& target : targets) {
     switch (target.kind) {
@@ -321,10 +323,10 @@ ModelPrediction predict(const io::DiscreteCase& c, const std::vector<Target>& ta
   return out;
 }
 
-Model discrete_model(const io::DiscreteCase& base, const std::vector<std::string>& names,
+Model discrete_model(const DiscreteProblem& base, const std::vector<std::string>& names,
                      const std::vector<Target>& targets) {
   return [base, names, targets](const std::vector<double>& values) {
-    io::DiscreteCase c = base;
+    DiscreteProblem c = base;
     Evaluation e;
     try {
       set_model_parameters(c, names, values);
@@ -340,4 +342,4 @@ Model discrete_model(const io::DiscreteCase& base, const std::vector<std::string
   };
 }
 
-}  // namespace jointhb::fit
+}  // namespace jointhb::pipeline
