@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "jointhb/io/aggregate_field_count.hpp"
+#include "../support/file_bytes.hpp"
 
 namespace jointhb::io {
 namespace {
@@ -30,17 +31,7 @@ constexpr bool little_endian = std::endian::native == std::endian::little;
 // int arrays are copied as a block on little-endian machines where int is the file's i32.
 constexpr bool int_is_i32 = std::is_same_v<int, std::int32_t>;
 
-/// The whole file; nullopt when it cannot be opened or read.
-std::optional<std::string> file_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) return std::nullopt;
-  const std::streamoff size = in.tellg();
-  if (size < 0) return std::nullopt;
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), size)) return std::nullopt;
-  return bytes;
-}
+using support::file_bytes;
 
 // ---- the cached types' fields --------------------------------------------------------------------
 

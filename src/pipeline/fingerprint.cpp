@@ -9,6 +9,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "../support/file_bytes.hpp"
+
 namespace jointhb::pipeline {
 namespace {
 
@@ -25,16 +27,7 @@ std::array<unsigned char, 8> le64(std::uint64_t v) {
   return b;
 }
 
-std::optional<std::string> file_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) return std::nullopt;
-  const std::streamoff size = in.tellg();
-  if (size < 0) return std::nullopt;
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), size)) return std::nullopt;
-  return bytes;
-}
+using support::file_bytes;
 
 }  // namespace
 
