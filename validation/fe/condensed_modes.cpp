@@ -31,6 +31,7 @@
 
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/condensed_interface.hpp"
@@ -63,18 +64,16 @@ int main(int argc, char** argv) {
   if (args.ci) lap.nx = 20, lap.ny = 6;
   lap.modes = kRigid + kElastic;
   const io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lap), "condensed_modes.yaml");
-  preload::PreloadModel model;
-  model.mesh = &c.mesh;
-  model.structure = fe::assemble(c.mesh, c.material_per_part);
-  model.interfaces = c.interfaces;
-  model.bolts = c.bolts;
-  const preload::PreloadResult p = preload::solve_preload(model, c.preload);
+  // Structure, preload and the full model's modes through the pipeline object (as `jointhb run`).
+  pipeline::FePipeline pipe(c, c);
+  const preload::PreloadModel& model = pipe.structure();
+  const preload::PreloadResult& p = pipe.preload();
   if (!p.converged) {
     std::printf("preload failed: %s\n", p.message.c_str());
     return 1;
   }
   auto t = std::chrono::steady_clock::now();
-  const modal::ModalResult full = modal::compute_modes(p.dynamic_stiffness, model.structure.mass, *c.modes);
+  const modal::ModalResult& full = pipe.modes();  // of K_t on every DOF (free-free: no constraints)
   const double full_seconds = seconds_since(t);
   if (full.status != modal::ModalStatus::converged) {
     std::printf("full modes failed: %s\n", full.message.c_str());
