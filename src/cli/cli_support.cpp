@@ -1,5 +1,7 @@
 #include "cli_support.hpp"
 
+#include <chrono>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -35,5 +37,15 @@ void require_finite_result(const std::string& name, double value) {
 }
 
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+
+ProgressPacer::ProgressPacer(double interval_seconds) : terminal_(stderr_is_terminal()), interval_(interval_seconds) {}
+
+bool ProgressPacer::due() {
+  if (terminal_) return true;
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (now - last_ < interval_) return false;
+  last_ = now;
+  return true;
+}
 
 }  // namespace jointhb::cli

@@ -39,4 +39,24 @@ void require_finite_result(const std::string& name, double value);
 /// Progress lines are for people watching: only when stderr is a terminal.
 bool stderr_is_terminal();
 
+/// When a long run reports progress: on a terminal at every event (one line rewritten in place);
+/// otherwise (a pipe, a log file, CI) a plain line at most every `interval` seconds, so that a
+/// minute-long run is not silent in a log.
+class ProgressPacer {
+ public:
+  explicit ProgressPacer(double interval_seconds = 10.0);
+  [[nodiscard]] bool terminal() const { return terminal_; }
+  /// Whether this event is shown (always on a terminal; else when the interval has passed).
+  bool due();
+  /// "\r" on a terminal (rewrite the line), "" otherwise.
+  [[nodiscard]] const char* start() const { return terminal_ ? "\r" : ""; }
+  /// "   " on a terminal (the line is rewritten), "\n" otherwise.
+  [[nodiscard]] const char* end() const { return terminal_ ? "   " : "\n"; }
+
+ private:
+  bool terminal_;
+  double interval_;
+  double last_ = -1e300;
+};
+
 }  // namespace jointhb::cli

@@ -16,6 +16,7 @@
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/preload/preload_solver.hpp"
+#include "cli_support.hpp"
 #include "interface_fields.hpp"
 
 namespace jointhb::cli {
@@ -160,11 +161,12 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                                                 run_options.use_cache);
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
   pipeline::FeAnalysis analysis = c;
-  if (tty) {
-    analysis.preload.progress = [](int step, int it, double r) {
-      std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
-    };
-  }
+  // Progress of the preload: every Newton iteration on a terminal, every 10 s in a log.
+  auto pacer = std::make_shared<ProgressPacer>();
+  analysis.preload.progress = [pacer](int step, int it, double r) {
+    if (pacer->due())
+      std::fprintf(stderr, "%spreload step %d iteration %d residual %.2e%s", pacer->start(), step, it, r, pacer->end());
+  };
   pipeline::FePipeline pipe(c, std::move(analysis), cache);
 
   // ---- structure -------------------------------------------------------------------------
