@@ -17,6 +17,7 @@
 #include "jointhb/pipeline/fe_pipeline.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 #include "interface_fields.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -91,6 +92,7 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
                    {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
   pj["cache"] = info.from_store ? "hit" : "miss";
   pj["cache_seconds"] = info.store_seconds;
+  merge_status(pj, p.outcome());
   return pj;
 }
 
@@ -139,6 +141,7 @@ ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& 
   mj["seconds"] = m.seconds;
   mj["cache"] = info.from_store ? "hit" : "miss";
   mj["cache_seconds"] = info.store_seconds;
+  merge_status(mj, m.outcome());
   return mj;
 }
 
