@@ -54,7 +54,8 @@ Status FitResult::outcome() const {
   if (stop_reason == "SUCCESS" || stop_reason == "STOPVAL_REACHED" || stop_reason == "FTOL_REACHED" ||
       stop_reason == "XTOL_REACHED")
     return {Termination::converged, line};
-  if (stop_reason == "MAXEVAL_REACHED" || stop_reason == "MAXTIME_REACHED") return {Termination::no_convergence, line};
+  if (stop_reason == "MAXEVAL_REACHED" || stop_reason == "MAXTIME_REACHED")
+    return {Termination::no_convergence, line};
   if (stop_reason == "FORCED_STOP") return {Termination::stopped_by_user, line};
   return {Termination::failed, line};  // FAILURE, INVALID_ARGS, OUT_OF_MEMORY, ROUNDOFF_LIMITED
 }

@@ -357,8 +357,8 @@ TEST(ContinuationArclength, OutcomeMapsTheStopReason) {
   EXPECT_EQ(full.outcome().brief(), "reached_end: " + full.message);
 
   int calls = 0;
-  const auto stopped =
-      jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), o, [&](const jcont::Point&) { return ++calls < 3; });
+  const auto stop_at_three = [&](const jcont::Point&) { return ++calls < 3; };
+  const auto stopped = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), o, stop_at_three);
   ASSERT_EQ(stopped.reason, jcont::StopReason::stopped_by_user) << describe(stopped);
   EXPECT_EQ(stopped.outcome().termination, Termination::stopped_by_user);
   EXPECT_FALSE(stopped.outcome().ok());
