@@ -241,7 +241,11 @@ Status PreloadResult::outcome() const {
   // no decrease: failed). The result has no field for which: adding one would change the stage
   // cache's layout (io/stage_cache.cpp, a new stage_cache_format) for a distinction the message
   // already makes, and the message is written only by solve_preload, above, and kept by the cache.
-  if (converged) return {Termination::converged, message};
+  if (converged) {  // the message says "converged: …" itself, which brief() adds again
+    constexpr std::string_view prefix = "converged: ";
+    const bool has = message.starts_with(prefix);
+    return {Termination::converged, has ? message.substr(prefix.size()) : message};
+  }
   const bool limit = message.find(kIterationLimit) != std::string::npos;
   return {limit ? Termination::no_convergence : Termination::failed, message};
 }

@@ -113,7 +113,7 @@ struct PreloadResult {
 
   /// The status convention (contact/termination.hpp): converged → converged; a load step that
   /// used all max_iterations → no_convergence; a tangent that could not be factored or a line
-  /// search without decrease → failed. The message is `message`.
+  /// search without decrease → failed. The message is `message` (without its "converged: ").
   [[nodiscard]] Status outcome() const;
 };
 

@@ -216,8 +216,7 @@ TEST(PreloadSolver, OutcomeMapsConvergedAndTheIterationLimit) {
   const jointhb::Status ok = good.outcome();
   EXPECT_EQ(ok.termination, jointhb::Termination::converged);
   EXPECT_TRUE(ok.ok());
-  EXPECT_EQ(ok.message, good.message);
-  EXPECT_EQ(ok.brief(), "converged: " + good.message);
+  EXPECT_EQ(ok.brief(), good.message);  // "converged: 4 load steps, …", not "converged: converged: …"
 
   pl::PreloadOptions o;
   o.max_iterations = 1;
