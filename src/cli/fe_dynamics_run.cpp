@@ -15,6 +15,7 @@
 #include "jointhb/io/fe_dynamics_case.hpp"
 #include "jointhb/io/csv_writer.hpp"
 #include "run_support.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -170,6 +171,7 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
                                       {"rejected_steps", bb.rejected_steps},
                                       {"seconds", timings_json(bb.timings)}});
       if (!fields_json.is_null()) summary["backbones"].back()["fields"] = fields_json;
+      merge_status(summary["backbones"].back(), b.outcome());
       write_summary(dir / "summary.json", summary);
     }
   }
@@ -209,6 +211,7 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
                                  {"newton_iterations", r.curve.newton_iterations},
                                  {"rejected_steps", r.curve.rejected_steps},
                                  {"seconds", timings_json(r.curve.timings)}});
+      merge_status(summary["frfs"].back(), r.outcome());
       write_summary(dir / "summary.json", summary);
     }
   }

@@ -18,6 +18,7 @@
 #include "jointhb/preload/preload_solver.hpp"
 #include "cli_support.hpp"
 #include "interface_fields.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -92,6 +93,7 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
                    {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
   pj["cache"] = info.from_store ? "hit" : "miss";
   pj["cache_seconds"] = info.store_seconds;
+  merge_status(pj, p.outcome());
   return pj;
 }
 
@@ -140,6 +142,7 @@ ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& 
   mj["seconds"] = m.seconds;
   mj["cache"] = info.from_store ? "hit" : "miss";
   mj["cache_seconds"] = info.store_seconds;
+  merge_status(mj, m.outcome());
   return mj;
 }
 

@@ -12,6 +12,7 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/io/csv_writer.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -158,6 +159,7 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
                   {"assembly", curve.timings.assembly},
                   {"linear_solve", curve.timings.linear_solve},
                   {"total", curve.timings.total}};
+  merge_status(j, curve.outcome());
   return j;
 }
 
@@ -304,6 +306,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Jso
          {"rejected_steps", curve.rejected_steps},
          {"seconds", curve.seconds},
          {"curve", points}});
+    merge_status(summary["backbones"].back(), curve.outcome());
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
                                mode, curve.points.size(), curve.message);

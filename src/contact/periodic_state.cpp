@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -87,6 +88,15 @@ Sweep sweep(const TangentialLaw& law, const PeriodicPath& path, const Vec2& t0,
 }
 
 }  // namespace
+
+Status PeriodicStateResult::outcome() const {
+  const Termination t =
+      status == PeriodicStatus::converged ? Termination::converged : Termination::no_convergence;
+  if (!message.empty()) return {t, message};
+  char line[96];
+  std::snprintf(line, sizeof line, "%d iterations, residual %.3g", iterations, residual);
+  return {t, line};
+}
 
 std::string PeriodicStateOptions::validate() const {
   if (!(tolerance > 0.0 && tolerance <= 1.0e-3)) return "tolerance must lie in (0, 1e-3]";

@@ -557,6 +557,22 @@ std::string_view to_string(StopReason reason) {
   return "unknown";
 }
 
+Termination termination(StopReason reason) {
+  switch (reason) {
+    case StopReason::reached_end:
+      return Termination::reached_end;
+    case StopReason::stopped_by_user:
+      return Termination::stopped_by_user;
+    case StopReason::max_points:
+      return Termination::no_convergence;
+    case StopReason::min_step:
+    case StopReason::start_failed:
+    case StopReason::left_range:
+      return Termination::failed;
+  }
+  return Termination::failed;
+}
+
 Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const Options& options,
              const AcceptCallback& on_accept) {
   const Index n = x0.size();

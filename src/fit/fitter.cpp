@@ -46,6 +46,20 @@ std::string FitOptions::validate() const {
   return "";
 }
 
+Status FitResult::outcome() const {
+  // The one translation of NLopt's result names (nlopt_result_to_string) to the status convention.
+  const std::string line =
+      fmt::format("{} after {} evaluations, S = {:.6g}", stop_reason, evaluations, objective);
+  if (!ok) return {Termination::failed, stop_reason};
+  if (stop_reason == "SUCCESS" || stop_reason == "STOPVAL_REACHED" || stop_reason == "FTOL_REACHED" ||
+      stop_reason == "XTOL_REACHED")
+    return {Termination::converged, line};
+  if (stop_reason == "MAXEVAL_REACHED" || stop_reason == "MAXTIME_REACHED")
+    return {Termination::no_convergence, line};
+  if (stop_reason == "FORCED_STOP") return {Termination::stopped_by_user, line};
+  return {Termination::failed, line};  // FAILURE, INVALID_ARGS, OUT_OF_MEMORY, ROUNDOFF_LIMITED
+}
+
 std::vector<std::vector<double>> latin_hypercube(int count, int dimensions, unsigned seed) {
   std::vector<std::vector<double>> points;
   const int n = count - 1;

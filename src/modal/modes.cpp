@@ -135,6 +135,26 @@ std::string ModalResult::brief() const {
   return line;
 }
 
+Status ModalResult::outcome() const {
+  // The one translation of ModalStatus to the status convention (contact/termination.hpp).
+  Termination t = Termination::failed;
+  switch (status) {
+    case ModalStatus::converged:
+      t = Termination::converged;
+      break;
+    case ModalStatus::not_converged:
+      t = Termination::no_convergence;
+      break;
+    case ModalStatus::failed:
+      t = Termination::failed;
+      break;
+  }
+  std::string line = message;
+  if (line.empty())
+    line = std::to_string(eigenvalues.size()) + " of " + std::to_string(requested) + " modes converged";
+  return {t, std::move(line)};
+}
+
 ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
                           const Eigen::SparseMatrix<double>& M, const ModalOptions& options) {
   const auto start = support::Clock::now();

@@ -332,6 +332,25 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
   return out;
 }
 
+Status BackboneCurve::outcome() const {
+  // The pipeline's accept stops the continuation for three reasons of its own, which the
+  // continuation records alike as stopped_by_user; the flags and the failure message tell them
+  // apart. A point on the end is complete whatever the callback said (as in ok()).
+  if (curve.completed() || reached_frequency_drop) return {Termination::reached_end, stop_message};
+  if (stopped_by_callback) return {Termination::stopped_by_user, stop_message};
+  if (curve.reason == continuation::StopReason::stopped_by_user)  // a non-finite point
+    return {Termination::failed, stop_message};
+  return {continuation::termination(curve.reason), stop_message};
+}
+
+Status FrfCurve::outcome() const {
+  if (curve.completed()) return {Termination::reached_end, curve.message};
+  if (stopped_by_callback) return {Termination::stopped_by_user, curve.message};
+  if (curve.reason == continuation::StopReason::stopped_by_user)  // a non-finite point
+    return {Termination::failed, curve.message};
+  return {continuation::termination(curve.reason), curve.message};
+}
+
 FrfCurve FePipeline::frf(std::size_t level, const FrfCallback& on_point) {
   if (!analysis_.dynamics || !analysis_.dynamics->frf) throw std::invalid_argument("the analysis has no frf settings");
   return frf(level, *analysis_.dynamics->frf, on_point);

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <span>
 #include <stdexcept>
+#include <string_view>
 
 #include "../support/contact_tangent.hpp"
 #include "../support/stopwatch.hpp"
@@ -31,6 +32,10 @@ std::string PreloadOptions::validate() const {
 }
 
 namespace {
+
+// How the message of a load step that ran out of Newton iterations starts: PreloadResult::outcome()
+// recognises it (see there for why the message, not a field).
+constexpr std::string_view kIterationLimit = "no convergence in ";
 
 using SpMat = Eigen::SparseMatrix<double>;
 using support::seconds_since;
@@ -229,6 +234,22 @@ Eigen::SparseMatrix<double> dynamic_stiffness(const PreloadModel& model,
   return model.structure.stiffness + extra;
 }
 
+Status PreloadResult::outcome() const {
+  // The one translation of `converged` + `message` to the status convention
+  // (contact/termination.hpp). A failed load step either ran out of Newton iterations (more may
+  // help: no_convergence) or broke down (the tangent could not be factored, the line search found
+  // no decrease: failed). The result has no field for which: adding one would change the stage
+  // cache's layout (io/stage_cache.cpp, a new stage_cache_format) for a distinction the message
+  // already makes, and the message is written only by solve_preload, above, and kept by the cache.
+  if (converged) {  // the message says "converged: …" itself, which brief() adds again
+    constexpr std::string_view prefix = "converged: ";
+    const bool has = message.starts_with(prefix);
+    return {Termination::converged, has ? message.substr(prefix.size()) : message};
+  }
+  const bool limit = message.find(kIterationLimit) != std::string::npos;
+  return {limit ? Termination::no_convergence : Termination::failed, message};
+}
+
 PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (const std::string msg = options.validate(); !msg.empty())
@@ -284,7 +305,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
         break;
       }
       if (it == options.max_iterations) {
-        failure = fmt::format("no convergence in {} iterations (relative residual {:.3e} > {:.1e})",
+        failure = fmt::format("{}{} iterations (relative residual {:.3e} > {:.1e})", kIterationLimit,
                               options.max_iterations, step.residual, options.residual_tolerance);
         break;
       }

@@ -75,6 +75,7 @@ py::dict stage_dict(const pipeline::StageInfo& info) {
 py::dict preload_dict(const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   py::dict d;
   d["converged"] = p.converged;
+  d["termination"] = std::string(to_string(p.outcome().termination));  // contact/termination.hpp
   d["message"] = p.message;
   d["load_factor"] = p.load_factor;
   d["newton_iterations"] = p.total_iterations;
@@ -102,6 +103,7 @@ py::dict preload_dict(const preload::PreloadResult& p, const pipeline::StageInfo
 py::dict modes_dict(const modal::ModalResult& m, const pipeline::StageInfo& info) {
   py::dict d;
   d["converged"] = m.status == modal::ModalStatus::converged;
+  d["termination"] = std::string(to_string(m.outcome().termination));
   d["message"] = m.message;
   d["frequencies_hz"] = m.frequencies_hz;
   d["elastic_frequencies_hz"] = pipeline::elastic_frequencies(m);
@@ -154,6 +156,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
   d["status"] = curve_status(b.ok(), interrupted, b.stopped_by_callback || b.reached_frequency_drop);
   d["ok"] = b.ok();
+  d["termination"] = std::string(to_string(b.outcome().termination));  // Ctrl-C: stopped_by_user
   d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
                              : b.stop_message;
   d["energy_gap"] = b.energy_gap;
@@ -183,6 +186,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
   d["status"] = curve_status(r.ok(), interrupted, r.stopped_by_callback);
   d["ok"] = r.ok();
+  d["termination"] = std::string(to_string(r.outcome().termination));
   d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
                              : r.curve.message;
   d["peak_amplitude"] = r.peak_amplitude;
@@ -582,6 +586,7 @@ class DiscreteModel {
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
     d["status"] = curve_status(r.completed(), on_point.interrupted(), r.reason == continuation::StopReason::stopped_by_user);
     d["ok"] = r.completed();
+    d["termination"] = std::string(to_string(r.outcome().termination));
     d["message"] = r.message;
     d["harmonics"] = r.kept_harmonics;
     d["seconds"] = r.timings.total;
@@ -614,6 +619,7 @@ class DiscreteModel {
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
     d["status"] = curve_status(b.completed(), on_point.interrupted(), b.reason == continuation::StopReason::stopped_by_user);
     d["ok"] = b.completed();
+    d["termination"] = std::string(to_string(b.outcome().termination));
     d["message"] = b.message;
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;

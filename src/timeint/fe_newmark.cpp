@@ -385,6 +385,17 @@ std::string newton_failure(const FeStepper::Outcome& o, long step, double time, 
 
 }  // namespace
 
+Status FeTransientResult::outcome() const {
+  if (completed)
+    return {Termination::reached_end, message.empty() ? std::to_string(steps) + " steps" : message};
+  return {Termination::failed, message};
+}
+
+Status FeSteadyStateResult::outcome() const {
+  if (converged) return {Termination::converged, message};
+  return {failed ? Termination::failed : Termination::no_convergence, message};
+}
+
 Eigen::VectorXd FeExcitation::at(double omega, double time, int num_dofs) const {
   Vec f = static_force.size() == num_dofs ? static_force : Vec::Zero(num_dofs);
   const double c = std::cos(omega * time);

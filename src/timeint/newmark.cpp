@@ -451,6 +451,26 @@ std::string newton_failure(const StepOutcome& o, int step, double time, int max_
 
 }  // namespace
 
+Status TransientResult::outcome() const {
+  // TransientStatus::not_converged is a Newton failure inside a step, which SteadyStatus calls
+  // failed: the same event gets the same termination.
+  if (status == TransientStatus::completed)
+    return {Termination::reached_end, message.empty() ? std::to_string(steps) + " steps" : message};
+  return {Termination::failed, message};
+}
+
+Status SteadyStateResult::outcome() const {
+  switch (status) {
+    case SteadyStatus::converged:
+      return {Termination::converged, message};
+    case SteadyStatus::not_converged:
+      return {Termination::no_convergence, message};
+    case SteadyStatus::failed:
+      return {Termination::failed, message};
+  }
+  return {Termination::failed, message};
+}
+
 std::string NewmarkOptions::validate() const {
   if (!(time_step > 0.0) || !std::isfinite(time_step)) {
     return fmt::format("time_step: must be finite and > 0, got {}", time_step);

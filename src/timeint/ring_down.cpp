@@ -133,6 +133,19 @@ class CycleTracker {
 
 }  // namespace
 
+Status RingDownResult::outcome() const {
+  switch (status) {
+    case RingDownStatus::decayed:
+      return {Termination::reached_end, message};
+    case RingDownStatus::max_periods:
+      return {Termination::no_convergence, message};
+    case RingDownStatus::no_oscillation:  // died out above the stop ratio: more periods do not help
+    case RingDownStatus::integration_failed:
+      return {Termination::failed, message};
+  }
+  return {Termination::failed, message};
+}
+
 std::string RingDownOptions::validate() const {
   if (mode < 1) return fmt::format("mode: must be >= 1, got {}", mode);
   if (!(initial_amplitude > 0.0) || !std::isfinite(initial_amplitude)) {

@@ -26,6 +26,13 @@ s = json.load(open(f"{d}/summary.json"))
 assert s["status"] == "ok" and s["kind"] == "fe" and s["case"] == "built-in default case", (s["status"], s["case"])
 b = s["backbones"][0]
 assert b["status"] == "ok" and b["mode"] == 1, b
+# The status convention (docs/cli.md "Status blocks"): "termination" and "ok" next to the older
+# "status", agreeing with it.
+p, m = s["preload"], s["modes"]
+assert (p["status"], p["termination"], p["ok"]) == ("converged", "converged", True), p["message"]
+assert (m["status"], m["termination"], m["ok"]) == ("converged", "converged", True), m["message"]
+assert b["termination"] == "reached_end" and b["ok"] is True and b["message"], b["message"]
+assert list(b)[list(b).index("status") + 1:list(b).index("status") + 3] == ["termination", "ok"], list(b)
 modes = [float(r["frequency_hz"]) for r in csv.DictReader(open(f"{d}/modes.csv"))]
 f1 = [f for f in modes if abs(f) >= 1.0][0]                  # first elastic mode of K_t
 rows = list(csv.DictReader(open(f"{d}/backbone.csv")))

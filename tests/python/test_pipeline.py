@@ -60,6 +60,8 @@ def test_the_linear_limit_is_the_first_elastic_mode_with_the_cases_damping(lap):
     # error (1e-4) and the microslip at the first amplitude (the Gaul-Mayer law has no sharp stick).
     assert abs(curve["damping_ratio"][0] / 0.005 - 1.0) < 1e-3
     assert curve["frequency_hz"][-1] < curve["frequency_hz"][0] and curve["damping_ratio"][-1] > 0.005
+    assert curve["termination"] == "reached_end" and curve["ok"]
+    assert lap.preload()["termination"] == "converged" and lap.modes()["termination"] == "converged"
 
 
 def test_a_callback_sees_every_point_and_can_stop_the_curve(lap):
@@ -68,6 +70,7 @@ def test_a_callback_sees_every_point_and_can_stop_the_curve(lap):
     assert seen == list(curve["amplitude"]) and len(seen) >= 3
     stopped = short(lap, callback=lambda pt: len(seen) < 0)  # False at once
     assert stopped["status"] == "stopped" and len(stopped["amplitude"]) == 1
+    assert stopped["termination"] == "stopped_by_user" and not stopped["ok"]
 
 
 def test_keyboard_interrupt_ends_the_curve_with_its_points(lap):
@@ -80,6 +83,7 @@ def test_keyboard_interrupt_ends_the_curve_with_its_points(lap):
 
     curve = short(lap, callback=interrupt_at_third)
     assert curve["status"] == "interrupted" and len(curve["amplitude"]) == 3
+    assert curve["termination"] == "stopped_by_user", curve["termination"]  # Ctrl-C is the user's
     # Ctrl-C while C++ computes (no callback): the signal only sets Python's flag, which the curve
     # checks at its next accepted point. H = 3 makes the curve last well beyond the 0.3 s.
     full = lap.backbone(1, harmonics=3)
@@ -192,6 +196,7 @@ def test_a_discrete_model_from_arrays_meets_the_stuck_closed_form():
     assert abs(modes["omega"][0] - np.sqrt((k + kt0) / m)) < 1e-12
     r = model.frf(force=np.array([1e-4]), omega=(0.5, 4.5), harmonics=3)
     assert r["status"] == "ok" and len(r["omega"]) > 10, r["message"]
+    assert r["termination"] == "reached_end" and r["ok"]
     w = r["omega"]
     exact = 1e-4 / np.sqrt((k + kt0 - m * w**2) ** 2 + (c * w) ** 2)
     assert np.max(np.abs(r["amplitude_h1"] / exact - 1.0)) < 1e-8

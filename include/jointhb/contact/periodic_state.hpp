@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "jointhb/contact/tangential_law.hpp"
+#include "jointhb/contact/termination.hpp"
 
 namespace jointhb::contact {
 
@@ -65,6 +66,9 @@ struct PeriodicStateResult {
   std::vector<Vec2> d_stiffness;      ///< d_i = ∂t_{i+1}/∂k_{i+1}
   Vec2 anchor_offset = Vec2::Zero();  ///< g_0 - g_ref (for the derivative of the anchor)
   double anchor_stiffness = 0.0;      ///< k_0
+  /// The status convention (contact/termination.hpp): converged → converged, not_converged
+  /// (max_iterations) → no_convergence. Message `message`, or the residual when empty.
+  [[nodiscard]] Status outcome() const;
 };
 
 PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const PeriodicPath& path,

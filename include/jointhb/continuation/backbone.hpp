@@ -44,6 +44,8 @@ struct BackboneCurve {
   double linear_damping_ratio = 0.0;  ///< φᵀCφ / (2ω)
   double seconds = 0.0;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+  /// {termination(reason), message} (pseudo_arclength.hpp).
+  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
 };
 
 /// Throws std::invalid_argument on invalid options or system; numerical failures end the curve

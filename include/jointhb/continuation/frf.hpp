@@ -64,6 +64,8 @@ struct FrfCurve {
   double jacobian_check_omega = 0.0;
   FrfTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+  /// {termination(reason), message} (pseudo_arclength.hpp).
+  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
 };
 
 /// Traces one FRF curve for one excitation level; `on_point` sees each accepted point (for flushed

@@ -81,6 +81,8 @@ struct InterfaceBackbone {
   Eigen::Index unknowns = 0;
   InterfaceTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+  /// {termination(reason), message} (pseudo_arclength.hpp).
+  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
 };
 
 /// Throws std::invalid_argument on invalid options or model; numerical failures end the curve
@@ -128,6 +130,8 @@ struct InterfaceFrf {
   Eigen::Index unknowns = 0;
   InterfaceTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+  /// {termination(reason), message} (pseudo_arclength.hpp).
+  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
 };
 
 InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const InterfaceFrfOptions& options,

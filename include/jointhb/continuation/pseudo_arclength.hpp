@@ -20,6 +20,8 @@
 #include <string_view>
 #include <vector>
 
+#include "jointhb/contact/termination.hpp"
+
 namespace jointhb::continuation {
 
 /// A linear map v ↦ A v (size n → n): matrix-free Jacobians and preconditioners.
@@ -125,6 +127,15 @@ enum class StopReason {
 /// The enumerator's name ("reached_end", "min_step", ...), as written to summary files.
 [[nodiscard]] std::string_view to_string(StopReason reason);
 
+/// The status convention (contact/termination.hpp) for a continuation's stop reason: the one
+/// translation used by every curve of this layer (Result, FrfCurve, BackboneCurve,
+/// InterfaceBackbone, InterfaceFrf):
+///   reached_end → reached_end;  stopped_by_user → stopped_by_user;
+///   max_points → no_convergence (the point budget ran out before the end);
+///   min_step, start_failed, left_range → failed (the corrector broke down, the start did not
+///   converge, the branch turned back across the start: more points would not reach the end).
+[[nodiscard]] Termination termination(StopReason reason);
+
 struct Result {
   std::vector<Point> points;
   StopReason reason = StopReason::start_failed;
@@ -139,6 +150,8 @@ struct Result {
                               ///< (matrix-free Jacobians)
   int krylov_iterations = 0;  ///< GMRES iterations (newton_krylov), failed runs included
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
+  /// {termination(reason), message}.
+  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
 };
 
 /// Called for every accepted point (the start included) in order; return false to stop the run.

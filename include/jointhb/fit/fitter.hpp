@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "jointhb/fit/parameters.hpp"
+#include "jointhb/contact/termination.hpp"
 
 namespace jointhb::fit {
 
@@ -110,6 +111,11 @@ struct FitResult {
   Eigen::MatrixXd right_singular_vectors;  ///< columns v_k
   std::vector<UnresolvedDirection> unresolved;
   std::vector<std::string> warnings;  ///< one line each, for the user
+  /// The status convention (contact/termination.hpp), from `ok` and NLopt's `stop_reason` of the
+  /// start that found θ̂: no successful evaluation → failed; SUCCESS, STOPVAL_REACHED, FTOL_REACHED,
+  /// XTOL_REACHED → converged; MAXEVAL_REACHED, MAXTIME_REACHED → no_convergence; FORCED_STOP →
+  /// stopped_by_user; NLopt's failures (FAILURE, ROUNDOFF_LIMITED, ...) → failed.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// Runs the fit. Throws std::invalid_argument for invalid parameters or options. `replay`: rows

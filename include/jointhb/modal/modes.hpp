@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <string>
 
+#include "jointhb/contact/termination.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
 namespace jointhb::modal {
@@ -82,6 +83,10 @@ struct ModalResult {
 
   /// One line: "20 modes, 0.0 … 1234.5 Hz, max residual …, … iterations, … s".
   [[nodiscard]] std::string brief() const;
+  /// The status convention (contact/termination.hpp): converged → converged, not_converged →
+  /// no_convergence (ARPACK's restarts ran out; the converged modes are kept), failed → failed.
+  /// The message is `message`, or "m of count modes converged" when that is empty.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// The `options.count` modes of K φ = λ M φ nearest `options.shift`. K and M: square, same size,

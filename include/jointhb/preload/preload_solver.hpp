@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "jointhb/contact/contact_point.hpp"
+#include "jointhb/contact/termination.hpp"
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/fe/interface.hpp"
 #include "jointhb/fe/mesh.hpp"
@@ -109,6 +110,11 @@ struct PreloadResult {
   fe::SparseCholeskyStatistics factor;  ///< the same as numbers; factorizations = Σ steps' factorizations
   int total_iterations = 0;
   double assembly_seconds = 0.0, contact_seconds = 0.0, factor_seconds = 0.0, seconds = 0.0;
+
+  /// The status convention (contact/termination.hpp): converged → converged; a load step that
+  /// used all max_iterations → no_convergence; a tangent that could not be factored or a line
+  /// search without decrease → failed. The message is `message` (without its "converged: ").
+  [[nodiscard]] Status outcome() const;
 };
 
 /// Throws std::invalid_argument naming a part that is neither constrained nor joined (through

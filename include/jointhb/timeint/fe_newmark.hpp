@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "jointhb/contact/contact_point.hpp"
+#include "jointhb/contact/termination.hpp"
 #include "jointhb/preload/preload_solver.hpp"
 
 namespace jointhb::timeint {
@@ -117,6 +118,9 @@ struct FeTransientResult {
   double external_work = 0.0;    ///< Σ ½(f_n + f_{n+1})·Δw [J]
   double viscous_dissipation = 0.0;  ///< Σ ½(v_n + v_{n+1})ᵀ C Δw [J]
   double seconds = 0.0;
+  /// The status convention (contact/termination.hpp): completed → reached_end, else (Newton failed
+  /// in a step) failed. Message `message`, or "N steps" when empty.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// `steps` steps from `initial`. Throws std::invalid_argument on invalid options, excitation or
@@ -166,6 +170,9 @@ struct FeSteadyStateResult {
   int factorizations = 0;
   double seconds = 0.0;
   double seconds_per_step = 0.0;
+  /// The status convention (contact/termination.hpp): converged → converged, failed (Newton failed
+  /// in a step) → failed, otherwise (max_periods) → no_convergence.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// Integrates whole periods from `initial` (default: stuck_linear_fe_state, else the preloaded

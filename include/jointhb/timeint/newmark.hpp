@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "jointhb/hb/discrete_system.hpp"
+#include "jointhb/contact/termination.hpp"
 
 namespace jointhb::timeint {
 
@@ -79,6 +80,10 @@ struct TransientResult {
   double external_work = 0.0;               ///< Σ ½(f_n + f_{n+1})·(x_{n+1} - x_n) [J]
   double viscous_dissipation = 0.0;         ///< Σ ½(v_n + v_{n+1})ᵀ C (x_{n+1} - x_n) [J]
   double seconds = 0.0;                     ///< wall time
+  /// The status convention (contact/termination.hpp): completed → reached_end (all steps taken);
+  /// not_converged (Newton failed in a step) → failed, as SteadyStatus::failed. Message `message`,
+  /// or "N steps" when empty.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// `steps` steps of size options.time_step from `initial` under f_ex(t) at fundamental frequency
@@ -131,6 +136,9 @@ struct SteadyStateResult {
   long steps = 0;              ///< steps over all periods
   long newton_iterations = 0;  ///< over all steps
   double seconds = 0.0;        ///< wall time
+  /// The status convention (contact/termination.hpp): converged → converged, not_converged
+  /// (max_periods) → no_convergence, failed (Newton failed in a step) → failed.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// Periodic steady state under f_ex(t) at Ω by integrating whole periods until the state at the

@@ -79,6 +79,10 @@ struct RingDownResult {
   double seconds = 0.0;       ///< wall time
   long steps = 0;             ///< Newmark steps
   long newton_iterations = 0;
+  /// The status convention (contact/termination.hpp): decayed → reached_end (the goal, stop_ratio,
+  /// was reached); max_periods → no_convergence; no_oscillation (the motion died out above the
+  /// stop ratio: more periods would not help) and integration_failed → failed.
+  [[nodiscard]] Status outcome() const;
 };
 
 /// The drift-tolerant estimate over cycles k and k+1 (see the header comment).

@@ -206,6 +206,36 @@ TEST(ModalArpack, ReportsTooFewIterationsAsNotConverged) {
   EXPECT_LT(result.eigenvalues.size(), 10);
 }
 
+// The status convention (contact/termination.hpp) on the three ways compute_modes ends.
+TEST(ModalArpack, OutcomeMapsEachModalStatus) {
+  SpMat K, M;
+  spring_mass_chain(50, true, K, M);
+  ModalOptions options;
+  options.count = 3;
+  const ModalResult good = compute_modes(K, M, options);
+  ASSERT_EQ(good.status, ModalStatus::converged) << good.message;
+  EXPECT_EQ(good.outcome().termination, jointhb::Termination::converged);
+  EXPECT_TRUE(good.outcome().ok());
+  EXPECT_EQ(good.outcome().brief(), "converged: 3 of 3 modes converged");  // message is empty
+
+  options.shift = 4.0 * kStiffness / kMass * 0.5;  // inside the spectrum: K − σM indefinite
+  const ModalResult failed = compute_modes(K, M, options);
+  ASSERT_EQ(failed.status, ModalStatus::failed);
+  EXPECT_EQ(failed.outcome().termination, jointhb::Termination::failed);
+  EXPECT_EQ(failed.outcome().message, failed.message);
+
+  spring_mass_chain(3000, true, K, M);
+  options = ModalOptions{};
+  options.count = 10;
+  options.ncv = 11;
+  options.max_iterations = 1;
+  const ModalResult short_run = compute_modes(K, M, options);
+  ASSERT_EQ(short_run.status, ModalStatus::not_converged);
+  EXPECT_EQ(short_run.outcome().termination, jointhb::Termination::no_convergence);
+  EXPECT_FALSE(short_run.outcome().ok());
+  EXPECT_EQ(short_run.outcome().brief(), "no_convergence: " + short_run.message);
+}
+
 TEST(ModalArpack, RejectsInvalidOptionsAndMatricesNamingTheField) {
   SpMat K, M;
   spring_mass_chain(10, true, K, M);

@@ -116,6 +116,8 @@ TEST(pipeline_FePipeline, TheDampingCurveStartsAtTheLinearModeAndItsDamping) {
   ASSERT_TRUE(b.ok()) << b.stop_message;
   ASSERT_GE(b.points.size(), 3u);
   EXPECT_EQ(seen, static_cast<int>(b.points.size()));
+  EXPECT_EQ(b.outcome().termination, Termination::reached_end) << b.outcome().brief();
+  EXPECT_EQ(b.outcome().message, b.stop_message);
   const pipeline::BackbonePoint& first = b.points.front();
   // Linear limit: the first elastic mode of K_t (the condensation keeps it to the cutoff's
   // truncation error) and ζ = the case's 0.5 % (b = 2ζ/ω₁ at that mode), up to that frequency
@@ -141,6 +143,40 @@ TEST(pipeline_FePipeline, ACallbackStopsTheCurveWithItsPointsKept) {
   EXPECT_TRUE(b.stopped_by_callback);
   EXPECT_FALSE(b.ok());
   EXPECT_EQ(b.stop_message, "stopped by the caller");
+  EXPECT_EQ(b.outcome().termination, Termination::stopped_by_user);
+  EXPECT_EQ(b.outcome().brief(), "stopped_by_user: stopped by the caller");
+}
+
+// The pipeline's own reasons to end a curve, which the continuation records alike as
+// stopped_by_user (the accept callback returned false): the flags tell them apart.
+TEST(pipeline_FePipeline, CurveOutcomesTellTheFrequencyDropTheCallerAndANonFinitePointApart) {
+  pipeline::BackboneCurve b;
+  b.curve.reason = continuation::StopReason::stopped_by_user;
+  b.stop_message = "a point is not finite";
+  EXPECT_EQ(b.outcome().termination, Termination::failed);
+  b.stopped_by_callback = true;
+  EXPECT_EQ(b.outcome().termination, Termination::stopped_by_user);
+  b.stopped_by_callback = false;
+  b.reached_frequency_drop = true;
+  EXPECT_EQ(b.outcome().termination, Termination::reached_end);
+  EXPECT_EQ(b.outcome().ok(), b.ok());
+  b.reached_frequency_drop = false;
+  b.curve.reason = continuation::StopReason::max_points;
+  EXPECT_EQ(b.outcome().termination, Termination::no_convergence);
+  EXPECT_EQ(b.outcome().ok(), b.ok());
+
+  pipeline::FrfCurve f;
+  f.curve.reason = continuation::StopReason::reached_end;
+  f.curve.message = "reached";
+  EXPECT_EQ(f.outcome().termination, Termination::reached_end);
+  EXPECT_EQ(f.outcome().ok(), f.ok());
+  f.curve.reason = continuation::StopReason::stopped_by_user;
+  EXPECT_EQ(f.outcome().termination, Termination::failed);
+  f.stopped_by_callback = true;
+  EXPECT_EQ(f.outcome().termination, Termination::stopped_by_user);
+  f.curve.reason = continuation::StopReason::min_step;
+  f.stopped_by_callback = false;
+  EXPECT_EQ(f.outcome().brief(), "failed: reached");
 }
 
 TEST(pipeline_FePipeline, AFailedPreloadIsReportedToTheStagesAfterIt) {
@@ -149,6 +185,8 @@ TEST(pipeline_FePipeline, AFailedPreloadIsReportedToTheStagesAfterIt) {
   a.preload.max_line_search = 0;
   FePipeline p(lap_case(), a);
   EXPECT_FALSE(p.preload().converged);
+  EXPECT_FALSE(p.preload().outcome().ok());
+  EXPECT_EQ(p.preload().outcome().message, p.preload().message);
   try {
     (void)p.modes();
     FAIL() << "modes() after a failed preload must throw";

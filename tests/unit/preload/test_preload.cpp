@@ -205,3 +205,35 @@ TEST(PreloadSolver, UnconnectedPartIsNamed) {
     EXPECT_NE(std::string(e.what()).find("part 'upper'"), std::string::npos) << e.what();
   }
 }
+
+// The status convention (contact/termination.hpp): a converged preload, and one whose first load
+// step runs out of Newton iterations (one iteration cannot reach 1e-14 from the unloaded state).
+TEST(PreloadSolver, OutcomeMapsConvergedAndTheIterationLimit) {
+  const fe::Mesh mesh = two_blocks();
+  const pl::PreloadModel m = model_of(mesh, 1.0);
+  const pl::PreloadResult good = pl::solve_preload(m, {});
+  ASSERT_TRUE(good.converged) << good.message;
+  const jointhb::Status ok = good.outcome();
+  EXPECT_EQ(ok.termination, jointhb::Termination::converged);
+  EXPECT_TRUE(ok.ok());
+  EXPECT_EQ(ok.brief(), good.message);  // "converged: 4 load steps, …", not "converged: converged: …"
+
+  pl::PreloadOptions o;
+  o.max_iterations = 1;
+  o.load_steps = 1;
+  o.residual_tolerance = 1e-14;
+  o.reuse_factor_ratio = 0.0;
+  const pl::PreloadResult bad = pl::solve_preload(m, o);
+  ASSERT_FALSE(bad.converged);
+  const jointhb::Status s = bad.outcome();
+  EXPECT_EQ(s.termination, jointhb::Termination::no_convergence) << bad.message;
+  EXPECT_FALSE(s.ok());
+  EXPECT_EQ(s.message, bad.message);
+
+  // Any other failure (a tangent that cannot be factored, a line search without decrease) is a
+  // breakdown; a default (never solved) result is failed too.
+  pl::PreloadResult broken;
+  broken.message = "preload step 1/4 (load factor 0.25): the tangent stiffness could not be factored (x)";
+  EXPECT_EQ(broken.outcome().termination, jointhb::Termination::failed);
+  EXPECT_EQ(pl::PreloadResult{}.outcome().termination, jointhb::Termination::failed);
+}

@@ -12,6 +12,7 @@
 #include "jointhb/contact/gaul_mayer_law.hpp"
 #include "jointhb/contact/periodic_state.hpp"
 #include "jointhb/timeint/newmark.hpp"
+#include "jointhb/timeint/ring_down.hpp"
 
 namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
@@ -356,6 +357,10 @@ TEST(NewmarkNewton, NonConvergenceIsAStatus) {
   const auto r = ti::integrate(sys, cosine_force(0, 5.0), 2 * pi, ti::rest_state(sys), 200, o);
   EXPECT_EQ(r.status, ti::TransientStatus::not_converged);
   EXPECT_NE(r.message.find("Newton did not converge"), std::string::npos) << r.message;
+  // The status convention (contact/termination.hpp): a Newton failure in a step is `failed`, for
+  // the transient as for the steady state below; max_periods is `no_convergence`.
+  EXPECT_EQ(r.outcome().termination, jointhb::Termination::failed);
+  EXPECT_EQ(r.outcome().message, r.message);
   EXPECT_LT(r.steps, 200);
   EXPECT_NEAR(r.final_state.time, r.steps * o.time_step, 1e-12);
 
@@ -364,14 +369,36 @@ TEST(NewmarkNewton, NonConvergenceIsAStatus) {
   so.integrator.time_step = 0.0;
   const auto s = ti::forced_steady_state(sys, cosine_force(0, 5.0), 2 * pi, so);
   EXPECT_EQ(s.status, ti::SteadyStatus::failed);
+  EXPECT_EQ(s.outcome().termination, jointhb::Termination::failed);
   EXPECT_NE(s.message.find("Newton"), std::string::npos);
 
   so = steady_options(64);
   so.max_periods = 2;
   const auto t = ti::forced_steady_state(sys, cosine_force(0, 5.0), 2 * pi, so);
   EXPECT_EQ(t.status, ti::SteadyStatus::not_converged);
+  EXPECT_EQ(t.outcome().termination, jointhb::Termination::no_convergence);
   EXPECT_EQ(t.periods, 2);
   EXPECT_NE(t.message.find("no steady state after 2 periods"), std::string::npos) << t.message;
+}
+
+TEST(NewmarkOutcome, CompletedRunsReachTheEndAndRingDownStatusesMapOneToOne) {
+  auto sys = one_dof(0.02);
+  ti::NewmarkOptions o;
+  o.time_step = 0.01;
+  const auto r = ti::integrate(sys, cosine_force(0, 5.0), 2 * pi, ti::rest_state(sys), 20, o);
+  ASSERT_EQ(r.status, ti::TransientStatus::completed) << r.message;
+  EXPECT_EQ(r.outcome().termination, jointhb::Termination::reached_end);
+  EXPECT_EQ(r.outcome().brief(), "reached_end: 20 steps");
+
+  ti::RingDownResult d;
+  d.status = ti::RingDownStatus::decayed;
+  EXPECT_EQ(d.outcome().termination, jointhb::Termination::reached_end);
+  d.status = ti::RingDownStatus::max_periods;
+  EXPECT_EQ(d.outcome().termination, jointhb::Termination::no_convergence);
+  d.status = ti::RingDownStatus::no_oscillation;
+  EXPECT_EQ(d.outcome().termination, jointhb::Termination::failed);
+  d.status = ti::RingDownStatus::integration_failed;
+  EXPECT_EQ(d.outcome().termination, jointhb::Termination::failed);
 }
 
 TEST(NewmarkOptions, ValidationNamesTheField) {

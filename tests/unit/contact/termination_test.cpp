@@ -1,0 +1,40 @@
+// The status convention of stage results (contact/termination.hpp): names, success, brief().
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "jointhb/contact/termination.hpp"
+
+using jointhb::Status;
+using jointhb::Termination;
+
+TEST(Termination, ToStringNamesEveryEnumerator) {
+  EXPECT_EQ(jointhb::to_string(Termination::converged), "converged");
+  EXPECT_EQ(jointhb::to_string(Termination::reached_end), "reached_end");
+  EXPECT_EQ(jointhb::to_string(Termination::stopped_by_user), "stopped_by_user");
+  EXPECT_EQ(jointhb::to_string(Termination::no_convergence), "no_convergence");
+  EXPECT_EQ(jointhb::to_string(Termination::failed), "failed");
+}
+
+TEST(Termination, OnlyConvergedAndReachedEndSucceed) {
+  EXPECT_TRUE(jointhb::succeeded(Termination::converged));
+  EXPECT_TRUE(jointhb::succeeded(Termination::reached_end));
+  EXPECT_FALSE(jointhb::succeeded(Termination::stopped_by_user));
+  EXPECT_FALSE(jointhb::succeeded(Termination::no_convergence));
+  EXPECT_FALSE(jointhb::succeeded(Termination::failed));
+}
+
+TEST(Termination, StatusDefaultsToFailedAndBriefJoinsNameAndMessage) {
+  const Status none;
+  EXPECT_EQ(none.termination, Termination::failed);
+  EXPECT_FALSE(none.ok());
+  EXPECT_EQ(none.brief(), "failed");  // no message: the name alone, no dangling colon
+
+  const Status done{Termination::converged, "4 load steps, 9 Newton iterations"};
+  EXPECT_TRUE(done.ok());
+  EXPECT_EQ(done.brief(), "converged: 4 load steps, 9 Newton iterations");
+
+  const Status stopped{Termination::stopped_by_user, "stopped by the accept callback at point 3"};
+  EXPECT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.brief(), "stopped_by_user: stopped by the accept callback at point 3");
+}
