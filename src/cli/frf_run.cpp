@@ -12,6 +12,7 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/io/csv_writer.hpp"
+#include "jointhb/pipeline/discrete_pipeline.hpp"
 #include "status_json.hpp"
 
 namespace jointhb::cli {
@@ -200,7 +201,7 @@ struct AnalysisOutcome {
   std::string what;  // for the final line
 };
 
-AnalysisOutcome run_frf(const io::DiscreteCase& c, const fs::path& dir, Json& summary) {
+AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& pipe, const fs::path& dir, Json& summary) {
   const continuation::FrfOptions& options = *c.frf;
   summary["outputs"]["frf"] = "frf.csv";
   summary["columns"]["frf"] = kFrfColumns;
@@ -228,7 +229,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, const fs::path& dir, Json& su
       return true;
     };
     try {
-      curve = continuation::trace_frf(c.system, c.levels[l], options, on_point);
+      curve = pipe.frf(l, on_point);  // the problem's level l and frf options (= *c.frf)
     } catch (const std::exception& e) {
       curve.reason = continuation::StopReason::start_failed;
       curve.message = e.what();
@@ -247,7 +248,8 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, const fs::path& dir, Json& su
   return outcome;
 }
 
-AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Json& summary) {
+AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeline& pipe, const fs::path& dir,
+                             Json& summary) {
   summary["outputs"]["backbone"] = "backbone.csv";
   summary["columns"]["backbone"] = kBackboneColumns;
   summary["backbones"] = Json::array();
@@ -286,7 +288,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, const fs::path& dir, Jso
     };
     continuation::BackboneCurve curve;
     try {
-      curve = continuation::trace_backbone(c.system, options, on_point);
+      curve = pipe.backbone(options, on_point);
     } catch (const std::exception& e) {
       curve.reason = continuation::StopReason::start_failed;
       curve.message = e.what();
@@ -337,9 +339,11 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
                   {"outputs", Json::object()},
                   {"columns", Json::object()},
                   {"seconds", {{"read", read_seconds}}}};
+  // The discrete pipeline (no preload, no reduction) traces the curves.
+  pipeline::DiscretePipeline pipe(c);
   std::vector<AnalysisOutcome> outcomes;
-  if (c.frf) outcomes.push_back(run_frf(c, dir, summary));
-  if (c.nonlinear_modes) outcomes.push_back(run_backbone(c, dir, summary));
+  if (c.frf) outcomes.push_back(run_frf(c, pipe, dir, summary));
+  if (c.nonlinear_modes) outcomes.push_back(run_backbone(c, pipe, dir, summary));
   int failed = 0;
   std::string what;
   for (const auto& o : outcomes) {
