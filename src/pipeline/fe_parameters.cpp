@@ -3,7 +3,9 @@
 // their keys.
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <string_view>
 #include <stdexcept>
 
 #include "jointhb/contact/harmonic_loop.hpp"
@@ -35,33 +37,45 @@ std::size_t index_of(const std::vector<T>& items, const std::string& item, NameO
   unknown(full);
 }
 
+// The values of an interface's contact law that are parameters, in the order of the names.
+constexpr std::array<const char*, 6> kLawKeys = {"pressure", "decay", "mu", "n", "stiffness_ratio", "kt"};
+
+// A law's parameter values, editable; `slot` is the one place that says which key a law offers:
+// the exponent n only for Gaul–Mayer, the stiffness ratio or k_T0 as the stiffness model has it.
+struct LawValues {
+  contact::ContactPointOptions options;
+  double exponent = 0.0;
+  std::string law_name;
+
+  explicit LawValues(const contact::ContactPoint& law)
+      : options(law.options()), exponent(law_exponent(law)), law_name(law.law().name()) {}
+
+  /// The value of `key`, or nullptr when the law has no such value.
+  double* slot(std::string_view key) {
+    const bool proportional = options.stiffness_model == contact::TangentialStiffnessModel::proportional;
+    if (key == "pressure") return &options.normal.reference_pressure;
+    if (key == "decay") return &options.normal.decay;
+    if (key == "mu") return &options.friction_coefficient;
+    if (key == "n") return law_name == "gaul-mayer" ? &exponent : nullptr;
+    if (key == "stiffness_ratio") return proportional ? &options.stiffness_ratio : nullptr;
+    if (key == "kt") return proportional ? nullptr : &options.tangential_stiffness;
+    return nullptr;
+  }
+};
+
 // The law of an interface with one value changed. Throws std::invalid_argument naming the
 // parameter and the violated constraint.
 contact::ContactPoint with_value(const contact::ContactPoint& law, const std::string& key, double value,
                                  const std::string& full) {
-  contact::ContactPointOptions o = law.options();
-  double exponent = law_exponent(law);
-  const std::string law_name(law.law().name());
-  if (key == "pressure") {
-    o.normal.reference_pressure = value;
-  } else if (key == "decay") {
-    o.normal.decay = value;
-  } else if (key == "mu") {
-    o.friction_coefficient = value;
-  } else if (key == "n" && law_name == "gaul-mayer") {
-    exponent = value;
-  } else if (key == "stiffness_ratio" && o.stiffness_model == contact::TangentialStiffnessModel::proportional) {
-    o.stiffness_ratio = value;
-  } else if (key == "kt" && o.stiffness_model == contact::TangentialStiffnessModel::constant) {
-    o.tangential_stiffness = value;
-  } else {
-    unknown(full);
-  }
+  LawValues v(law);
+  double* slot = v.slot(key);
+  if (slot == nullptr) unknown(full);
+  *slot = value;
   if (!std::isfinite(value)) throw std::invalid_argument(fmt::format("parameter '{}': must be finite, got {}", full, value));
-  if (const std::string e = o.validate(); !e.empty())
+  if (const std::string e = v.options.validate(); !e.empty())
     throw std::invalid_argument(fmt::format("parameter '{}' = {}: {}", full, value, e));
   try {
-    return contact::ContactPoint(o, contact::make_tangential_law(law_name, exponent));
+    return contact::ContactPoint(v.options, contact::make_tangential_law(v.law_name, v.exponent));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("parameter '{}' = {}: {}", full, value, e.what()));
   }
@@ -72,13 +86,9 @@ contact::ContactPoint with_value(const contact::ContactPoint& law, const std::st
 std::vector<std::string> fe_parameter_names(const FeModel& model, const FeAnalysis& analysis) {
   std::vector<std::string> names;
   for (const auto& ci : model.interfaces) {
-    const std::string& s = ci.geometry.name;
-    for (const char* key : {"pressure", "decay", "mu"}) names.push_back(fmt::format("interfaces.{}.{}", s, key));
-    if (ci.law.law().name() == "gaul-mayer") names.push_back(fmt::format("interfaces.{}.n", s));
-    if (ci.law.options().stiffness_model == contact::TangentialStiffnessModel::proportional)
-      names.push_back(fmt::format("interfaces.{}.stiffness_ratio", s));
-    else
-      names.push_back(fmt::format("interfaces.{}.kt", s));
+    LawValues v(ci.law);
+    for (const char* key : kLawKeys)
+      if (v.slot(key) != nullptr) names.push_back(fmt::format("interfaces.{}.{}", ci.geometry.name, key));
   }
   for (const preload::Bolt& b : model.bolts) names.push_back(fmt::format("bolts.{}.preload", b.name));
   if (const auto& d = analysis.dynamics) {
@@ -96,15 +106,8 @@ double FePipeline::parameter(const std::string& name) const {
   const Name n = split(name);
   if (n.group == "interfaces") {
     const std::size_t i = index_of(model_.interfaces, n.item, [](const auto& ci) { return ci.geometry.name; }, name);
-    const contact::ContactPoint& law = dynamic_laws_[i] ? *dynamic_laws_[i] : model_.interfaces[i].law;
-    const contact::ContactPointOptions& o = law.options();
-    if (n.key == "pressure") return o.normal.reference_pressure;
-    if (n.key == "decay") return o.normal.decay;
-    if (n.key == "mu") return o.friction_coefficient;
-    if (n.key == "n" && law.law().name() == "gaul-mayer") return law_exponent(law);
-    const bool proportional = o.stiffness_model == contact::TangentialStiffnessModel::proportional;
-    if (n.key == "stiffness_ratio" && proportional) return o.stiffness_ratio;
-    if (n.key == "kt" && !proportional) return o.tangential_stiffness;
+    LawValues v(dynamic_laws_[i] ? *dynamic_laws_[i] : model_.interfaces[i].law);
+    if (const double* slot = v.slot(n.key)) return *slot;
   } else if (n.group == "bolts" && n.key == "preload") {
     return model_.bolts[index_of(model_.bolts, n.item, [](const auto& b) { return b.name; }, name)].preload;
   } else if (analysis_.dynamics && name == "damping.ratio") {
