@@ -156,6 +156,7 @@ std::vector<reduction::ModalOutputSpec> FePipeline::output_vectors() const {
 void FePipeline::refresh_dynamics(InterfaceStage& stage) const {
   stage.model.rayleigh_mass = stage.settings.options.rayleigh_mass;
   stage.model.rayleigh_stiffness = stage.settings.options.rayleigh_stiffness;
+  stage.recovery.rayleigh_stiffness = stage.settings.options.rayleigh_stiffness;  // eq. T-33 uses b too
   for (std::size_t g = 0; g < stage.model.groups.size() && g < model_.interfaces.size(); ++g)
     stage.model.groups[g].law = dynamic_laws_[g] ? *dynamic_laws_[g] : model_.interfaces[g].law;
 }
@@ -221,7 +222,6 @@ const InterfaceStage& FePipeline::interface_stage() {
     if (want_recovery) store_->store_field_recovery(key, recovery);
     stage.info.store_seconds = seconds_since(store_start);
   }
-  recovery.rayleigh_stiffness = settings.options.rayleigh_stiffness;
   // Contact patches (eq. T-31): by default only the coincident node pairs, which is exact.
   {
     reduction::ContactPatchResult patches = reduction::merge_contact_patches(condensed, structure(), {.size = d.contact_patch});
