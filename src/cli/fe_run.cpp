@@ -3,7 +3,6 @@
 #include "fe_dynamics_run.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <memory>
@@ -150,7 +149,7 @@ ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& 
 
 int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::time_point start,
                 const FeRunOptions& run_options) {
-  const bool tty = isatty(fileno(stderr)) != 0;
+  const bool tty = stderr_is_terminal();
   for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   ordered_json summary;
   summary["case"] = c.source;

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <variant>
@@ -37,6 +38,8 @@ namespace py = pybind11;
 using namespace jointhb;
 
 namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // ---- conversions -------------------------------------------------------------------------------
 
@@ -121,7 +124,7 @@ py::dict interface_dict(const pipeline::InterfaceStage& s) {
   d["rigid_modes"] = im.rigid_modes;
   d["contact_points"] = im.num_points();
   d["fine_points"] = s.fine_points;
-  Eigen::VectorXd f = im.omega2.cwiseMax(0.0).cwiseSqrt() / (2.0 * 3.141592653589793);
+  Eigen::VectorXd f = im.omega2.cwiseMax(0.0).cwiseSqrt() / kTwoPi;
   d["frequencies_hz"] = f;
   d["cutoff_hz"] = s.settings.options.cutoff_hz;
   d["cutoff_source"] = s.settings.cutoff_source;
@@ -161,7 +164,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
                              : b.stop_message;
   d["energy_gap"] = b.energy_gap;
   d["energy_warning"] = b.energy_warning;
-  d["linear_frequency_hz"] = b.curve.linear_omega / (2.0 * 3.141592653589793);
+  d["linear_frequency_hz"] = b.curve.linear_omega / kTwoPi;
   d["linear_damping_ratio"] = b.curve.linear_damping_ratio;
   d["harmonics"] = b.harmonics;
   d["time_samples"] = b.time_samples;
@@ -404,8 +407,8 @@ class Pipeline {
     if (!case_->dynamics || !case_->dynamics->frf)
       throw py::value_error(case_->source + ": the case has no analysis.frf (give it one in the case file)");
     pipeline::FeFrfSpec fs = *case_->dynamics->frf;
-    if (frequency_hz) fs.omega_start = 2.0 * 3.141592653589793 * frequency_hz->first,
-                      fs.omega_end = 2.0 * 3.141592653589793 * frequency_hz->second;
+    if (frequency_hz) fs.omega_start = kTwoPi * frequency_hz->first,
+                      fs.omega_end = kTwoPi * frequency_hz->second;
     if (force) fs.forces = {*force}, level = 0;
     if (harmonics) fs.balance.harmonics = *harmonics, fs.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
@@ -542,7 +545,7 @@ class DiscreteModel {
     const hb::LinearModes& m = pipe_->linear_modes(stuck);
     py::dict d;
     d["omega"] = m.omega;
-    d["frequency_hz"] = Eigen::VectorXd(m.omega / (2.0 * 3.141592653589793));
+    d["frequency_hz"] = Eigen::VectorXd(m.omega / kTwoPi);
     d["shapes"] = m.shapes;
     return d;
   }
@@ -580,7 +583,7 @@ class DiscreteModel {
     using P = continuation::FrfPoint;
     py::dict d;
     d["omega"] = column(r.points, [](const P& p) { return p.omega; });
-    d["frequency_hz"] = column(r.points, [](const P& p) { return p.omega / (2.0 * 3.141592653589793); });
+    d["frequency_hz"] = column(r.points, [](const P& p) { return p.omega / kTwoPi; });
     d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
     d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
@@ -613,7 +616,7 @@ class DiscreteModel {
     py::dict d;
     d["amplitude"] = column(b.points, [](const P& p) { return p.state.amplitude; });
     d["omega"] = column(b.points, [](const P& p) { return p.state.omega; });
-    d["frequency_hz"] = column(b.points, [](const P& p) { return p.state.omega / (2.0 * 3.141592653589793); });
+    d["frequency_hz"] = column(b.points, [](const P& p) { return p.state.omega / kTwoPi; });
     d["damping_ratio"] = column(b.points, [](const P& p) { return p.state.damping_ratio; });
     d["W_D"] = column(b.points, [](const P& p) { return p.state.dissipation; });
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
