@@ -60,6 +60,18 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
   io::write_quad_surface_vtu(dir / ("contact_" + label + ".vtu"), mesh.coordinates, quads, data);
 }
 
+// The static loads besides the bolts, each with its resultant at the full load (s = 1).
+ordered_json static_loads_json(const io::FeCase& c) {
+  ordered_json loads = ordered_json::array();
+  const auto add = [&](const std::string& label, const char* kind, const fe::StaticLoads& one) {
+    const fe::LoadResultant r = fe::load_resultant(c.mesh, fe::static_load_vector(c.mesh, one));
+    loads.push_back({{"where", label}, {"kind", kind}, {"resultant", {r.force.x(), r.force.y(), r.force.z()}}});
+  };
+  for (const fe::NodalForces& f : c.loads.forces) add(f.label, "nodal forces", {{f}, {}});
+  for (const fe::SurfacePressure& p : c.loads.pressures) add(p.label, "pressure", {{}, {p}});
+  return loads;
+}
+
 ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   ordered_json pj;
   pj["status"] = p.converged ? "converged" : "failed";
@@ -75,6 +87,7 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
     pj["bolts"].push_back({{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
                            {"head_nodes", c.bolts[b].head_nodes.size()},
                            {"nut_nodes", c.bolts[b].nut_nodes.size()}});
+  pj["static_loads"] = static_loads_json(c);
   pj["interfaces"] = ordered_json::array();
   for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
     const auto& r = p.interfaces[i];

@@ -10,6 +10,8 @@
 #include <utility>
 
 #include "jointhb/fe/mesh_file_error.hpp"
+#include "inp_card.hpp"
+#include "inp_physics.hpp"
 #include "text_fields.hpp"
 
 namespace jointhb::fe {
@@ -22,44 +24,12 @@ using detail::to_number;
 using detail::trim;
 using detail::upper;
 
-// Cards that carry no mesh (Abaqus Keywords Reference: materials, sections, steps, loads, output,
-// contact and constraint definitions). They are skipped and reported.
-// clang-format off
-const std::set<std::string> kIgnoredKeywords = {
-    "HEADING", "PREPRINT", "PHYSICAL CONSTANTS",
-    "MATERIAL", "ELASTIC", "DENSITY", "EXPANSION", "PLASTIC", "DAMPING", "CONDUCTIVITY",
-    "SPECIFIC HEAT",
-    "SOLID SECTION", "ORIENTATION", "TRANSFORM", "DISTRIBUTION",
-    "STEP", "END STEP", "STATIC", "FREQUENCY", "DYNAMIC", "MODAL DYNAMIC",
-    "STEADY STATE DYNAMICS", "BUCKLE", "MODAL DAMPING", "RESTART",
-    "BOUNDARY", "CLOAD", "DLOAD", "DSLOAD", "TEMPERATURE", "INITIAL CONDITIONS", "AMPLITUDE",
-    "OUTPUT", "NODE OUTPUT", "ELEMENT OUTPUT", "CONTACT OUTPUT", "NODE PRINT", "EL PRINT",
-    "CONTACT PRINT", "NODE FILE", "EL FILE", "CONTACT FILE",
-    "SURFACE INTERACTION", "SURFACE BEHAVIOR", "FRICTION", "CONTACT PAIR", "CLEARANCE",
-    "TIE", "EQUATION", "MPC", "COUPLING", "KINEMATIC", "DISTRIBUTING", "RIGID BODY",
-    "PRE-TENSION SECTION"};
-// clang-format on
-
 constexpr const char* kSupportedCards =
-    "*NODE, *ELEMENT, *NSET, *ELSET, *SURFACE, *PART, *ASSEMBLY, *INSTANCE";
+    "*NODE, *ELEMENT, *NSET, *ELSET, *SURFACE, *PART, *ASSEMBLY, *INSTANCE, *MATERIAL, *ELASTIC, "
+    "*DENSITY, *SOLID SECTION, *BOUNDARY, *CLOAD, *DSLOAD, *DLOAD";
 
-struct DataLine {
-  int line = 0;
-  std::string_view text;
-};
-
-struct Card {
-  std::string keyword;  // upper case, single spaces, without the star
-  int line = 0;
-  std::vector<std::pair<std::string, std::string>> parameters;  // KEY (upper case), value
-  std::vector<DataLine> data;
-
-  [[nodiscard]] const std::string* find(const std::string& key) const {
-    for (const auto& [k, v] : parameters)
-      if (k == key) return &v;
-    return nullptr;
-  }
-};
+using detail::Card;
+using detail::DataLine;
 
 struct Token {
   int line = 0;
@@ -67,11 +37,7 @@ struct Token {
 };
 
 // The comma-separated entries of a data line; a trailing comma (continuation) adds no entry.
-std::vector<std::string_view> entries(std::string_view text) {
-  std::vector<std::string_view> pieces = split(text, ',');
-  while (!pieces.empty() && pieces.back().empty()) pieces.pop_back();
-  return pieces;
-}
+constexpr auto entries = detail::card_entries;
 
 std::string canonical_keyword(std::string_view text) {
   std::string keyword;
@@ -91,43 +57,73 @@ std::string unquote(std::string_view value) {
 
 class InpReader {
  public:
-  explicit InpReader(std::string file) : file_(std::move(file)) {}
+  InpReader(std::string file, const InpOptions& options) : file_(std::move(file)) {
+    for (const std::string& card : options.ignore_cards) {
+      std::string_view name = trim(card);
+      if (name.starts_with('*')) name.remove_prefix(1);
+      ignore_.insert(canonical_keyword(name));
+    }
+  }
 
   InpResult read(std::string_view text) {
     InpResult result;
-    for (const Card& card : cards(text)) {
+    std::vector<Card> physics;
+    int first_step = 0;
+    for (Card& card : cards(text)) {
       const std::string& k = card.keyword;
-      if (k == "NODE") {
-        read_nodes(card);
-      } else if (k == "ELEMENT") {
-        read_elements(card);
-      } else if (k == "NSET") {
-        read_set(card, node_sets_, "NSET", "node");
-      } else if (k == "ELSET") {
-        read_set(card, element_sets_, "ELSET", "element");
-      } else if (k == "SURFACE") {
-        read_surface(card);
-      } else if (k == "PART") {
-        begin_part(card);
-      } else if (k == "END PART") {
-        if (current_part_.empty()) fail(card.line, "*END PART without *PART");
-        current_part_.clear();
-      } else if (k == "ASSEMBLY" || k == "END ASSEMBLY" || k == "END INSTANCE") {
-        // Structure only: the single instance adds nothing to the flat model.
-      } else if (k == "INSTANCE") {
-        read_instance(card);
-      } else if (kIgnoredKeywords.count(k)) {
+      const detail::CardClass kind = detail::classify_card(k);
+      if (kind == detail::CardClass::mesh) {
+        read_mesh_card(card);
+      } else if (kind == detail::CardClass::physics) {
+        physics.push_back(std::move(card));
+      } else if (kind == detail::CardClass::no_effect) {
+        if (k == "STEP" && first_step > 0)
+          fail(card.line, fmt::format("a second *STEP (the first is at line {}): jointhb applies "
+                                      "the boundary conditions and loads of one step, as the "
+                                      "preload", first_step));
+        if (k == "STEP") first_step = card.line;
         result.ignored_cards.push_back({"*" + k, card.line});
+      } else if (ignore_.count(k)) {
+        result.skipped_cards.push_back({"*" + k, card.line});
+      } else if (kind == detail::CardClass::unsupported) {
+        fail(card.line, fmt::format("card *{} changes the physics and is not supported; to run "
+                                    "without it, list it in the case under ignore_cards", k));
       } else {
-        fail(card.line, fmt::format("card *{} is not supported (mesh cards: {}; material, "
-                                    "section, step, load and constraint cards are ignored)",
+        fail(card.line, fmt::format("card *{} is not supported (supported: {}; to run without "
+                                    "it, list it in the case under ignore_cards)",
                                     k, kSupportedCards));
       }
     }
     if (mesh_.elements.empty()) fail(0, "no elements: the file has no *ELEMENT data");
     finish();
     result.mesh = std::move(mesh_);
+    detail::read_physics_cards(physics, file_, instance_name_, result);
     return result;
+  }
+
+ private:
+  void read_mesh_card(const Card& card) {
+    const std::string& k = card.keyword;
+    if (k == "NODE") {
+      read_nodes(card);
+    } else if (k == "ELEMENT") {
+      read_elements(card);
+    } else if (k == "NSET") {
+      read_set(card, node_sets_, "NSET", "node");
+    } else if (k == "ELSET") {
+      read_set(card, element_sets_, "ELSET", "element");
+    } else if (k == "SURFACE") {
+      read_surface(card);
+    } else if (k == "PART") {
+      begin_part(card);
+    } else if (k == "END PART") {
+      if (current_part_.empty()) fail(card.line, "*END PART without *PART");
+      current_part_.clear();
+    } else if (k == "INSTANCE") {
+      read_instance(card);
+    }
+    // *ASSEMBLY, *END ASSEMBLY, *END INSTANCE: structure only; the single instance adds nothing
+    // to the flat model.
   }
 
  private:
@@ -486,6 +482,7 @@ class InpReader {
   }
 
   std::string file_;
+  std::set<std::string> ignore_;  // canonical keywords of InpOptions::ignore_cards
   Mesh mesh_;
   std::vector<Eigen::Vector3d> coordinates_;
   std::unordered_map<long, int> node_index_;
@@ -504,13 +501,13 @@ class InpReader {
 
 }  // namespace
 
-InpResult parse_inp(std::string_view text, const std::string& file_name) {
-  return InpReader(file_name).read(text);
+InpResult parse_inp(std::string_view text, const std::string& file_name, const InpOptions& options) {
+  return InpReader(file_name, options).read(text);
 }
 
-InpResult read_inp(const std::filesystem::path& file) {
+InpResult read_inp(const std::filesystem::path& file, const InpOptions& options) {
   const std::string text = detail::read_file(file);
-  return parse_inp(text, file.string());
+  return parse_inp(text, file.string(), options);
 }
 
 }  // namespace jointhb::fe

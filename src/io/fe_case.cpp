@@ -4,6 +4,7 @@
 #include "jointhb/pipeline/fe_pipeline.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
@@ -120,16 +121,19 @@ class FeCaseReader {
 
   void read_model(const YAML::Node& node, FeCase& c) {
     const Fields f = reader_.fields(node, "model",
-                                    {"type", "materials", "parts", "interfaces", "bolts", "constraints"});
-    require(node, f, {"type", "materials", "parts"});
+                                    {"type", "materials", "parts", "interfaces", "bolts", "constraints", "loads"});
+    require(node, f, {"type", "parts"});
     const std::string type = text(f, "type");
     if (type != "fe") reader_.fail(f.find("type")->value, "model.type", "must be fe here, got '" + type + "'");
-    read_materials(f.find("materials")->value);
+    if (const auto* materials = f.find("materials")) read_materials(materials->value);
     read_parts(f.find("parts")->value, c);
     check_mesh(f.find("parts")->value, c);
     if (const auto* interfaces = f.find("interfaces")) read_interfaces(interfaces->value, c);
     if (const auto* bolts = f.find("bolts")) read_bolts(bolts->value, c);
     if (const auto* constraints = f.find("constraints")) read_constraints(constraints->value, c);
+    if (const auto* loads = f.find("loads")) read_loads(loads->value, c);
+    if (f.has("loads")) check_free_loads(f.find("loads")->value, "model.loads", c);
+    else check_free_loads(f.find("parts")->value, "model.parts", c);  // loads of the decks
     try {
       preload::check_connectivity(c.mesh, c.interfaces, c.bolts, c.constraints);
     } catch (const std::invalid_argument& error) {
@@ -173,7 +177,7 @@ class FeCaseReader {
       reader_.fail(node, "model.parts", "must be a non-empty list of parts, got " + yaml::Reader::describe(node));
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string path = item_path("model.parts", i);
-      const Fields f = reader_.fields(node[i], path, {"name", "material", "element", "box", "mesh", "materials"});
+      const Fields f = reader_.fields(node[i], path, {"name", "material", "element", "box", "mesh", "materials", "ignore_cards"});
       fe::Mesh part_mesh;
       std::vector<fe::Material> part_materials;
       if (f.has("box") == f.has("mesh"))
@@ -208,14 +212,15 @@ class FeCaseReader {
       } else {
         const auto* m = f.find("mesh");
         const std::filesystem::path file = directory_ / reader_.text(m->value, f.path_of("mesh"));
+        DeckPhysics deck;
         try {
           const std::string ext = file.extension().string();
           if (ext == ".inp") {
-            fe::InpResult r = fe::read_inp(file);
-            part_mesh = std::move(r.mesh);
-            for (const auto& card : r.ignored_cards)
-              c.warnings.push_back(fmt::format("{}:{}: {} skipped (jointhb takes materials, loads and steps from the case file)", file.string(), card.line, card.keyword));
+            deck = read_deck(file, f, c);
+            part_mesh = std::move(deck.inp.mesh);
           } else if (ext == ".msh") {
+            if (const auto* ig = f.find("ignore_cards"))
+              reader_.fail(ig->value, f.path_of("ignore_cards"), "applies to .inp decks only");
             fe::GmshOptions g;
             if (node_count(type) == 8) g.hex8_type = type; else g.hex20_type = type;
             part_mesh = fe::read_gmsh(file, g);
@@ -225,18 +230,8 @@ class FeCaseReader {
         } catch (const fe::MeshFileError& error) {
           throw InputError(error.file(), error.line(), 0, f.path_of("mesh"), error.problem());
         }
-        // Materials: one for every part of the file (`material` for all, or `materials` by name).
-        std::map<std::string, const fe::Material*> by_part;
-        if (const auto* ms = f.find("materials")) {
-          if (!ms->value.IsMap()) reader_.fail(ms->value, f.path_of("materials"), "must be a mapping part → material");
-          for (auto it = ms->value.begin(); it != ms->value.end(); ++it)
-            by_part[it->first.as<std::string>()] = &material(it->second, f.path_of("materials") + "." + it->first.as<std::string>());
-        }
-        for (const std::string& p : part_mesh.parts) {
-          if (by_part.count(p)) part_materials.push_back(*by_part[p]);
-          else if (f.has("material")) part_materials.push_back(material(f.find("material")->value, f.path_of("material")));
-          else reader_.fail(m->value, f.path_of("materials"), fmt::format("no material for part '{}' of {} (give material: or materials: {{{}: ...}})", p, file.string(), p));
-        }
+        part_materials = file_part_materials(part_mesh, deck.inp.part_materials, f, file);
+        add_deck_physics(deck.inp, c.mesh.num_nodes(), c.mesh.num_elements(), c);
       }
       try {
         fe::append(c.mesh, part_mesh);
@@ -244,6 +239,77 @@ class FeCaseReader {
         reader_.fail(node[i], path, error.what());
       }
       c.material_per_part.insert(c.material_per_part.end(), part_materials.begin(), part_materials.end());
+    }
+  }
+
+  struct DeckPhysics {
+    fe::InpResult inp;
+  };
+
+  // An .inp deck with its physics cards; its ignored cards become one warning, the cards skipped
+  // on request one warning each.
+  DeckPhysics read_deck(const std::filesystem::path& file, const Fields& f, FeCase& c) const {
+    fe::InpOptions options;
+    if (const auto* ig = f.find("ignore_cards")) {
+      if (!ig->value.IsSequence() || ig->value.size() == 0)
+        reader_.fail(ig->value, f.path_of("ignore_cards"), "must be a non-empty list of card names such as \"*TIE\"");
+      for (std::size_t k = 0; k < ig->value.size(); ++k)
+        options.ignore_cards.push_back(reader_.text(ig->value[k], item_path(f.path_of("ignore_cards"), k)));
+    }
+    DeckPhysics deck{fe::read_inp(file, options)};
+    if (!deck.inp.ignored_cards.empty()) {
+      std::string list;
+      for (const auto& card : deck.inp.ignored_cards)
+        list += fmt::format("{}{} ({})", list.empty() ? "" : ", ", card.keyword, card.line);
+      c.warnings.push_back(fmt::format("{}: cards without effect on the results skipped (the analysis comes from the case): {}", file.string(), list));
+    }
+    for (const auto& card : deck.inp.skipped_cards)
+      c.warnings.push_back(fmt::format("{}:{}: {} skipped as the case asks (ignore_cards): its effect is not in the results", file.string(), card.line, card.keyword));
+    return deck;
+  }
+
+  // One material per part of an imported mesh: the case's (`materials` by part, then `material`
+  // for all) overrides the deck's *SOLID SECTION material.
+  std::vector<fe::Material> file_part_materials(const fe::Mesh& part_mesh,
+                                                const std::vector<std::optional<fe::Material>>& from_deck,
+                                                const Fields& f, const std::filesystem::path& file) const {
+    std::map<std::string, const fe::Material*> by_part;
+    if (const auto* ms = f.find("materials")) {
+      if (!ms->value.IsMap()) reader_.fail(ms->value, f.path_of("materials"), "must be a mapping part → material");
+      for (auto it = ms->value.begin(); it != ms->value.end(); ++it) {
+        const std::string part = it->first.as<std::string>();
+        if (std::find(part_mesh.parts.begin(), part_mesh.parts.end(), part) == part_mesh.parts.end())
+          reader_.fail(it->first, f.path_of("materials") + "." + part, fmt::format("{} has no part '{}'; its parts: {}", file.string(), part, fmt::join(part_mesh.parts, ", ")));
+        by_part[part] = &material(it->second, f.path_of("materials") + "." + part);
+      }
+    }
+    std::vector<fe::Material> materials;
+    for (std::size_t p = 0; p < part_mesh.parts.size(); ++p) {
+      const std::string& name = part_mesh.parts[p];
+      if (by_part.count(name)) materials.push_back(*by_part[name]);
+      else if (f.has("material")) materials.push_back(material(f.find("material")->value, f.path_of("material")));
+      else if (p < from_deck.size() && from_deck[p]) materials.push_back(*from_deck[p]);
+      else reader_.fail(f.find("mesh")->value, f.path_of("materials"), fmt::format("no material for part '{}' of {} (the deck has no *SOLID SECTION for it; give material: or materials: {{{}: ...}})", name, file.string(), name));
+    }
+    return materials;
+  }
+
+  // The deck's *BOUNDARY constraints and loads, with node and element indices shifted to the
+  // combined mesh (fe::append puts the deck's nodes after `node_offset` existing ones).
+  static void add_deck_physics(const fe::InpResult& inp, int node_offset, int element_offset, FeCase& c) {
+    for (std::size_t k = 0; k < inp.constraints.size(); ++k) {
+      fe::FixedNodes fixed = inp.constraints[k];
+      for (int& n : fixed.nodes) n += node_offset;
+      c.constraints.push_back(std::move(fixed));
+      c.constraint_sets.push_back(inp.constraint_labels[k]);
+    }
+    for (fe::NodalForces load : inp.loads.forces) {
+      for (int& n : load.nodes) n += node_offset;
+      c.loads.forces.push_back(std::move(load));
+    }
+    for (fe::SurfacePressure load : inp.loads.pressures) {
+      for (fe::Face& face : load.faces) face.element += element_offset;
+      c.loads.pressures.push_back(std::move(load));
     }
   }
 
@@ -406,6 +472,44 @@ class FeCaseReader {
       }
       c.constraints.push_back(fixed);
       c.constraint_sets.push_back(set);
+    }
+  }
+
+  // model.loads: static loads of the preload besides the bolts (fe/static_load.hpp).
+  void read_loads(const YAML::Node& node, FeCase& c) {
+    if (!node.IsSequence()) reader_.fail(node, "model.loads", "must be a list, got " + yaml::Reader::describe(node));
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = item_path("model.loads", i);
+      const Fields f = reader_.fields(node[i], path, {"node_set", "force", "surface", "pressure"});
+      const bool nodal = f.has("node_set") || f.has("force");
+      if (nodal == (f.has("surface") || f.has("pressure")))
+        reader_.fail(node[i], path, "needs either node_set and force (a force on each node [N]) or surface and pressure [Pa]");
+      if (nodal) {
+        require(node[i], f, {"node_set", "force"});
+        const std::string set = text(f, "node_set");
+        const auto it = c.mesh.node_sets.find(set);
+        if (it == c.mesh.node_sets.end()) reader_.fail(f.find("node_set")->value, f.path_of("node_set"), "unknown node set '" + set + "'");
+        c.loads.forces.push_back({path, it->second, vector3(f.find("force")->value, f.path_of("force"))});
+      } else {
+        require(node[i], f, {"surface", "pressure"});
+        const std::string surface = surface_name(f.find("surface")->value, f.path_of("surface"), c);
+        const double p = reader_.finite_number(f.find("pressure")->value, f.path_of("pressure"));
+        c.loads.pressures.push_back({path, c.mesh.surfaces.at(surface), p});
+      }
+    }
+  }
+
+  // Loads (the case's and the decks') on a model without constraints must be self-equilibrated:
+  // the preload's 3-2-1 support would otherwise carry their resultant (preload_solver.hpp).
+  void check_free_loads(const YAML::Node& at, const std::string& path, const FeCase& c) const {
+    if (c.loads.empty() || !c.constraints.empty()) return;
+    try {
+      const Eigen::VectorXd f = fe::static_load_vector(c.mesh, c.loads);
+      const fe::LoadResultant r = fe::load_resultant(c.mesh, f);
+      if (r.force.norm() > 1e-9 * f.cwiseAbs().sum())
+        reader_.fail(at, path, fmt::format("the loads have a resultant of {:.6g} N and the model has no constraints (a free-free body carries only self-equilibrated loads): add model.constraints", r.force.norm()));
+    } catch (const std::invalid_argument& error) {
+      reader_.fail(at, path, error.what());
     }
   }
 

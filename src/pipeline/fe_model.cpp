@@ -93,6 +93,11 @@ FeStageKeys fe_stage_keys(const FeModel& model, const FeAnalysis& analysis) {
     add_ints(m, c.nodes);
     m.add(c.directions[0]).add(c.directions[1]).add(c.directions[2]);
   }
+  if (!model.loads.empty()) {  // absent from the keys of models without static loads
+    const Eigen::VectorXd f = fe::static_load_vector(model.mesh, model.loads);
+    m.add("static loads");
+    add_doubles(m, f.data(), f.size());
+  }
   keys.model = m.hex();
 
   const preload::PreloadOptions& p = analysis.preload;
@@ -115,6 +120,7 @@ preload::PreloadModel preload_model(const FeModel& model) {
   p.interfaces = model.interfaces;
   p.bolts = model.bolts;
   p.constraints = model.constraints;
+  p.loads = model.loads;
   return p;
 }
 

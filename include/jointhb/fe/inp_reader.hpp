@@ -15,18 +15,35 @@
 // Parts of the Mesh: the ELSET named on each *ELEMENT card, else the enclosing *PART, else
 // "default"; each part is also an element set of the same name.
 //
-// Material, section, step, load, output and constraint cards (*MATERIAL, *ELASTIC, *SOLID
-// SECTION, *STEP, *BOUNDARY, *EQUATION, ...) are skipped and listed in InpResult::ignored_cards so
-// that the caller can warn. Every other card, and every unsupported parameter of a mesh card
-// (other element types, *NGEN, *INCLUDE, TYPE=NODE surfaces, translated instances, ...), stops
-// with a MeshFileError "FILE:LINE: ..." naming the card.
+// Physics cards (inp_physics.cpp, docs/meshes.md §"Abaqus/CalculiX decks"):
+//   *MATERIAL, NAME=m with *ELASTIC (isotropic: E, ν) and *DENSITY (ρ); *SOLID SECTION, ELSET=e,
+//   MATERIAL=m → InpResult::part_materials (one material per part: a section must cover whole
+//   parts);
+//   *BOUNDARY (zero displacements: node or node set, first DOF [, last DOF [, 0]], or ENCASTRE,
+//   PINNED, XSYMM, YSYMM, ZSYMM, XASYMM, YASYMM, ZASYMM) → InpResult::constraints;
+//   *CLOAD (node or node set, DOF 1..3, force), *DSLOAD (surface, P, pressure), *DLOAD (element or
+//   element set, P1..P6, pressure) → InpResult::loads, applied in the preload.
+// Cards with no effect on a linear-elastic vibration analysis about the preload (output, print,
+// heading, step and procedure cards such as *STEP, *STATIC, *FREQUENCY, unused *AMPLITUDE, thermal
+// material data) are listed in InpResult::ignored_cards so that the caller can say so once. Every
+// other card — one that changes the physics and is not supported (*TIE, *EQUATION, *COUPLING,
+// *CONTACT PAIR, *DAMPING, *TEMPERATURE, ...) or one not known at all — stops with a
+// MeshFileError "FILE:LINE: ..." naming it, unless InpOptions::ignore_cards names it (then it is
+// listed in InpResult::skipped_cards). So are unsupported parameters of the cards read (other
+// element types, *NGEN, *INCLUDE, TYPE=NODE surfaces, translated instances, a load with an
+// AMPLITUDE, a nonzero prescribed displacement, a second *STEP, ...).
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <optional>
+
+#include "jointhb/fe/assembly.hpp"
+#include "jointhb/fe/material.hpp"
 #include "jointhb/fe/mesh.hpp"
+#include "jointhb/fe/static_load.hpp"
 
 namespace jointhb::fe {
 
@@ -36,15 +53,28 @@ struct IgnoredCard {
   int line = 0;         ///< 1-based line of the keyword
 };
 
+struct InpOptions {
+  /// Cards to skip although they change the physics or are unknown ("*TIE", "TIE" or "*tie"):
+  /// the caller's explicit decision, reported in InpResult::skipped_cards.
+  std::vector<std::string> ignore_cards;
+};
+
 struct InpResult {
   Mesh mesh;
-  std::vector<IgnoredCard> ignored_cards;  ///< in file order
+  /// Per part of `mesh` (Mesh::parts order): the material of its *SOLID SECTION, or none.
+  std::vector<std::optional<Material>> part_materials;
+  std::vector<FixedNodes> constraints;   ///< *BOUNDARY, one entry per data line
+  std::vector<std::string> constraint_labels;  ///< "FILE:LINE" of each constraint
+  StaticLoads loads;                     ///< *CLOAD, *DSLOAD, *DLOAD (labels "FILE:LINE")
+  std::vector<IgnoredCard> ignored_cards;  ///< cards without effect, in file order
+  std::vector<IgnoredCard> skipped_cards;  ///< cards skipped on request (InpOptions::ignore_cards)
 };
 
 /// Reads `file`. Throws MeshFileError ("FILE:LINE: problem") on any error.
-[[nodiscard]] InpResult read_inp(const std::filesystem::path& file);
+[[nodiscard]] InpResult read_inp(const std::filesystem::path& file, const InpOptions& options = {});
 
 /// Reads the contents of an .inp file; `file_name` is used in error messages only.
-[[nodiscard]] InpResult parse_inp(std::string_view text, const std::string& file_name);
+[[nodiscard]] InpResult parse_inp(std::string_view text, const std::string& file_name,
+                                  const InpOptions& options = {});
 
 }  // namespace jointhb::fe

@@ -9,6 +9,7 @@
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/fe/material.hpp"
 #include "jointhb/fe/mesh.hpp"
+#include "jointhb/fe/static_load.hpp"
 #include "jointhb/pipeline/fe_analysis.hpp"
 #include "jointhb/preload/bolt.hpp"
 #include "jointhb/preload/preload_solver.hpp"
@@ -21,6 +22,7 @@ struct FeModel {
   std::vector<preload::ContactInterface> interfaces;  ///< zero-thickness interfaces with their law
   std::vector<preload::Bolt> bolts;
   std::vector<fe::FixedNodes> constraints;            ///< empty: free-free (the preload adds 3-2-1)
+  fe::StaticLoads loads;  ///< nodal forces and pressures of the preload, besides the bolts
 };
 
 /// Part of every stage key: bump when a stage computes something different for the same typed
@@ -31,7 +33,8 @@ inline constexpr int fe_stage_version = 2;
 ///   model   = fe_stage_version + the program version + the mesh (coordinates; per element its
 ///             type, part and nodes) + the materials + per interface its points (position, frame,
 ///             area), node pairs, gap operator and contact law (every option, the law's name and
-///             exponent) + per bolt everything but its name + the constraints;
+///             exponent) + per bolt everything but its name + the constraints + the static
+///             load vector (only when there are static loads);
 ///   preload = model + the preload options that can change the result (not `progress`);
 ///   modes   = preload + the modal options.
 /// Names, node/element sets and surfaces do not enter (they change no result); a damping or a

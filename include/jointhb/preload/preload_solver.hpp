@@ -1,15 +1,18 @@
 #pragma once
 // The preloaded static state of a bolted assembly (docs/bolts-and-preload.md):
-//   r(u) = K_s u + Σ_I G_Iᵀ A_I t_I(G_I u) − s f_bolt = 0,   f_bolt = −Σ_b P_b b_b          (P-1)
+//   r(u) = K_s u + Σ_I G_Iᵀ A_I t_I(G_I u) − s (f_bolt + f_static) = 0,
+//   f_bolt = −Σ_b P_b b_b                                                                   (P-1)
 // (K_s: structure, eq. (1) of fe/assembly.hpp; t_I: the contact laws of interface I at every
 // integration point, the static convention of fe/interface.hpp; bolts under force control, eq.
-// (B-2)), solved by Newton–Raphson with load stepping in s = 1/n, 2/n, …, 1 and a backtracking
+// (B-2); f_static: nodal forces and surface pressures, fe/static_load.hpp, ramped with the bolts),
+// solved by Newton–Raphson with load stepping in s = 1/n, 2/n, …, 1 and a backtracking
 // line search on ‖r‖, the tangent K_s + Σ_I G_Iᵀ A C_I G_I factored by CHOLMOD (analysed once;
 // in the quadratic phase the factor is reused for chord steps, PreloadOptions::reuse_factor_ratio).
 //
 // Rigid-body motion: an assembly held only by its bolts is free-free. The bolt forces are
 // self-equilibrated, so a statically determinate (3-2-1) support carries no load: it removes the
-// six rigid-body motions without constraining the joint. The support reactions are computed and
+// six rigid-body motions without constraining the joint. Static loads on a free-free model must be
+// self-equilibrated too (resultant force and moment below 1e-9 of Σ|f_i|, else an error). The support reactions are computed and
 // reported (they are round-off). With user constraints no support is added.
 //
 // The dynamic tangent about the preloaded state (for modes and condensation) is
@@ -30,6 +33,7 @@
 #include "jointhb/fe/interface.hpp"
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
+#include "jointhb/fe/static_load.hpp"
 #include "jointhb/preload/bolt.hpp"
 
 namespace jointhb::preload {
@@ -47,6 +51,7 @@ struct PreloadModel {
   std::vector<ContactInterface> interfaces;
   std::vector<Bolt> bolts;
   std::vector<fe::FixedNodes> constraints;  ///< user supports; empty = free-free (3-2-1 added)
+  fe::StaticLoads loads;                    ///< f_static of eq. (P-1): forces and pressures
 };
 
 struct PreloadOptions {

@@ -50,6 +50,8 @@ Right, s4
 *Material, name=Steel
 *Elastic
 210e9, 0.3
+*Density
+7800.
 *Solid Section, elset=Block, material=Steel
 *STEP
 *STATIC
@@ -110,9 +112,17 @@ TEST(InpReader, ReadsNodesElementsSetsAndSurfaces) {
   for (const IgnoredCard& card : result.ignored_cards) {
     ignored.push_back(fmt::format("{}@{}", card.keyword, card.line));
   }
-  EXPECT_EQ(ignored, (std::vector<std::string>{"*HEADING@1", "*MATERIAL@31", "*ELASTIC@32",
-                                               "*SOLID SECTION@34", "*STEP@35", "*STATIC@36",
-                                               "*BOUNDARY@37", "*END STEP@39"}));
+  EXPECT_EQ(ignored, (std::vector<std::string>{"*HEADING@1", "*STEP@37", "*STATIC@38",
+                                               "*END STEP@41"}));
+  // The physics cards: the section's material for the part, the *BOUNDARY on set Left.
+  ASSERT_EQ(result.part_materials.size(), 1u);
+  ASSERT_TRUE(result.part_materials[0].has_value());
+  EXPECT_EQ(result.part_materials[0]->name, "Steel");
+  EXPECT_EQ(result.part_materials[0]->youngs_modulus, 210e9);
+  EXPECT_EQ(result.part_materials[0]->density, 7800.0);
+  ASSERT_EQ(result.constraints.size(), 1u);
+  EXPECT_EQ(result.constraints[0].nodes, (std::vector<int>{0, 3, 4, 7}));
+  EXPECT_EQ(result.constraint_labels[0], file.path().string() + ":40");
 }
 
 // A hex20 box written as C3D20R with each element's 20 nodes over `per_line`-entry lines.

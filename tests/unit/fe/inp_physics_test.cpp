@@ -1,0 +1,211 @@
+// The physics cards of an Abaqus/CalculiX deck (fe/inp_reader.hpp, inp_physics.cpp): materials by
+// section, *BOUNDARY in its forms, *CLOAD, *DSLOAD and *DLOAD as static loads, and the cards that
+// stop a run (with FILE:LINE) unless the case lists them under ignore_cards.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <string>
+
+#include "jointhb/fe/inp_reader.hpp"
+#include "jointhb/fe/mesh_file_error.hpp"
+#include "unit/io/temp_file.hpp"
+
+namespace jointhb::fe {
+namespace {
+
+using io::testing::TempFile;
+
+// Two unit cubes along x (C3D8, nodes 1-12) in two parts A and B, with sets and surfaces; lines
+// 1-24.
+const std::string kDeck = R"(*NODE
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 1., 1., 0.
+4, 0., 1., 0.
+5, 0., 0., 1.
+6, 1., 0., 1.
+7, 1., 1., 1.
+8, 0., 1., 1.
+9, 2., 0., 0.
+10, 2., 1., 0.
+11, 2., 0., 1.
+12, 2., 1., 1.
+*ELEMENT, TYPE=C3D8, ELSET=A
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*ELEMENT, TYPE=C3D8, ELSET=B
+2, 2, 9, 10, 3, 6, 11, 12, 7
+*NSET, NSET=LEFT
+1, 4, 5, 8
+*NSET, NSET=RIGHT
+9, 10, 11, 12
+*SURFACE, NAME=TOP
+A, S2
+B, S2
+)";
+
+const std::string kMaterials = R"(*MATERIAL, NAME=Steel
+*ELASTIC
+210e9, 0.3
+*EXPANSION
+1.2e-5
+*DENSITY
+7850.
+*Material, name=alu
+*Elastic, type=ISOTROPIC
+70e9, 0.33
+*Density
+2700.,
+*SOLID SECTION, ELSET=A, MATERIAL=steel
+,
+*SOLID SECTION, ELSET=B, MATERIAL=ALU
+)";
+
+InpResult read(const std::string& text, const InpOptions& options = {}) {
+  const TempFile file(".inp", text);
+  return read_inp(file.path(), options);
+}
+
+::testing::AssertionResult reports(const std::string& text, int line, const std::string& part,
+                                   const InpOptions& options = {}) {
+  const TempFile file(".inp", text);
+  std::string message;
+  try {
+    (void)read_inp(file.path(), options);
+    return ::testing::AssertionFailure() << "no exception";
+  } catch (const MeshFileError& e) {
+    message = e.what();
+  }
+  const std::string position = fmt::format("{}:{}: ", file.path().string(), line);
+  if (message.rfind(position, 0) != 0 || message.find(part) == std::string::npos)
+    return ::testing::AssertionFailure() << "got: " << message;
+  return ::testing::AssertionSuccess();
+}
+
+TEST(InpPhysics, MaterialsComeFromTheSections) {
+  const InpResult r = read(kDeck + kMaterials);
+  ASSERT_EQ(r.mesh.parts, (std::vector<std::string>{"A", "B"}));
+  ASSERT_EQ(r.part_materials.size(), 2u);
+  ASSERT_TRUE(r.part_materials[0] && r.part_materials[1]);
+  EXPECT_EQ(r.part_materials[0]->name, "Steel");
+  EXPECT_EQ(r.part_materials[0]->youngs_modulus, 210e9);
+  EXPECT_EQ(r.part_materials[0]->poissons_ratio, 0.3);
+  EXPECT_EQ(r.part_materials[0]->density, 7850.0);
+  EXPECT_EQ(r.part_materials[1]->name, "alu");
+  EXPECT_EQ(r.part_materials[1]->density, 2700.0);
+  ASSERT_EQ(r.ignored_cards.size(), 1u);  // *EXPANSION: no temperature field, no effect
+  EXPECT_EQ(r.ignored_cards[0].keyword, "*EXPANSION");
+
+  // A part without a section has no material (the case must give one).
+  const InpResult partial = read(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*DENSITY\n1000\n*SOLID SECTION, ELSET=A, MATERIAL=S\n");
+  EXPECT_TRUE(partial.part_materials[0].has_value());
+  EXPECT_FALSE(partial.part_materials[1].has_value());
+}
+
+TEST(InpPhysics, MaterialErrorsNameTheLine) {
+  EXPECT_TRUE(reports(kDeck + "*SOLID SECTION, ELSET=A, MATERIAL=NONE\n", 25, "unknown material 'NONE'"));
+  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "material 'S' has no *DENSITY"));
+  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.7\n*DENSITY\n1\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "poissons_ratio"));
+  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2, 20.\n1e9, 0.2, 100.\n", 28, "temperature-dependent"));
+  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC, TYPE=ORTHOTROPIC\n1,2,3,4,5,6,7,8,9\n", 26, "only isotropic"));
+  EXPECT_TRUE(reports(kDeck + "*ELASTIC\n1e9, 0.2\n", 25, "*ELASTIC outside a *MATERIAL"));
+  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*MATERIAL, NAME=s\n", 26, "defined twice (first at line 25)"));
+  // One material per part: a section over one element of a two-element part.
+  EXPECT_TRUE(reports(kDeck + "*ELSET, ELSET=ONE\n1\n*ELEMENT, TYPE=C3D8, ELSET=A\n3, 2, 9, 10, 3, 6, 11, 12, 7\n"
+                              "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*DENSITY\n1\n*SOLID SECTION, ELSET=ONE, MATERIAL=S\n",
+                      34, "part 'A' has elements with and without a *SOLID SECTION"));
+  EXPECT_TRUE(reports(kDeck + kMaterials + "*SOLID SECTION, ELSET=A, MATERIAL=ALU\n", 40, "element 1 already has a section (line 37)"));
+}
+
+TEST(InpPhysics, BoundaryConditionsInAllTheirForms) {
+  const InpResult r = read(kDeck + kMaterials + R"(*BOUNDARY
+LEFT, ENCASTRE
+RIGHT, 1, 2
+9, 3, 3, 0.0
+10, ZSYMM
+11, YASYMM
+12, 4, 6
+*STEP
+*STATIC
+*BOUNDARY, OP=NEW
+LEFT, 2
+*END STEP
+)");
+  using Dirs = std::array<bool, 3>;
+  ASSERT_EQ(r.constraints.size(), 6u);  // "12, 4, 6" fixes rotations only: solids have none
+  EXPECT_EQ(r.constraints[0].nodes, (std::vector<int>{0, 3, 4, 7}));
+  EXPECT_EQ(r.constraints[0].directions, (Dirs{true, true, true}));
+  EXPECT_EQ(r.constraints[1].nodes, (std::vector<int>{8, 9, 10, 11}));
+  EXPECT_EQ(r.constraints[1].directions, (Dirs{true, true, false}));
+  EXPECT_EQ(r.constraints[2].nodes, std::vector<int>{8});
+  EXPECT_EQ(r.constraints[2].directions, (Dirs{false, false, true}));
+  EXPECT_EQ(r.constraints[3].directions, (Dirs{false, false, true}));
+  EXPECT_EQ(r.constraints[4].directions, (Dirs{true, false, true}));
+  EXPECT_EQ(r.constraints[5].directions, (Dirs{false, true, false}));
+  EXPECT_NE(r.constraint_labels[5].find(":50"), std::string::npos) << r.constraint_labels[5];
+
+  const std::string base = kDeck + kMaterials;  // 39 lines
+  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 1, 3, 0.001\n", 41, "prescribed displacement of 0.001 is not supported"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY\nNOPE, 1, 3\n", 41, "unknown node set 'NOPE'"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY\n99, 1, 3\n", 41, "unknown node 99"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 7\n", 41, "DOF '7' must be an integer 1..6"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 3, 1\n", 41, "last DOF 1 < first DOF 3"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY, AMPLITUDE=RAMP\nLEFT, 1, 3\n", 40, "AMPLITUDE=RAMP"));
+  EXPECT_TRUE(reports(base + "*BOUNDARY, TYPE=VELOCITY\nLEFT, 1, 3\n", 40, "TYPE=VELOCITY is not supported"));
+}
+
+TEST(InpPhysics, ConcentratedAndPressureLoads) {
+  const InpResult r = read(kDeck + kMaterials + R"(*STEP
+*STATIC
+*CLOAD
+RIGHT, 1, 250.
+5, 3, -10.
+*DSLOAD
+TOP, P, 1.0e5
+*DLOAD
+B, P1, 2.0e5
+*END STEP
+)");
+  ASSERT_EQ(r.loads.forces.size(), 2u);
+  EXPECT_EQ(r.loads.forces[0].nodes, (std::vector<int>{8, 9, 10, 11}));
+  EXPECT_EQ(r.loads.forces[0].force, Eigen::Vector3d(250.0, 0.0, 0.0));
+  EXPECT_EQ(r.loads.forces[1].nodes, std::vector<int>{4});
+  EXPECT_EQ(r.loads.forces[1].force, Eigen::Vector3d(0.0, 0.0, -10.0));
+  ASSERT_EQ(r.loads.pressures.size(), 2u);
+  EXPECT_EQ(r.loads.pressures[0].faces, (std::vector<Face>{{0, 1}, {1, 1}}));
+  EXPECT_EQ(r.loads.pressures[0].pressure, 1.0e5);
+  EXPECT_EQ(r.loads.pressures[1].faces, (std::vector<Face>{{1, 0}}));
+  EXPECT_EQ(r.loads.pressures[1].pressure, 2.0e5);
+  EXPECT_NE(r.loads.pressures[1].label.find(":48"), std::string::npos) << r.loads.pressures[1].label;
+
+  const std::string base = kDeck + kMaterials;
+  EXPECT_TRUE(reports(base + "*CLOAD\n9, 1, 1.\n*CLOAD\nRIGHT, 1, 2.\n", 43, "node 9 DOF 1 already loaded at line 41"));
+  EXPECT_TRUE(reports(base + "*CLOAD\n9, 5, 1.\n", 41, "a moment (DOF 5)"));
+  EXPECT_TRUE(reports(base + "*CLOAD\n9, 1, abc\n", 41, "'abc' is not a finite number"));
+  EXPECT_TRUE(reports(base + "*CLOAD, FOLLOWER\n9, 1, 1.\n", 40, "parameter FOLLOWER of *CLOAD is not supported"));
+  EXPECT_TRUE(reports(base + "*DSLOAD\nTOP, TRVEC, 1., 1., 0., 0.\n", 41, "*DSLOAD data must be"));
+  EXPECT_TRUE(reports(base + "*DSLOAD\nTOP, PNU, 1.\n", 41, "load type 'PNU' is not supported"));
+  EXPECT_TRUE(reports(base + "*DSLOAD\nNOSURF, P, 1.\n", 41, "unknown surface 'NOSURF'"));
+  EXPECT_TRUE(reports(base + "*DLOAD\nA, GRAV, 9.81, 0., 0., -1.\n", 41, "*DLOAD data must be"));
+  EXPECT_TRUE(reports(base + "*DLOAD\nA, BZ, 9.81\n", 41, "load type 'BZ' is not supported"));
+  EXPECT_TRUE(reports(base + "*STEP\n*STATIC\n*END STEP\n*STEP\n", 43, "a second *STEP (the first is at line 40)"));
+}
+
+TEST(InpPhysics, CardsThatChangeThePhysicsStopUnlessIgnored) {
+  const std::string deck = kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n*TIE, NAME=T1\nTOP, BOT\n*DAMPING, ALPHA=2.0\n";
+  EXPECT_TRUE(reports(deck, 42, "card *TIE changes the physics and is not supported; to run without it, list it in the case under ignore_cards"));
+  InpOptions options;
+  options.ignore_cards = {"*Tie", "DAMPING"};
+  const InpResult r = read(deck, options);
+  ASSERT_EQ(r.skipped_cards.size(), 2u);
+  EXPECT_EQ(r.skipped_cards[0].keyword, "*TIE");
+  EXPECT_EQ(r.skipped_cards[0].line, 42);
+  EXPECT_EQ(r.skipped_cards[1].keyword, "*DAMPING");
+  // A card jointhb does not know at all stops too, and can be ignored the same way.
+  EXPECT_TRUE(reports(kDeck + "*FANCY CARD, X=1\n", 25, "card *FANCY CARD is not supported"));
+  options.ignore_cards = {"*fancy  card"};
+  EXPECT_EQ(read(kDeck + "*FANCY CARD, X=1\n", options).skipped_cards.size(), 1u);
+}
+
+}  // namespace
+}  // namespace jointhb::fe
