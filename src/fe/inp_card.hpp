@@ -22,6 +22,7 @@ struct Card {
   int line = 0;
   std::vector<std::pair<std::string, std::string>> parameters;  ///< KEY (upper case), value
   std::vector<DataLine> data;
+  std::string scope;  ///< upper-case instance whose part holds the card; empty: global
 
   [[nodiscard]] const std::string* find(const std::string& key) const {
     for (const auto& [k, v] : parameters)

@@ -53,10 +53,8 @@ struct DeckMaterial {
 
 class PhysicsReader {
  public:
-  PhysicsReader(const std::string& file, const std::string& instance, InpResult& result)
-      : file_(file), instance_(upper(instance)), result_(result), mesh_(result.mesh) {
-    for (int i = 0; i < mesh_.num_nodes(); ++i) node_index_[mesh_.node_ids[static_cast<std::size_t>(i)]] = i;
-    for (int e = 0; e < mesh_.num_elements(); ++e) element_index_[mesh_.element_ids[static_cast<std::size_t>(e)]] = e;
+  PhysicsReader(const std::string& file, const DeckIndex& index, InpResult& result)
+      : file_(file), index_(index), result_(result), mesh_(result.mesh) {
     for (const auto& [name, members] : mesh_.node_sets) node_sets_[upper(name)] = &members;
     for (const auto& [name, members] : mesh_.element_sets) element_sets_[upper(name)] = &members;
     for (const auto& [name, faces] : mesh_.surfaces) surfaces_[upper(name)] = &faces;
@@ -64,6 +62,7 @@ class PhysicsReader {
 
   void read(const std::vector<Card>& cards) {
     for (const Card& card : cards) {
+      scope_ = card.scope;
       const std::string& k = card.keyword;
       if (k != "ELASTIC" && k != "DENSITY") material_.clear();
       if (k == "MATERIAL") begin_material(card);
@@ -114,35 +113,52 @@ class PhysicsReader {
     return *value;
   }
 
-  // A set name, without the "instance." prefix of an assembly-level reference to the instance.
-  std::string set_key(std::string_view name) const {
-    std::string key = upper(name);
-    if (!instance_.empty() && key.starts_with(instance_ + ".")) key = key.substr(instance_.size() + 1);
-    return key;
+  // The entry of `named` (upper-case keys) that a name in a data line means: in the card's scope
+  // ("instance.name"), then as written; with a single instance, "instance.name" is "name".
+  template <typename T>
+  const T* lookup(const std::map<std::string, const T*>& named, std::string_view name) const {
+    const std::string key = upper(name);
+    if (!scope_.empty() && scope_ != index_.single_instance)
+      if (const auto it = named.find(scope_ + "." + key); it != named.end()) return it->second;
+    if (const auto it = named.find(key); it != named.end()) return it->second;
+    const std::string& single = index_.single_instance;
+    if (!single.empty() && key.starts_with(single + "."))
+      if (const auto it = named.find(key.substr(single.size() + 1)); it != named.end()) return it->second;
+    return nullptr;
+  }
+
+  // The index of node or element `text` (an id, or "instance.id"), or -1 when it is no id.
+  int id_index(int line, std::string_view text, bool node, const std::string& what) const {
+    std::string scope = scope_;
+    std::string_view id_text = text;
+    if (const std::size_t dot = text.rfind('.'); dot != std::string_view::npos && to_integer(text.substr(dot + 1))) {
+      scope = upper(text.substr(0, dot));
+      id_text = text.substr(dot + 1);
+    }
+    const auto id = to_integer(id_text);
+    if (!id) return -1;
+    const auto& ids = node ? index_.nodes : index_.elements;
+    const auto scope_it = ids.find(scope);
+    if (scope_it == ids.end()) fail(line, fmt::format("{}: '{}' names instance '{}', which is not defined", what, text, scope));
+    const auto it = scope_it->second->find(*id);
+    if (it == scope_it->second->end()) fail(line, fmt::format("{}: unknown {} {}", what, node ? "node" : "element", text));
+    return it->second;
   }
 
   // A node number or node set name of a data line.
   std::vector<int> nodes(int line, std::string_view text, const std::string& what) const {
-    if (const auto id = to_integer(text)) {
-      const auto it = node_index_.find(*id);
-      if (it == node_index_.end()) fail(line, fmt::format("{}: unknown node {}", what, *id));
-      return {it->second};
-    }
-    const auto it = node_sets_.find(set_key(text));
-    if (it == node_sets_.end()) fail(line, fmt::format("{}: unknown node set '{}'", what, text));
-    return *it->second;
+    if (const int index = id_index(line, text, true, what); index >= 0) return {index};
+    const std::vector<int>* set = lookup(node_sets_, text);
+    if (set == nullptr) fail(line, fmt::format("{}: unknown node set '{}'", what, text));
+    return *set;
   }
 
   // An element number or element set name of a data line.
   std::vector<int> elements(int line, std::string_view text, const std::string& what) const {
-    if (const auto id = to_integer(text)) {
-      const auto it = element_index_.find(*id);
-      if (it == element_index_.end()) fail(line, fmt::format("{}: unknown element {}", what, *id));
-      return {it->second};
-    }
-    const auto it = element_sets_.find(set_key(text));
-    if (it == element_sets_.end()) fail(line, fmt::format("{}: unknown element set '{}'", what, text));
-    return *it->second;
+    if (const int index = id_index(line, text, false, what); index >= 0) return {index};
+    const std::vector<int>* set = lookup(element_sets_, text);
+    if (set == nullptr) fail(line, fmt::format("{}: unknown element set '{}'", what, text));
+    return *set;
   }
 
   // ---- materials and sections --------------------------------------------------------------
@@ -328,9 +344,9 @@ class PhysicsReader {
       if (e.size() != 3) fail(data.line, fmt::format("*DSLOAD data must be 'surface, P, magnitude', got '{}'", data.text));
       const std::string what = fmt::format("*DSLOAD '{}'", data.text);
       if (upper(e[1]) != "P") fail(data.line, fmt::format("{}: load type '{}' is not supported (only P, a pressure)", what, e[1]));
-      const auto it = surfaces_.find(set_key(e[0]));
-      if (it == surfaces_.end()) fail(data.line, fmt::format("{}: unknown surface '{}'", what, e[0]));
-      result_.loads.pressures.push_back({label(data.line), *it->second, number(data.line, e[2], what)});
+      const std::vector<Face>* faces = lookup(surfaces_, e[0]);
+      if (faces == nullptr) fail(data.line, fmt::format("{}: unknown surface '{}'", what, e[0]));
+      result_.loads.pressures.push_back({label(data.line), *faces, number(data.line, e[2], what)});
     }
   }
 
@@ -358,10 +374,10 @@ class PhysicsReader {
   };
 
   const std::string& file_;
-  std::string instance_;  // upper case
+  const DeckIndex& index_;
+  std::string scope_;  // Card::scope of the card being read
   InpResult& result_;
   const Mesh& mesh_;
-  std::unordered_map<long, int> node_index_, element_index_;
   std::map<std::string, const std::vector<int>*> node_sets_, element_sets_;  // upper-case keys
   std::map<std::string, const std::vector<Face>*> surfaces_;
   std::map<std::string, DeckMaterial> materials_;  // upper-case name
@@ -381,8 +397,8 @@ CardClass classify_card(const std::string& keyword) {
 }
 
 void read_physics_cards(const std::vector<Card>& cards, const std::string& file,
-                        const std::string& instance, InpResult& result) {
-  PhysicsReader(file, instance, result).read(cards);
+                        const DeckIndex& index, InpResult& result) {
+  PhysicsReader(file, index, result).read(cards);
 }
 
 }  // namespace jointhb::fe::detail

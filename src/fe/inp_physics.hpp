@@ -3,7 +3,9 @@
 // stop the run (inp_reader.hpp), and the reader of materials, sections, boundary conditions and
 // loads on a mesh already read (private to the fe layer).
 
+#include <map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "inp_card.hpp"
@@ -19,13 +21,22 @@ enum class CardClass {
   unknown,      ///< not a card jointhb knows: an error unless ignored
 };
 
+/// Node and element ids by scope, from the mesh reader: "" (the flat model and the assembly) and
+/// each instance's upper-case name. A deck with one instance has one scope, also listed under its
+/// name (then single_instance is that name, and "instance.name" set references drop the prefix).
+struct DeckIndex {
+  std::map<std::string, const std::unordered_map<long, int>*> nodes, elements;
+  std::string single_instance;
+};
+
 /// The class of an upper-case keyword without its star ("SOLID SECTION").
 [[nodiscard]] CardClass classify_card(const std::string& keyword);
 
 /// Reads the physics cards (in file order) into result.part_materials, constraints and loads, on
-/// result.mesh. `instance`: the name of the deck's single *INSTANCE (sets may be prefixed by
-/// "instance."), or empty. Throws MeshFileError "FILE:LINE: ..." on any error.
+/// result.mesh. A card's ids and names resolve in its scope (Card::scope: the instance whose part
+/// holds it, e.g. a *SOLID SECTION), then globally; "instance.id" names a node or element of an
+/// instance. Throws MeshFileError "FILE:LINE: ..." on any error.
 void read_physics_cards(const std::vector<Card>& cards, const std::string& file,
-                        const std::string& instance, InpResult& result);
+                        const DeckIndex& index, InpResult& result);
 
 }  // namespace jointhb::fe::detail

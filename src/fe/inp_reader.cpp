@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <Eigen/Geometry>
 #include <map>
+#include <numbers>
 #include <set>
 #include <unordered_map>
 #include <utility>
@@ -67,43 +69,141 @@ class InpReader {
 
   InpResult read(std::string_view text) {
     InpResult result;
-    std::vector<Card> physics;
-    int first_step = 0;
-    for (Card& card : cards(text)) {
-      const std::string& k = card.keyword;
-      const detail::CardClass kind = detail::classify_card(k);
-      if (kind == detail::CardClass::mesh) {
-        read_mesh_card(card);
-      } else if (kind == detail::CardClass::physics) {
-        physics.push_back(std::move(card));
-      } else if (kind == detail::CardClass::no_effect) {
-        if (k == "STEP" && first_step > 0)
-          fail(card.line, fmt::format("a second *STEP (the first is at line {}): jointhb applies "
-                                      "the boundary conditions and loads of one step, as the "
-                                      "preload", first_step));
-        if (k == "STEP") first_step = card.line;
-        result.ignored_cards.push_back({"*" + k, card.line});
-      } else if (ignore_.count(k)) {
-        result.skipped_cards.push_back({"*" + k, card.line});
-      } else if (kind == detail::CardClass::unsupported) {
-        fail(card.line, fmt::format("card *{} changes the physics and is not supported; to run "
-                                    "without it, list it in the case under ignore_cards", k));
-      } else {
-        fail(card.line, fmt::format("card *{} is not supported (supported: {}; to run without "
-                                    "it, list it in the case under ignore_cards)",
-                                    k, kSupportedCards));
+    result_ = &result;
+    std::vector<Card> all = cards(text);
+    const auto instances = std::count_if(all.begin(), all.end(), [](const Card& c) { return c.keyword == "INSTANCE"; });
+    single_ = instances <= 1;
+    for (Card& card : all) {
+      if (recording_ != nullptr && card.keyword != "END PART" && card.keyword != "PART") {
+        recording_->cards.push_back(std::move(card));  // read per instance of the part
+        continue;
       }
+      dispatch(std::move(card));
+    }
+    if (recording_ != nullptr) fail(recording_->line, fmt::format("*PART '{}' has no *END PART", recording_->name));
+    if (instances == 0) {
+      // A deck with parts but no assembly: each part once, where it is (several parts: their
+      // names prefixed by the part's, as instances named like the parts).
+      single_ = parts_.size() <= 1;
+      for (auto& [key, part] : parts_) instantiate(part, part.name, part.line, Placement{});
     }
     if (mesh_.elements.empty()) fail(0, "no elements: the file has no *ELEMENT data");
     finish();
     result.mesh = std::move(mesh_);
-    detail::read_physics_cards(physics, file_, instance_name_, result);
+    detail::read_physics_cards(physics_, file_, deck_index(), result);
     return result;
+  }
+
+ private:
+  // A named set as read: its spelling at the first definition and its members by index.
+  struct NamedSet {
+    std::string name;
+    std::vector<int> members;
+  };
+  using SetMap = std::map<std::string, NamedSet>;  // key: upper-case name
+
+  struct PartDefinition {
+    std::string name;
+    int line = 0;
+    std::vector<Card> cards;
+    int instances = 0;
+  };
+
+  // Where the ids and names of the cards being read live: the flat model and the assembly
+  // (global), or an instance of a part when the deck has several (its own ids; its set and
+  // surface names prefixed "instance.").
+  struct Scope {
+    std::string name;    // the instance, as written; empty for the global scope
+    std::string prefix;  // "" or "instance."
+    std::unordered_map<long, int> node_index, node_line, element_index, element_line;
+  };
+
+  // How an instance's nodes are placed (read_instance) and which mesh part its elements without
+  // ELSET join.
+  struct Placement {
+    std::string part = "default";
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();
+    [[nodiscard]] Eigen::Vector3d place(const Eigen::Vector3d& x) const {
+      return rotation * (x + translation - axis_point) + axis_point;
+    }
+  };
+
+  // Resolves the ids of one card in another scope (an INSTANCE= parameter) while it lives.
+  class IdsScope {
+   public:
+    IdsScope(InpReader& reader, Scope* scope) : reader_(reader), saved_(reader.ids_) { reader.ids_ = scope; }
+    ~IdsScope() { reader_.ids_ = saved_; }
+    IdsScope(const IdsScope&) = delete;
+    IdsScope& operator=(const IdsScope&) = delete;
+
+   private:
+    InpReader& reader_;
+    Scope* saved_;
+  };
+
+  // A set named in a data line: first in the current scope ("instance.name"), then as written
+  // (the assembly's, or "instance.name" spelled out).
+  const NamedSet* find_set(const SetMap& sets, std::string_view name) const {
+    if (!scope_->prefix.empty())
+      if (const auto it = sets.find(upper(scope_->prefix + std::string(name))); it != sets.end()) return &it->second;
+    const auto it = sets.find(upper(name));
+    return it == sets.end() ? nullptr : &it->second;
+  }
+
+  // The ids of every scope, for the physics cards (inp_physics.hpp).
+  [[nodiscard]] detail::DeckIndex deck_index() const {
+    detail::DeckIndex index;
+    index.single_instance = single_ ? upper(single_instance_) : std::string();
+    index.nodes[""] = &global_.node_index;
+    index.elements[""] = &global_.element_index;
+    if (!index.single_instance.empty()) {
+      index.nodes[index.single_instance] = &global_.node_index;
+      index.elements[index.single_instance] = &global_.element_index;
+    }
+    for (const auto& [key, scope] : instances_) {
+      index.nodes[key] = &scope.node_index;
+      index.elements[key] = &scope.element_index;
+    }
+    return index;
+  }
+
+  // One card outside a *PART (or of a part, while an instance of it is read).
+  void dispatch(Card card) {
+    InpResult& result = *result_;
+    const std::string& k = card.keyword;
+    const detail::CardClass kind = detail::classify_card(k);
+    if (kind == detail::CardClass::mesh) {
+      read_mesh_card(card);
+    } else if (kind == detail::CardClass::physics) {
+      card.scope = scope_ == &global_ ? std::string() : upper(scope_->name);
+      physics_.push_back(std::move(card));
+    } else if (kind == detail::CardClass::no_effect) {
+      if (k == "STEP" && first_step_ > 0)
+        fail(card.line, fmt::format("a second *STEP (the first is at line {}): jointhb applies "
+                                    "the boundary conditions and loads of one step, as the "
+                                    "preload", first_step_));
+      if (k == "STEP") first_step_ = card.line;
+      result.ignored_cards.push_back({"*" + k, card.line});
+    } else if (ignore_.count(k)) {
+      result.skipped_cards.push_back({"*" + k, card.line});
+    } else if (kind == detail::CardClass::unsupported) {
+      fail(card.line, fmt::format("card *{} changes the physics and is not supported; to run "
+                                  "without it, list it in the case under ignore_cards", k));
+    } else {
+      fail(card.line, fmt::format("card *{} is not supported (supported: {}; to run without "
+                                  "it, list it in the case under ignore_cards)",
+                                  k, kSupportedCards));
+    }
   }
 
  private:
   void read_mesh_card(const Card& card) {
     const std::string& k = card.keyword;
+    if (in_instance_ && k != "END INSTANCE")
+      fail(card.line, fmt::format("*{} inside *INSTANCE '{}': instances that define their own mesh "
+                                  "are not supported (define it in the *PART)", k, in_instance_name_));
     if (k == "NODE") {
       read_nodes(card);
     } else if (k == "ELEMENT") {
@@ -117,22 +217,16 @@ class InpReader {
     } else if (k == "PART") {
       begin_part(card);
     } else if (k == "END PART") {
-      if (current_part_.empty()) fail(card.line, "*END PART without *PART");
-      current_part_.clear();
+      if (recording_ == nullptr) fail(card.line, "*END PART without *PART");
+      recording_ = nullptr;
     } else if (k == "INSTANCE") {
       read_instance(card);
+    } else if (k == "END INSTANCE") {
+      if (!in_instance_) fail(card.line, "*END INSTANCE without *INSTANCE");
+      in_instance_ = false;
     }
-    // *ASSEMBLY, *END ASSEMBLY, *END INSTANCE: structure only; the single instance adds nothing
-    // to the flat model.
+    // *ASSEMBLY, *END ASSEMBLY: structure only.
   }
-
- private:
-  // A named set as read: its spelling at the first definition and its members by index.
-  struct NamedSet {
-    std::string name;
-    std::vector<int> members;
-  };
-  using SetMap = std::map<std::string, NamedSet>;  // key: upper-case name
 
   [[noreturn]] void fail(int line, const std::string& problem) const {
     throw MeshFileError(file_, line, problem);
@@ -187,13 +281,22 @@ class InpReader {
     return *value;
   }
 
-  void check_instance(const Card& card) const {
+  // The scope whose ids a set or surface card's data use: the instance named by its INSTANCE=
+  // parameter (an assembly-level set of an instance's nodes), else the current one.
+  Scope* ids_scope(const Card& card) {
     const std::string* instance = card.find("INSTANCE");
-    if (instance && upper(*instance) != upper(instance_name_)) {
-      fail(card.line, fmt::format("*{} refers to instance '{}', which is not defined", card.keyword,
-                                  *instance));
+    if (!instance) return scope_;
+    if (single_) {
+      if (upper(*instance) != upper(single_instance_))
+        fail(card.line, fmt::format("*{} refers to instance '{}', which is not defined", card.keyword, *instance));
+      return &global_;
     }
+    const auto it = instances_.find(upper(*instance));
+    if (it == instances_.end())
+      fail(card.line, fmt::format("*{} refers to instance '{}', which is not defined", card.keyword, *instance));
+    return &it->second;
   }
+
 
   long integer(const Token& token, const std::string& what) const {
     const auto value = to_integer(token.text);
@@ -203,15 +306,15 @@ class InpReader {
 
   int node_index(const Token& token, const std::string& what) const {
     const long id = integer(token, what);
-    const auto it = node_index_.find(id);
-    if (it == node_index_.end()) fail(token.line, fmt::format("{}: unknown node {}", what, id));
+    const auto it = ids_->node_index.find(id);
+    if (it == ids_->node_index.end()) fail(token.line, fmt::format("{}: unknown node {}", what, id));
     return it->second;
   }
 
   int element_index(const Token& token, const std::string& what) const {
     const long id = integer(token, what);
-    const auto it = element_index_.find(id);
-    if (it == element_index_.end()) {
+    const auto it = ids_->element_index.find(id);
+    if (it == ids_->element_index.end()) {
       fail(token.line, fmt::format("{}: unknown element {}", what, id));
     }
     return it->second;
@@ -237,10 +340,10 @@ class InpReader {
         fail(data.line, fmt::format("*NODE data must be 'id, x [, y [, z]]', got '{}'", data.text));
       }
       const long id = integer({data.line, e[0]}, "*NODE");
-      if (const auto it = node_line_.find(id); it != node_line_.end()) {
+      if (const auto it = scope_->node_line.find(id); it != scope_->node_line.end()) {
         fail(data.line, fmt::format("node {} defined twice (first at line {})", id, it->second));
       }
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();  // in the part's coordinates
       for (std::size_t d = 0; d < 3 && d + 1 < e.size(); ++d) {
         if (e[d + 1].empty()) continue;  // a blank coordinate is zero
         const auto value = to_number(e[d + 1]);
@@ -251,10 +354,10 @@ class InpReader {
         x[static_cast<Eigen::Index>(d)] = *value;
       }
       const int index = static_cast<int>(coordinates_.size());
-      coordinates_.push_back(x);
+      coordinates_.push_back(placement_.place(x));
       mesh_.node_ids.push_back(id);
-      node_index_[id] = index;
-      node_line_[id] = data.line;
+      scope_->node_index[id] = index;
+      scope_->node_line[id] = data.line;
       if (set) set->members.push_back(index);
     }
   }
@@ -270,9 +373,7 @@ class InpReader {
     }
     const ElementType type = *known;
     const std::string* elset = card.find("ELSET");
-    const std::string part_name = elset                    ? *elset
-                                  : !current_part_.empty() ? current_part_
-                                                           : std::string("default");
+    const std::string part_name = elset ? scope_->prefix + *elset : placement_.part;
     NamedSet& part_set = set_named(element_sets_, part_name);
     const int part = part_index(part_set.name);
     const auto needed = static_cast<std::size_t>(node_count(type)) + 1;
@@ -307,7 +408,7 @@ class InpReader {
   void add_element(const std::vector<Token>& tokens, ElementType type, int part,
                    const std::string& type_name) {
     const long id = integer(tokens.front(), "*ELEMENT " + type_name);
-    if (const auto it = element_line_.find(id); it != element_line_.end()) {
+    if (const auto it = scope_->element_line.find(id); it != scope_->element_line.end()) {
       fail(tokens.front().line,
            fmt::format("element {} defined twice (first at line {})", id, it->second));
     }
@@ -318,8 +419,8 @@ class InpReader {
     for (std::size_t a = 1; a < tokens.size(); ++a) {
       element.nodes[a - 1] = node_index(tokens[a], what);
     }
-    element_index_[id] = mesh_.num_elements();
-    element_line_[id] = tokens.front().line;
+    scope_->element_index[id] = mesh_.num_elements();
+    scope_->element_line[id] = tokens.front().line;
     mesh_.elements.push_back(element);
     mesh_.element_ids.push_back(id);
   }
@@ -327,8 +428,8 @@ class InpReader {
   // *NSET and *ELSET: members by id or by set name, or GENERATE ranges.
   void read_set(const Card& card, SetMap& sets, const char* name_key, const char* what) {
     check_parameters(card, {name_key, "GENERATE", "INTERNAL", "UNSORTED", "INSTANCE"});
-    check_instance(card);
-    const std::string name = required(card, name_key);
+    const IdsScope ids(*this, ids_scope(card));
+    const std::string name = scope_->prefix + required(card, name_key);
     const std::string context = fmt::format("*{} '{}'", card.keyword, name);
     const bool nodes = std::string(name_key) == "NSET";
     std::vector<int> members;
@@ -363,11 +464,9 @@ class InpReader {
           add_id({data.line, entry});
           continue;
         }
-        const auto it = sets.find(upper(entry));
-        if (it == sets.end()) {
-          fail(data.line, fmt::format("{}: unknown {} set '{}'", context, what, entry));
-        }
-        members.insert(members.end(), it->second.members.begin(), it->second.members.end());
+        const NamedSet* set = find_set(sets, entry);
+        if (set == nullptr) fail(data.line, fmt::format("{}: unknown {} set '{}'", context, what, entry));
+        members.insert(members.end(), set->members.begin(), set->members.end());
       }
     }
     NamedSet& set = set_named(sets, name);
@@ -375,8 +474,9 @@ class InpReader {
   }
 
   void read_surface(const Card& card) {
-    check_parameters(card, {"NAME", "TYPE", "INTERNAL"});
-    const std::string name = required(card, "NAME");
+    check_parameters(card, {"NAME", "TYPE", "INTERNAL", "INSTANCE"});
+    const IdsScope ids(*this, ids_scope(card));
+    const std::string name = scope_->prefix + required(card, "NAME");
     if (const std::string* type = card.find("TYPE"); type && upper(*type) != "ELEMENT") {
       fail(card.line, fmt::format("*SURFACE, TYPE={} is not supported (only TYPE=ELEMENT)", *type));
     }
@@ -398,64 +498,89 @@ class InpReader {
         surface.second.push_back({element_index({data.line, e[0]}, context), face});
         continue;
       }
-      const auto it = element_sets_.find(upper(e[0]));
-      if (it == element_sets_.end()) {
-        fail(data.line, fmt::format("{}: unknown element set '{}'", context, e[0]));
-      }
-      for (int element : it->second.members) surface.second.push_back({element, face});
+      const NamedSet* set = find_set(element_sets_, e[0]);
+      if (set == nullptr) fail(data.line, fmt::format("{}: unknown element set '{}'", context, e[0]));
+      for (int element : set->members) surface.second.push_back({element, face});
     }
   }
 
   void begin_part(const Card& card) {
     check_parameters(card, {"NAME"});
     const std::string name = required(card, "NAME");
-    if (!current_part_.empty()) {
+    if (recording_ != nullptr) {
       fail(card.line,
-           fmt::format("*PART '{}' inside *PART '{}' (missing *END PART)", name, current_part_));
+           fmt::format("*PART '{}' inside *PART '{}' (missing *END PART)", name, recording_->name));
     }
-    if (!defined_part_.empty()) {
-      fail(card.line, fmt::format("second *PART '{}' (the first, '{}', is at line {}): only a "
-                                  "single part is supported; write the input file without parts "
-                                  "and assemblies (a flat model)",
-                                  name, defined_part_, defined_part_line_));
-    }
-    current_part_ = defined_part_ = name;
-    defined_part_line_ = card.line;
+    const auto [it, fresh] = parts_.try_emplace(upper(name));
+    if (!fresh) fail(card.line, fmt::format("*PART '{}' defined twice (first at line {})", name, it->second.line));
+    it->second.name = name;
+    it->second.line = card.line;
+    recording_ = &it->second;
   }
 
+  // *INSTANCE, NAME=i, PART=p with an optional translation line "dx, dy, dz" and an optional
+  // rotation line "a1, a2, a3, b1, b2, b3, angle" (Abaqus Keywords Reference, *INSTANCE: the
+  // translation is applied first, then the rotation by `angle` degrees about the axis from a to
+  // b, right-handed): x' = R (x + d − a) + a.
   void read_instance(const Card& card) {
     check_parameters(card, {"NAME", "PART"});
     const std::string name = required(card, "NAME");
     const std::string part = required(card, "PART");
-    if (!instance_name_.empty()) {
-      fail(card.line, fmt::format("second *INSTANCE '{}' (the first, '{}', is at line {}): only "
-                                  "one instance of one part is supported; write the input file "
-                                  "without parts and assemblies (a flat model)",
-                                  name, instance_name_, instance_line_));
-    }
-    if (upper(part) != upper(defined_part_)) {
-      fail(card.line, fmt::format("*INSTANCE '{}' of part '{}', which is not defined", name, part));
-    }
-    // Data: an optional translation "dx, dy, dz", then an optional rotation "a1, a2, a3, b1, b2,
-    // b3, angle" (Abaqus Keywords Reference, *INSTANCE).
+    const auto it = parts_.find(upper(part));
+    if (it == parts_.end()) fail(card.line, fmt::format("*INSTANCE '{}' of part '{}', which is not defined", name, part));
     if (card.data.size() > 2) fail(card.data[2].line, "*INSTANCE has at most two data lines");
-    const auto is_zero = [](std::string_view t) {
-      const auto value = to_number(t);
-      return value && *value == 0.0;
-    };
+    Placement placement;
     for (std::size_t i = 0; i < card.data.size(); ++i) {
       const DataLine& data = card.data[i];
       const std::vector<std::string_view> e = entries(data.text);
-      const bool moved =
-          i == 0 ? !std::all_of(e.begin(), e.end(), is_zero) : (e.size() != 7 || !is_zero(e[6]));
-      if (moved) {
-        fail(data.line, fmt::format("*INSTANCE '{}' is {} ('{}'): instances with offsets are not "
-                                    "supported; write a flat model",
-                                    name, i == 0 ? "translated" : "rotated", data.text));
+      const std::size_t expected = i == 0 ? 3 : 7;
+      if (e.size() != expected)
+        fail(data.line, fmt::format("*INSTANCE '{}': the {} line must have {} numbers, got '{}'", name,
+                                    i == 0 ? "translation" : "rotation", expected, data.text));
+      std::array<double, 7> v{};
+      for (std::size_t k = 0; k < expected; ++k) {
+        const auto value = to_number(e[k]);
+        if (!value) fail(data.line, fmt::format("*INSTANCE '{}': '{}' is not a finite number", name, e[k]));
+        v[k] = *value;
+      }
+      if (i == 0) {
+        placement.translation = {v[0], v[1], v[2]};
+      } else {
+        const Eigen::Vector3d a(v[0], v[1], v[2]), b(v[3], v[4], v[5]);
+        if ((b - a).norm() == 0.0) fail(data.line, fmt::format("*INSTANCE '{}': the rotation axis points a and b coincide", name));
+        placement.axis_point = a;
+        placement.rotation = Eigen::AngleAxisd(v[6] * std::numbers::pi / 180.0, (b - a).normalized()).toRotationMatrix();
       }
     }
-    instance_name_ = name;
-    instance_line_ = card.line;
+    instantiate(it->second, name, card.line, placement);
+    in_instance_ = true;
+    in_instance_name_ = name;
+  }
+
+  // Reads the cards of `part` as instance `name`: its ids in their own scope, its set and surface
+  // names prefixed "name." when the deck has several instances, its nodes placed.
+  void instantiate(PartDefinition& part, const std::string& name, int line, Placement placement) {
+    Scope* scope = &global_;
+    if (single_) {
+      if (++part.instances > 1 || !single_instance_.empty())
+        fail(line, fmt::format("second instance '{}'", name));
+      single_instance_ = name;
+      placement.part = part.name;
+    } else {
+      const auto [it, fresh] = instances_.try_emplace(upper(name));
+      if (!fresh) fail(line, fmt::format("*INSTANCE '{}' defined twice", name));
+      scope = &it->second;
+      scope->name = name;
+      scope->prefix = name + ".";
+      placement.part = name;
+    }
+    Scope* const outer_scope = scope_;
+    const Placement outer_placement = placement_;
+    scope_ = ids_ = scope;
+    placement_ = placement;
+    for (const Card& card : part.cards) dispatch(card);
+    scope_ = ids_ = outer_scope;
+    placement_ = outer_placement;
   }
 
   static std::vector<int> sorted_unique(std::vector<int> v) {
@@ -483,20 +608,25 @@ class InpReader {
 
   std::string file_;
   std::set<std::string> ignore_;  // canonical keywords of InpOptions::ignore_cards
+  InpResult* result_ = nullptr;
   Mesh mesh_;
   std::vector<Eigen::Vector3d> coordinates_;
-  std::unordered_map<long, int> node_index_;
-  std::unordered_map<long, int> node_line_;
-  std::unordered_map<long, int> element_index_;
-  std::unordered_map<long, int> element_line_;
   SetMap node_sets_;
   SetMap element_sets_;
   std::map<std::string, std::pair<std::string, std::vector<Face>>> surfaces_;  // upper-case key
-  std::string current_part_;  // the open *PART, or empty
-  std::string defined_part_;  // the (single) *PART of the file, or empty
-  int defined_part_line_ = 0;
-  std::string instance_name_;  // the (single) *INSTANCE, or empty
-  int instance_line_ = 0;
+  std::vector<Card> physics_;  // physics cards in file order (per instance for a part's)
+  int first_step_ = 0;         // line of the first *STEP
+  std::map<std::string, PartDefinition> parts_;  // upper-case name
+  PartDefinition* recording_ = nullptr;           // the open *PART, or none
+  bool single_ = true;            // at most one instance: no prefixes, one id scope
+  std::string single_instance_;   // its name
+  bool in_instance_ = false;      // between *INSTANCE and *END INSTANCE
+  std::string in_instance_name_;
+  Scope global_;
+  std::map<std::string, Scope> instances_;  // upper-case name → scope (several instances)
+  Scope* scope_ = &global_;  // where new ids and names go
+  Scope* ids_ = &global_;    // where ids in data lines resolve (INSTANCE= of a set card)
+  Placement placement_;      // of the instance being read
 };
 
 }  // namespace

@@ -6,14 +6,21 @@
 //   *NSET, NSET=n [, GENERATE]          ids or set names; GENERATE: first, last [, increment]
 //   *ELSET, ELSET=e [, GENERATE]        likewise
 //   *SURFACE, NAME=s [, TYPE=ELEMENT]   element id or element set, S1..S6
-//   *PART / *END PART, *ASSEMBLY / *END ASSEMBLY, *INSTANCE / *END INSTANCE: one part with one
-//                                       instance that is neither translated nor rotated
+//   *PART / *END PART, *ASSEMBLY / *END ASSEMBLY, *INSTANCE, NAME=i, PART=p / *END INSTANCE with
+//                                       an optional translation line "dx, dy, dz" and rotation
+//                                       line "a1, a2, a3, b1, b2, b3, angle" (translation first,
+//                                       then the rotation by angle degrees about the axis a → b)
 // Keywords, parameters and set names are case-insensitive (a set keeps the spelling of its first
 // definition); "**" starts a comment; blank lines are skipped. Repeating *NSET or *ELSET with the
 // same name adds to the set.
 //
 // Parts of the Mesh: the ELSET named on each *ELEMENT card, else the enclosing *PART, else
-// "default"; each part is also an element set of the same name.
+// "default"; each part is also an element set of the same name. Assemblies: every instance
+// places a copy of its part's nodes and elements (and applies its *SOLID SECTION). With one
+// instance, names are the part's own (also reachable as "instance.name"); with several, each
+// instance is a mesh part named like the instance ("instance.ELSET" for ELSETs on *ELEMENT), and
+// its sets and surfaces are named "instance.name". Node and element ids are per part; data lines
+// at assembly level name them "instance.id", or with INSTANCE= on *NSET/*ELSET/*SURFACE.
 //
 // Physics cards (inp_physics.cpp, docs/meshes.md §"Abaqus/CalculiX decks"):
 //   *MATERIAL, NAME=m with *ELASTIC (isotropic: E, ν) and *DENSITY (ρ); *SOLID SECTION, ELSET=e,

@@ -250,21 +250,98 @@ TEST(InpReader, UnsupportedCardsAndParametersStop) {
   EXPECT_NE(no_elements.find("no elements"), std::string::npos) << no_elements;
 }
 
-TEST(InpReader, PartsAndInstancesBeyondOneFlatModelAreRefusedByName) {
-  const std::string part =
-      "*PART, NAME=A\n" + kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n*END PART\n";
-  EXPECT_TRUE(reports(part + "*PART, NAME=B\n*END PART\n", 14,
-                      "second *PART 'B' (the first, 'A', is at line 1)"));
-  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n0., 0., 5.\n", 16,
-                      "*INSTANCE 'A-1' is translated"));
-  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n0, 0, 0\n"
-                             "0, 0, 0, 0, 0, 1, 90.\n",
-                      17, "*INSTANCE 'A-1' is rotated"));
-  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=A\n*END INSTANCE\n"
-                             "*INSTANCE, NAME=A-2, PART=A\n",
-                      17, "second *INSTANCE 'A-2'"));
+// An Abaqus/CAE-style deck: one part (a unit cube with a part-level set, surface and section),
+// instanced twice, the second translated by (0, 0, 1) and then turned 90° about the z axis;
+// boundary conditions and loads at assembly level name "instance.set" and "instance.node".
+const std::string kAssembly = R"(*Part, name=Cube
+*Node
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 1., 1., 0.
+4, 0., 1., 0.
+5, 0., 0., 1.
+6, 1., 0., 1.
+7, 1., 1., 1.
+8, 0., 1., 1.
+*Element, type=C3D8
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*Nset, nset=Bottom
+1, 2, 3, 4
+*Elset, elset=All
+1
+*Surface, type=ELEMENT, name=Top
+All, S2
+*Solid Section, elset=All, material=Steel
+,
+*End Part
+*Assembly, name=Assembly
+*Instance, name=Cube-1, part=Cube
+*End Instance
+*Instance, name=Cube-2, part=Cube
+0., 0., 1.
+0., 0., 0., 0., 0., 1., 90.
+*End Instance
+*Nset, nset=Corner, instance=Cube-2
+7
+*End Assembly
+*Material, name=Steel
+*Elastic
+210e9, 0.3
+*Density
+7850.
+*Step
+*Static
+*Boundary
+Cube-1.Bottom, ENCASTRE
+*Cload
+Cube-2.5, 1, 10.
+Corner, 2, -3.
+*Dsload
+Cube-2.Top, P, 1e5
+*End Step
+)";
+
+TEST(InpReader, AssembliesOfTranslatedAndRotatedInstances) {
+  const TempFile file(".inp", kAssembly);
+  const InpResult r = read_inp(file.path());
+  const Mesh& mesh = r.mesh;
+  ASSERT_EQ(mesh.num_nodes(), 16);
+  EXPECT_EQ(mesh.parts, (std::vector<std::string>{"Cube-1", "Cube-2"}));
+  EXPECT_EQ(mesh.elements[1].part, 1);
+  // Cube-2: x' = R_z(90°) (x + (0, 0, 1)) = (−y, x, z + 1).
+  for (int n = 0; n < 8; ++n) {
+    const Eigen::Vector3d x = mesh.coordinates.col(n);
+    const Eigen::Vector3d expected(-x.y(), x.x(), x.z() + 1.0);
+    EXPECT_LT((mesh.coordinates.col(8 + n) - expected).norm(), 1e-15) << "node " << n + 1;
+  }
+  EXPECT_EQ(mesh.node_sets.at("Cube-1.Bottom"), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(mesh.node_sets.at("Cube-2.Bottom"), (std::vector<int>{8, 9, 10, 11}));
+  EXPECT_EQ(mesh.node_sets.at("Corner"), std::vector<int>{14});
+  EXPECT_EQ(mesh.surfaces.at("Cube-2.Top"), (std::vector<Face>{{1, 1}}));
+  EXPECT_TRUE(check_mesh(mesh).empty());
+  ASSERT_EQ(r.part_materials.size(), 2u);  // the part's section, once per instance
+  EXPECT_TRUE(r.part_materials[0] && r.part_materials[1]);
+  ASSERT_EQ(r.constraints.size(), 1u);
+  EXPECT_EQ(r.constraints[0].nodes, (std::vector<int>{0, 1, 2, 3}));
+  ASSERT_EQ(r.loads.forces.size(), 2u);
+  EXPECT_EQ(r.loads.forces[0].nodes, std::vector<int>{12});  // Cube-2.5
+  EXPECT_EQ(r.loads.forces[1].nodes, std::vector<int>{14});
+  ASSERT_EQ(r.loads.pressures.size(), 1u);
+  EXPECT_EQ(r.loads.pressures[0].faces, (std::vector<Face>{{1, 1}}));
+}
+
+TEST(InpReader, AssemblyErrorsAreNamed) {
+  const std::string part = "*PART, NAME=A\n" + kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n*END PART\n";
+  EXPECT_TRUE(reports(part + "*PART, NAME=a\n*END PART\n", 14, "*PART 'a' defined twice (first at line 1)"));
+  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=B\n", 15, "part 'B', which is not defined"));
+  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n0., 0.\n", 15, "the translation line must have 3 numbers"));
+  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n0, 0, 0\n1, 1, 1, 1, 1, 1, 90.\n", 16, "the rotation axis points a and b coincide"));
+  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n*END INSTANCE\n*INSTANCE, NAME=a-1, PART=A\n", 16,
+                      "*INSTANCE 'a-1' defined twice"));
+  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n*NODE\n99, 0, 0, 0\n", 15, "*NODE inside *INSTANCE 'A-1'"));
   EXPECT_TRUE(reports(part + "*NSET, NSET=N, INSTANCE=Z-1\n1\n", 14,
                       "refers to instance 'Z-1', which is not defined"));
+  EXPECT_TRUE(reports("*PART, NAME=A\n" + kNodes, 1, "*PART 'A' has no *END PART"));
 }
 
 TEST(InpReader, EmptyAndMissingFilesAreNamed) {
