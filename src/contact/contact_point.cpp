@@ -1,6 +1,7 @@
 // Contact point: exponential normal law + pressure-dependent tangential law (contact_point.hpp).
 #include "jointhb/contact/contact_point.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -9,8 +10,8 @@ namespace jointhb::contact {
 
 std::string ContactPointOptions::validate() const {
   if (std::string msg = normal.validate(); !msg.empty()) return "normal." + msg;
-  if (!(friction_coefficient > 0.0 && std::isfinite(friction_coefficient))) {
-    return "friction_coefficient must be > 0 and finite";
+  if (!(friction_coefficient >= 0.0 && std::isfinite(friction_coefficient))) {
+    return "friction_coefficient must be >= 0 and finite (0: frictionless)";
   }
   if (stiffness_model == TangentialStiffnessModel::proportional &&
       !(stiffness_ratio > 0.0 && std::isfinite(stiffness_ratio))) {
@@ -41,21 +42,31 @@ ContactPoint ContactPoint::with_constant_stiffness(double stiffness) const {
   return ContactPoint(std::move(o), law_);
 }
 
+double ContactPointOptions::tangential_stiffness_floor() const {
+  const double ratio = std::max(gap_pressure_ratio, 1e-300);
+  if (normal.kind == NormalLawKind::linear) return stiffness_ratio * normal.penalty_stiffness * ratio;
+  return stiffness_ratio * normal.decay * ratio * normal.reference_pressure;  // χ λ ε_gap p_N0
+}
+
 TangentialState ContactPoint::tangential_state(double gap) const {
   TangentialState s;
   const auto& o = options_;
   s.pressure = o.normal.pressure(gap);
   s.normal_stiffness = o.normal.stiffness(gap);
-  s.open = s.pressure < o.gap_pressure_ratio * o.normal.reference_pressure;
-  if (s.open) {  // gapping: no friction capacity, no tangential stiffness (nothing divides by p_N)
+  // open: no normal stiffness (beyond a cutoff, or g_N > g_N0 for the linear law), or below the
+  // gapping floor of the exponential law
+  s.open = s.normal_stiffness == 0.0 || s.pressure < o.gap_pressure_ratio * o.normal.open_reference();
+  if (s.open || o.friction_coefficient == 0.0) {
+    // gapping: no friction capacity, no tangential stiffness (nothing divides by p_N); a
+    // frictionless interface (μ = 0) likewise carries no tangential traction and has no stiffness
     return s;
   }
-  const double lambda = o.normal.decay;
   s.limits.slip_limit = o.friction_coefficient * s.pressure;  // μ p_N
-  s.d_limit = -o.friction_coefficient * s.normal_stiffness;   // d(μ p_N)/dg_N = -μ λ p_N
+  s.d_limit = -o.friction_coefficient * s.normal_stiffness;   // d(μ p_N)/dg_N = -μ k_N
   if (o.stiffness_model == TangentialStiffnessModel::proportional) {
-    s.limits.stiffness = o.stiffness_ratio * s.normal_stiffness;  // χ λ p_N
-    s.d_stiffness = -lambda * s.limits.stiffness;
+    s.limits.stiffness = o.stiffness_ratio * s.normal_stiffness;  // χ k_N (χ λ p_N, eq. 6)
+    // d(χ k_N)/dg_N: -λ k_T for the exponential laws, 0 for the linear one (normal_law.hpp)
+    s.d_stiffness = o.normal.kind == NormalLawKind::linear ? 0.0 : -o.normal.decay * s.limits.stiffness;
   } else {
     s.limits.stiffness = o.tangential_stiffness;
   }

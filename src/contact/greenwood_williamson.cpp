@@ -78,9 +78,9 @@ double GreenwoodWilliamson::normal_force_integrand(double z, double gap) const {
          std::sqrt(approach) * phi;
 }
 
-ExponentialNormalLaw GreenwoodWilliamson::pressure_law() const {
+NormalLaw GreenwoodWilliamson::pressure_law() const {
   // eq. (6) with λ = 1/σ and g_N0 = 0.
-  ExponentialNormalLaw law;
+  NormalLaw law;
   law.reference_pressure = normal_force(0.0) / apparent_area;
   law.decay = 1.0 / roughness;
   law.reference_gap = 0.0;

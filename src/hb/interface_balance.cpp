@@ -105,8 +105,7 @@ struct InterfaceBalance::Impl {
     for (const InterfaceGroup& g : model.groups) {
       const contact::ContactPointOptions& o = g.law.options();
       const bool proportional = o.stiffness_model == contact::TangentialStiffnessModel::proportional;
-      const double floor = o.stiffness_ratio * o.normal.decay *
-                           std::max(o.gap_pressure_ratio, 1e-300) * o.normal.reference_pressure;
+      const double floor = o.tangential_stiffness_floor();
       for (int q = 0; q < g.count; ++q) {
         if (!proportional) {
           frozen.push_back(g.law);

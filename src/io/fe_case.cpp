@@ -378,27 +378,7 @@ class FeCaseReader {
       // contact law
       const std::string cpath = f.path_of("contact");
       const YAML::Node cn = f.find("contact")->value;
-      const Fields cf = reader_.fields(cn, cpath, {"pressure", "decay", "mu", "law", "n", "stiffness_ratio", "kt"});
-      require(cn, cf, {"pressure", "decay", "mu", "law"});
-      contact::ContactPointOptions cp;
-      spec.pressure = cp.normal.reference_pressure = positive(cf, "pressure");
-      spec.decay = cp.normal.decay = positive(cf, "decay");
-      spec.mu = cp.friction_coefficient = positive(cf, "mu");
-      spec.law = text(cf, "law");
-      reader_.check(cf.find("law")->value, cf.path_of("law"), check_one_of(spec.law, {"gaul-mayer", "jenkins"}));
-      spec.exponent = 1.0 / 3.0;
-      if (const auto* n = cf.find("n")) {
-        spec.exponent = reader_.number(n->value, cf.path_of("n"));
-        reader_.check(n->value, cf.path_of("n"), check_open_unit(spec.exponent));
-      }
-      if (cf.has("kt") && cf.has("stiffness_ratio"))
-        reader_.fail(cn, cpath, "give either kt (constant tangential stiffness [Pa/m]) or stiffness_ratio (k_T = χ λ p_N), not both");
-      if (cf.has("kt")) {
-        cp.stiffness_model = contact::TangentialStiffnessModel::constant;
-        spec.tangential_stiffness = cp.tangential_stiffness = positive(cf, "kt");
-      } else {
-        spec.stiffness_ratio = cp.stiffness_ratio = positive_or(cf, "stiffness_ratio", cp.stiffness_ratio);
-      }
+      const contact::ContactPointOptions cp = read_contact_law(cn, cpath, spec);
       try {
         preload::ContactInterface ci{fe::build_interface(c.mesh, o),
                                      contact::ContactPoint(cp, contact::make_tangential_law(spec.law, spec.exponent))};
@@ -448,6 +428,54 @@ class FeCaseReader {
         reader_.fail(node[i], path, error.what());
       }
     }
+  }
+
+  // An interface's contact law (docs/case-files.md §"Interfaces"): the normal law — exponential
+  // (pressure, decay [, cutoff_gap]) or linear (normal_stiffness) — and the tangential law
+  // (gaul-mayer or jenkins with mu, or frictionless) with kt or stiffness_ratio.
+  contact::ContactPointOptions read_contact_law(const YAML::Node& cn, const std::string& cpath, FeInterfaceSpec& spec) const {
+    const Fields cf = reader_.fields(cn, cpath, {"pressure", "decay", "cutoff_gap", "normal_stiffness", "mu", "law", "n", "stiffness_ratio", "kt"});
+    require(cn, cf, {"law"});
+    contact::ContactPointOptions cp;
+    const bool linear = cf.has("normal_stiffness");
+    if (linear) {
+      for (const char* key : {"pressure", "decay", "cutoff_gap"})
+        if (cf.has(key)) reader_.fail(cf.find(key)->value, cf.path_of(key), "belongs to the exponential normal law; this contact has the linear one (normal_stiffness)");
+      cp.normal.kind = contact::NormalLawKind::linear;
+      spec.normal_stiffness = cp.normal.penalty_stiffness = positive(cf, "normal_stiffness");
+    } else {
+      if (!cf.has("pressure") || !cf.has("decay"))
+        reader_.fail(cn, cpath, "needs the normal law: pressure and decay (exponential, eq. 6) or normal_stiffness (linear penalty)");
+      spec.pressure = cp.normal.reference_pressure = positive(cf, "pressure");
+      spec.decay = cp.normal.decay = positive(cf, "decay");
+      if (cf.has("cutoff_gap")) spec.cutoff_gap = cp.normal.cutoff_gap = positive(cf, "cutoff_gap");
+    }
+    spec.law = text(cf, "law");
+    reader_.check(cf.find("law")->value, cf.path_of("law"), check_one_of(spec.law, {"gaul-mayer", "jenkins", "frictionless"}));
+    if (spec.law == "frictionless") {
+      for (const char* key : {"mu", "n", "kt", "stiffness_ratio"})
+        if (cf.has(key)) reader_.fail(cf.find(key)->value, cf.path_of(key), "a frictionless contact has no tangential law (no friction, no tangential stiffness)");
+      cp.friction_coefficient = 0.0;
+      spec.law = "jenkins";  // with μ = 0: t_T = 0, k_T = 0 (contact_point.hpp)
+      spec.frictionless = true;
+      return cp;
+    }
+    require(cn, cf, {"mu"});
+    spec.mu = cp.friction_coefficient = positive(cf, "mu");
+    spec.exponent = 1.0 / 3.0;
+    if (const auto* n = cf.find("n")) {
+      spec.exponent = reader_.number(n->value, cf.path_of("n"));
+      reader_.check(n->value, cf.path_of("n"), check_open_unit(spec.exponent));
+    }
+    if (cf.has("kt") && cf.has("stiffness_ratio"))
+      reader_.fail(cn, cpath, "give either kt (constant tangential stiffness [Pa/m]) or stiffness_ratio (k_T = χ k_N), not both");
+    if (cf.has("kt")) {
+      cp.stiffness_model = contact::TangentialStiffnessModel::constant;
+      spec.tangential_stiffness = cp.tangential_stiffness = positive(cf, "kt");
+    } else {
+      spec.stiffness_ratio = cp.stiffness_ratio = positive_or(cf, "stiffness_ratio", cp.stiffness_ratio);
+    }
+    return cp;
   }
 
   void read_constraints(const YAML::Node& node, FeCase& c) {

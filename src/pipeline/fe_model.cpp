@@ -1,6 +1,8 @@
 // Typed keys of the finite-element stages (pipeline/fe_model.hpp).
 #include "jointhb/pipeline/fe_model.hpp"
 
+#include <cmath>
+
 #include "jointhb/contact/gaul_mayer_law.hpp"
 #include "jointhb/pipeline/fingerprint.hpp"
 
@@ -41,6 +43,8 @@ void add_law(Fingerprint& f, const contact::ContactPoint& law) {
   const contact::ContactPointOptions& o = law.options();
   f.add("law").add(std::string_view(law.law().name())).add(law_exponent(law));
   f.add(o.normal.reference_pressure).add(o.normal.decay).add(o.normal.reference_gap);
+  if (o.normal.kind != contact::NormalLawKind::exponential || std::isfinite(o.normal.cutoff_gap))  // absent from older keys
+    f.add(static_cast<int>(o.normal.kind)).add(o.normal.cutoff_gap).add(o.normal.penalty_stiffness);
   f.add(o.friction_coefficient).add(static_cast<int>(o.stiffness_model)).add(o.stiffness_ratio);
   f.add(o.tangential_stiffness).add(o.gap_pressure_ratio);
 }

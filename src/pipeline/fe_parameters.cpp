@@ -38,10 +38,12 @@ std::size_t index_of(const std::vector<T>& items, const std::string& item, NameO
 }
 
 // The values of an interface's contact law that are parameters, in the order of the names.
-constexpr std::array<const char*, 6> kLawKeys = {"pressure", "decay", "mu", "n", "stiffness_ratio", "kt"};
+constexpr std::array<const char*, 8> kLawKeys = {"pressure", "decay", "cutoff_gap", "normal_stiffness", "mu", "n", "stiffness_ratio", "kt"};
 
 // A law's parameter values, editable; `slot` is the one place that says which key a law offers:
-// the exponent n only for Gaul–Mayer, the stiffness ratio or k_T0 as the stiffness model has it.
+// p_N0 and λ for the exponential normal law (g_c when it has a cutoff), k_N for the linear one,
+// μ unless frictionless, the exponent n only for Gaul–Mayer, the stiffness ratio or k_T0 as the
+// stiffness model has it.
 struct LawValues {
   contact::ContactPointOptions options;
   double exponent = 0.0;
@@ -53,9 +55,12 @@ struct LawValues {
   /// The value of `key`, or nullptr when the law has no such value.
   double* slot(std::string_view key) {
     const bool proportional = options.stiffness_model == contact::TangentialStiffnessModel::proportional;
-    if (key == "pressure") return &options.normal.reference_pressure;
-    if (key == "decay") return &options.normal.decay;
-    if (key == "mu") return &options.friction_coefficient;
+    const bool exponential = options.normal.kind == contact::NormalLawKind::exponential;
+    if (key == "pressure") return exponential ? &options.normal.reference_pressure : nullptr;
+    if (key == "decay") return exponential ? &options.normal.decay : nullptr;
+    if (key == "cutoff_gap") return exponential && std::isfinite(options.normal.cutoff_gap) ? &options.normal.cutoff_gap : nullptr;
+    if (key == "normal_stiffness") return exponential ? nullptr : &options.normal.penalty_stiffness;
+    if (key == "mu") return options.friction_coefficient > 0.0 ? &options.friction_coefficient : nullptr;
     if (key == "n") return law_name == "gaul-mayer" ? &exponent : nullptr;
     if (key == "stiffness_ratio") return proportional ? &options.stiffness_ratio : nullptr;
     if (key == "kt") return proportional ? nullptr : &options.tangential_stiffness;

@@ -120,7 +120,18 @@ SpMat newton_matrix(const PreloadModel& model, const std::vector<fe::InterfaceCo
   std::vector<Eigen::Triplet<double>> triplets;
   for (std::size_t i = 0; i < model.interfaces.size(); ++i) {
     std::vector<Eigen::Matrix3d> c(states[i].tangent.size(), Eigen::Matrix3d::Zero());
-    for (std::size_t p = 0; p < c.size(); ++p) c[p] = support::symmetric_psd_part(states[i].tangent[p]);
+    for (std::size_t p = 0; p < c.size(); ++p) {
+      c[p] = support::symmetric_psd_part(states[i].tangent[p]);
+      // A closed point without pressure (the linear law at g_N = g_N0, as every point is before
+      // the first load step) has no friction capacity and so no tangential tangent: the parts
+      // would be free to slide in the Newton matrix. Its stick stiffness k_T stands in there; the
+      // residual is exact, so the solution does not change.
+      if (!states[i].open[p] && states[i].pressure[static_cast<Eigen::Index>(p)] == 0.0 &&
+          c[p].topLeftCorner<2, 2>().isZero(0.0)) {
+        const double gap = states[i].gap[3 * static_cast<Eigen::Index>(p) + 2];
+        c[p](0, 0) = c[p](1, 1) = model.interfaces[i].law.tangential_state(gap).limits.stiffness;
+      }
+    }
     fe::add_interface_stiffness(model.interfaces[i].geometry, c, triplets);
   }
   SpMat k(model.structure.stiffness.rows(), model.structure.stiffness.cols());

@@ -797,7 +797,7 @@ PYBIND11_MODULE(_core, m) {
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "
            "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message.")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
-                             "interfaces.<name>.pressure|decay|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
+                             "interfaces.<name>.pressure|decay|cutoff_gap|normal_stiffness|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
       .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))
       .def("set", &Pipeline::set, py::arg("name"), py::arg("value"), py::arg("dynamics_only") = false,
            "Sets a parameter; the stages it enters are recomputed when next needed. dynamics_only (mu, n): "

@@ -452,8 +452,7 @@ std::vector<std::vector<contact::ContactPoint>> fe_point_laws(const preload::Pre
     }
     // k_T,p = χ λ p_N(g_pre,p) (eq. T-30), floored as hb/interface_balance.cpp does: a point open
     // in the preload keeps a valid (positive) constant stiffness and is open anyway.
-    const double floor = o.stiffness_ratio * o.normal.decay *
-                         std::max(o.gap_pressure_ratio, 1e-300) * o.normal.reference_pressure;
+    const double floor = o.tangential_stiffness_floor();
     laws[i].reserve(static_cast<std::size_t>(points));
     for (int p = 0; p < points; ++p) {
       const double gap = preload.interfaces[i].state.gap[3 * p + 2];

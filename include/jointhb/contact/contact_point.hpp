@@ -6,8 +6,9 @@
 //                                   materials)   or   k_T = k_T0 (constant)
 // Input: the relative displacement g = (g_Tx, g_Ty, g_N) (g_N: gap, opening positive).
 // Output: the traction t = (t_Tx, t_Ty, t_N) conjugate to g (t_N = -p_N) and its consistent
-// tangent. Below the gapping floor p_N < ε_gap p_N0 the point is open: t_T = 0 and its tangents
-// vanish, so no quantity divides by p_N. All quantities are per unit area; with p_N0 a force (N)
+// tangent. Below the gapping floor p_N < ε_gap p_N0 (p_N = 0 for the linear law) the point is
+// open: t_T = 0 and its tangents vanish, so no quantity divides by p_N. With μ = 0 (frictionless)
+// t_T = 0 and k_T = 0 everywhere. All quantities are per unit area; with p_N0 a force (N)
 // they are forces.
 
 #include <Eigen/Core>
@@ -30,14 +31,17 @@ enum class TangentialStiffnessModel {
 };
 
 struct ContactPointOptions {
-  ExponentialNormalLaw normal;        ///< eq. (6)
-  double friction_coefficient = 0.3;  ///< μ [-], > 0
+  NormalLaw normal;                   ///< eq. (6), or (N-1), (N-2) of normal_law.hpp
+  double friction_coefficient = 0.3;  ///< μ [-], ≥ 0 (0: frictionless, no tangential stiffness)
   TangentialStiffnessModel stiffness_model = TangentialStiffnessModel::proportional;
   double stiffness_ratio = 2.0 * (1.0 - 0.33) / (2.0 - 0.33);  ///< χ [-], > 0 (proportional)
   double tangential_stiffness = 0.0;    ///< k_T0 [Pa/m], > 0 (constant model)
   double gap_pressure_ratio = 1.0e-12;  ///< ε_gap ∈ [0, 1): p_N/p_N0 below which the point is open
 
   [[nodiscard]] std::string validate() const;
+  /// χ k ε_gap with k = λ p_N0 (exponential laws) or k_N (linear): the proportional stiffness at
+  /// the gapping floor, a positive lower bound where a frozen k_T must stay valid (T-30).
+  [[nodiscard]] double tangential_stiffness_floor() const;
 };
 
 /// Slip limit and stiffness at a gap, with their derivatives with respect to the gap.

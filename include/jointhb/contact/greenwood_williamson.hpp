@@ -30,7 +30,7 @@ struct GreenwoodWilliamson {
   [[nodiscard]] double real_area_integrand(double z, double gap) const;
   [[nodiscard]] double normal_force_integrand(double z, double gap) const;
   /// The equivalent exponential pressure law of eq. (6): p_N = F_N/A_0, with g_N0 = 0.
-  [[nodiscard]] ExponentialNormalLaw pressure_law() const;
+  [[nodiscard]] NormalLaw pressure_law() const;
 };
 
 }  // namespace jointhb::contact

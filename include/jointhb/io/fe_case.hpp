@@ -46,6 +46,9 @@ struct FeInterfaceSpec {
   std::string name, bottom, top, integration, law;
   double pressure = 0.0, decay = 0.0, mu = 0.0, exponent = 0.0, stiffness_ratio = 0.0,
          tangential_stiffness = 0.0;
+  double cutoff_gap = 0.0;        ///< g_c of the exponential law (0: none)
+  double normal_stiffness = 0.0;  ///< k_N of the linear normal law (0: exponential law)
+  bool frictionless = false;      ///< law: frictionless (μ = 0; `law` holds "jenkins")
   int faces = 0;  ///< zero-thickness elements built
 };
 

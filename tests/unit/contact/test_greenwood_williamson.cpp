@@ -125,7 +125,7 @@ TEST(GreenwoodWilliamson, IntegrandsVanishBelowTheGap) {
 TEST(GreenwoodWilliamson, RealAreaProportionalToPressureEq7) {
   // eq. (7): A_R/A_0 ∝ p_N, and A_R(g)/A_R(0) = exp(-g/σ) = p_N(g)/p_N(0).
   const GreenwoodWilliamson gw = sample_surface();
-  const ExponentialNormalLaw law = gw.pressure_law();
+  const NormalLaw law = gw.pressure_law();
   const double ratio0 = gw.real_area(0.0) / law.pressure(0.0);
   for (const double s : kGapsOverSigma) {
     const double gap = s * gw.roughness;
@@ -138,7 +138,7 @@ TEST(GreenwoodWilliamson, RealAreaProportionalToPressureEq7) {
 TEST(GreenwoodWilliamson, PressureLawIsForceOverApparentArea) {
   // eq. (6): p_N = F_N/A_0 with λ = 1/σ, g_N0 = 0.
   const GreenwoodWilliamson gw = sample_surface();
-  const ExponentialNormalLaw law = gw.pressure_law();
+  const NormalLaw law = gw.pressure_law();
   EXPECT_EQ(law.validate(), "");
   EXPECT_DOUBLE_EQ(law.decay, 1.0 / gw.roughness);
   EXPECT_EQ(law.reference_gap, 0.0);

@@ -13,16 +13,16 @@
 namespace jointhb::contact {
 namespace {
 
-ExponentialNormalLaw sample_law() {
-  ExponentialNormalLaw law;
+NormalLaw sample_law() {
+  NormalLaw law;
   law.reference_pressure = 3.0e6;
   law.decay = 2.0e5;
   law.reference_gap = 1.5e-6;
   return law;
 }
 
-TEST(ExponentialNormalLaw, PressureFollowsEq6) {
-  const ExponentialNormalLaw law = sample_law();
+TEST(NormalLaw, PressureFollowsEq6) {
+  const NormalLaw law = sample_law();
   EXPECT_EQ(law.validate(), "");
   EXPECT_DOUBLE_EQ(law.pressure(law.reference_gap), law.reference_pressure);
   // One σ = 1/λ of opening divides the pressure by e, one σ of closure multiplies it by e.
@@ -39,10 +39,10 @@ TEST(ExponentialNormalLaw, PressureFollowsEq6) {
   }
 }
 
-TEST(ExponentialNormalLaw, StiffnessIsMinusSlopeByCentralDifferences) {
+TEST(NormalLaw, StiffnessIsMinusSlopeByCentralDifferences) {
   // k_N = -dp_N/dg_N. Central differences with h = 1e-3/λ: truncation (λh)²/6 ≈ 2e-7, round-off
   // ≈ ε/(λh) ≈ 1e-13, so 1e-6 separates a correct slope from any wrong factor or sign.
-  const ExponentialNormalLaw law = sample_law();
+  const NormalLaw law = sample_law();
   const double h = 1e-3 / law.decay;
   for (double gap = -2e-5; gap <= 4e-5; gap += 3.1e-6) {
     const double slope = (law.pressure(gap + h) - law.pressure(gap - h)) / (2.0 * h);
@@ -52,8 +52,8 @@ TEST(ExponentialNormalLaw, StiffnessIsMinusSlopeByCentralDifferences) {
   }
 }
 
-TEST(ExponentialNormalLaw, GapAtPressureInvertsTheLaw) {
-  const ExponentialNormalLaw law = sample_law();
+TEST(NormalLaw, GapAtPressureInvertsTheLaw) {
+  const NormalLaw law = sample_law();
   for (double gap = -3e-5; gap <= 6e-5; gap += 2.3e-6) {
     EXPECT_NEAR(law.gap_at_pressure(law.pressure(gap)), gap, 1e-15 * (1.0 + 1e6 * std::abs(gap)))
         << "gap " << gap;
@@ -70,9 +70,9 @@ TEST(ExponentialNormalLaw, GapAtPressureInvertsTheLaw) {
                std::invalid_argument);
 }
 
-TEST(ExponentialNormalLaw, DeepClosureStaysFinite) {
+TEST(NormalLaw, DeepClosureStaysFinite) {
   // g = -1 m is 2e5 σ of closure: exp(2e5) overflows unless the exponent is capped.
-  const ExponentialNormalLaw law = sample_law();
+  const NormalLaw law = sample_law();
   for (const double gap : {-1.0, -1e-2, -1e3, -std::numeric_limits<double>::max()}) {
     EXPECT_TRUE(std::isfinite(law.pressure(gap))) << "gap " << gap;
     EXPECT_TRUE(std::isfinite(law.stiffness(gap))) << "gap " << gap;
@@ -82,7 +82,7 @@ TEST(ExponentialNormalLaw, DeepClosureStaysFinite) {
   EXPECT_GE(law.pressure(-1.0), law.pressure(-1e-3));
   EXPECT_GE(law.pressure(-1e-3), law.pressure(0.0));
   // A huge reference pressure with a large decay: p_N0 exp(700) and λ p_N would both overflow.
-  ExponentialNormalLaw stiff = law;
+  NormalLaw stiff = law;
   stiff.reference_pressure = 1e20;
   stiff.decay = 1e9;
   EXPECT_TRUE(std::isfinite(stiff.pressure(-1.0)));
@@ -92,11 +92,11 @@ TEST(ExponentialNormalLaw, DeepClosureStaysFinite) {
   EXPECT_LT(law.pressure(1.0), 1e-300);
 }
 
-TEST(ExponentialNormalLaw, ValidateNamesTheField) {
+TEST(NormalLaw, ValidateNamesTheField) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   for (const double bad : {0.0, -1.0, nan, inf}) {
-    ExponentialNormalLaw law = sample_law();
+    NormalLaw law = sample_law();
     law.reference_pressure = bad;
     EXPECT_NE(law.validate().find("reference_pressure"), std::string::npos) << law.validate();
     law = sample_law();
@@ -104,11 +104,11 @@ TEST(ExponentialNormalLaw, ValidateNamesTheField) {
     EXPECT_NE(law.validate().find("decay"), std::string::npos) << law.validate();
   }
   for (const double bad : {nan, inf, -inf}) {
-    ExponentialNormalLaw law = sample_law();
+    NormalLaw law = sample_law();
     law.reference_gap = bad;
     EXPECT_NE(law.validate().find("reference_gap"), std::string::npos) << law.validate();
   }
-  ExponentialNormalLaw law = sample_law();
+  NormalLaw law = sample_law();
   law.reference_gap = -2e-6;  // any finite reference gap is valid
   EXPECT_EQ(law.validate(), "");
   law.decay = -1.0;
