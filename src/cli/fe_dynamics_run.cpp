@@ -100,11 +100,12 @@ ordered_json write_fields(pipeline::FePipeline& pipe, const pipeline::BackboneCu
 
 }  // namespace
 
-int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir, ordered_json& summary) {
+std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir,
+                                         ordered_json& summary) {
   const io::FeDynamicsSpec& d = *pipe.analysis().dynamics;
   const bool tty = stderr_is_terminal();
   ProgressPacer pacer;  // a line per point on a terminal, every 10 s in a log
-  int code = 0;
+  std::vector<NamedStatus> curves;
 
   // ---- condensation ------------------------------------------------------------------------
   const pipeline::InterfaceStage& stage = pipe.interface_stage();
@@ -148,17 +149,16 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
           nm.fields > 0 && !b.points.empty() ? write_fields(pipe, b, nm.fields, dir) : ordered_json();
       if (!b.energy_warning.empty())
         std::fprintf(stderr, "warning: damping curve of mode %d: %s\n", mode, b.energy_warning.c_str());
-      if (!b.ok()) code = 1;
+      curves.push_back({fmt::format("nonlinear mode {}", mode), b.status()});
       const auto& bb = b.curve;
       const pipeline::BackbonePoint last = b.points.empty() ? pipeline::BackbonePoint{} : b.points.back();
       std::fprintf(stderr, "damping curve of mode %d: %zu points, f %.6g -> %.6g Hz, zeta %.4g -> %.4g (%s; %.2f s)\n",
                    mode, b.points.size(), bb.linear_omega / kTwoPi, last.frequency_hz, bb.linear_damping_ratio,
                    last.damping_ratio, b.stop_message.c_str(), bb.timings.total);
       std::fprintf(stderr, "  time of the curve: %s\n", bb.timings.breakdown().c_str());
-      summary["backbones"].push_back({{"mode", mode},
-                                      {"status", b.ok() ? "ok" : "stopped"},
-                                      {"message", b.stop_message},
-                                      {"energy_gap", b.energy_gap},
+      ordered_json entry = {{"mode", mode}};
+      put_status(entry, b.status());
+      entry.update(ordered_json{{"energy_gap", b.energy_gap},
                                       {"energy_warning", b.energy_warning},
                                       {"points", b.points.size()},
                                       {"linear_frequency_hz", bb.linear_omega / kTwoPi},
@@ -170,8 +170,8 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
                                       {"newton_iterations", bb.newton_iterations},
                                       {"rejected_steps", bb.rejected_steps},
                                       {"seconds", timings_json(bb.timings)}});
-      if (!fields_json.is_null()) summary["backbones"].back()["fields"] = fields_json;
-      merge_status(summary["backbones"].back(), b.outcome());
+      if (!fields_json.is_null()) entry["fields"] = fields_json;
+      summary["backbones"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }
   }
@@ -194,16 +194,13 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
       };
       const pipeline::FrfCurve r = pipe.frf(level, on_point);
       if (tty) std::fprintf(stderr, "\n");
-      if (!r.ok()) code = 1;
+      curves.push_back({fmt::format("frf level {}", level), r.status()});
       std::fprintf(stderr, "frf F = %g N: %zu points, peak %.4e m at %.6g Hz (%s; %.2f s)\n", r.force, r.points.size(),
                    r.peak_amplitude, r.peak_frequency_hz, r.curve.message.c_str(), r.curve.timings.total);
       std::fprintf(stderr, "  time of the curve: %s\n", r.curve.timings.breakdown().c_str());
-      summary["frfs"].push_back({{"level", level},
-                                 {"force", r.force},
-                                 {"output", r.output},
-                                 {"status", r.ok() ? "ok" : "stopped"},
-                                 {"message", r.curve.message},
-                                 {"points", r.points.size()},
+      ordered_json entry = {{"level", level}, {"force", r.force}, {"output", r.output}};
+      put_status(entry, r.status());
+      entry.update(ordered_json{{"points", r.points.size()},
                                  {"peak_amplitude", r.peak_amplitude},
                                  {"peak_frequency_hz", r.peak_frequency_hz},
                                  {"unknowns", r.curve.unknowns},
@@ -211,11 +208,11 @@ int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir
                                  {"newton_iterations", r.curve.newton_iterations},
                                  {"rejected_steps", r.curve.rejected_steps},
                                  {"seconds", timings_json(r.curve.timings)}});
-      merge_status(summary["frfs"].back(), r.outcome());
+      summary["frfs"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }
   }
-  return code;
+  return curves;
 }
 
 }  // namespace jointhb::cli

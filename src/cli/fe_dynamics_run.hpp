@@ -14,13 +14,16 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "jointhb/pipeline/fe_pipeline.hpp"
 
 namespace jointhb::cli {
 
-/// Returns 0, or 1 when a curve stopped before its end or a stage failed (everything computed is
-/// written). The pipeline's analysis must have dynamics and its model interfaces.
-int run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir, nlohmann::ordered_json& summary);
+/// Returns how each curve ended ("nonlinear mode 1", "frf level 0", ...; everything computed is
+/// written), for the run's status (jointhb::worst). The pipeline's analysis must have dynamics and
+/// its model interfaces.
+std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir,
+                                         nlohmann::ordered_json& summary);
 
 }  // namespace jointhb::cli

@@ -74,8 +74,7 @@ ordered_json static_loads_json(const io::FeCase& c) {
 
 ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   ordered_json pj;
-  pj["status"] = p.converged ? "converged" : "failed";
-  pj["message"] = p.message;
+  put_status(pj, p.status());
   pj["load_factor"] = p.load_factor;
   pj["newton_iterations"] = p.total_iterations;
   pj["factorizations"] = p.factor.factorizations;
@@ -105,7 +104,6 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
                    {"assembly", p.assembly_seconds}, {"factor_and_solve", p.factor_seconds}};
   pj["cache"] = info.from_store ? "hit" : "miss";
   pj["cache_seconds"] = info.store_seconds;
-  merge_status(pj, p.outcome());
   return pj;
 }
 
@@ -116,7 +114,7 @@ void write_preload(const std::filesystem::path& dir, const io::FeCase& c, const 
   for (std::size_t k = 0; k < p.steps.size(); ++k) {
     const auto& s = p.steps[k];
     steps.write_row({static_cast<double>(k + 1), s.load_factor, static_cast<double>(s.iterations),
-                     static_cast<double>(s.line_search_cuts), s.residual, s.converged ? 1.0 : 0.0});
+                     static_cast<double>(s.line_search_cuts), s.residual, s.status().ok() ? 1.0 : 0.0});
   }
   for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
     const auto& r = p.interfaces[i];
@@ -144,8 +142,7 @@ void write_modes(const std::filesystem::path& dir, const io::FeCase& c, const fe
 
 ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& info) {
   ordered_json mj;
-  mj["status"] = m.status == modal::ModalStatus::converged ? "converged" : "failed";
-  mj["message"] = m.message;
+  put_status(mj, m.status());
   mj["frequencies_hz"] = std::vector<double>(m.frequencies_hz.data(), m.frequencies_hz.data() + m.frequencies_hz.size());
   mj["max_residual"] = m.residuals.size() ? m.residuals.maxCoeff() : 0.0;
   mj["max_backward_error"] = m.backward_errors.size() ? m.backward_errors.maxCoeff() : 0.0;
@@ -154,7 +151,6 @@ ordered_json modes_json(const modal::ModalResult& m, const pipeline::StageInfo& 
   mj["seconds"] = m.seconds;
   mj["cache"] = info.from_store ? "hit" : "miss";
   mj["cache_seconds"] = info.store_seconds;
-  merge_status(mj, m.outcome());
   return mj;
 }
 
@@ -171,7 +167,8 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                       {"elements", c.mesh.num_elements()},
                       {"dofs", c.mesh.num_dofs()},
                       {"parts", c.mesh.parts}};
-  int code = 0;
+  std::vector<NamedStatus> parts;  // the stages and curves run, for the run's status
+  const auto all_ok = [&parts] { return worst(parts).ok(); };
   auto cache = std::make_shared<io::StageCache>(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
                                                 run_options.use_cache);
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
@@ -199,18 +196,18 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
     if (info.from_store) {
       std::fprintf(stderr, "preload: from cache (%s): %s (solved in %.2f s, read in %.3f s)\n", info.location.c_str(),
-                   p.message.c_str(), p.seconds, info.store_seconds);
+                   p.status().brief().c_str(), p.seconds, info.store_seconds);
     } else {
       if (tty) std::fprintf(stderr, "\n");
-      std::fprintf(stderr, "preload: %s (%.2f s)\n", p.message.c_str(), p.seconds);
+      std::fprintf(stderr, "preload: %s (%.2f s)\n", p.status().brief().c_str(), p.seconds);
     }
     write_preload(dir, c, p);
     summary["preload"] = preload_json(c, p, info);
-    if (!p.converged) code = 1;
+    parts.push_back({"preload", p.status()});
   }
 
   // ---- modes -----------------------------------------------------------------------------
-  if (pipe.modal_options() && code == 0) {
+  if (pipe.modal_options() && all_ok()) {
     const modal::ModalResult& m = pipe.modes();
     const pipeline::StageInfo& info = pipe.modes_info();
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
@@ -221,26 +218,29 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
       std::fprintf(stderr, "modes: %s\n", m.brief().c_str());
     write_modes(dir, c, pipe.dofs(), m);
     summary["modes"] = modes_json(m, info);
-    if (m.status != modal::ModalStatus::converged) code = 1;
+    parts.push_back({"modes", m.status()});
   }
 
   // ---- condensation, damping curves, FRFs ---------------------------------------------------
-  if (c.dynamics && code == 0) {
+  if (c.dynamics && all_ok()) {
     if (c.interfaces.empty()) {
-      std::fprintf(stderr, "error: analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)\n");
-      code = 1;
+      const std::string error = "analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)";
+      std::fprintf(stderr, "error: %s\n", error.c_str());
+      parts.push_back({"dynamics", {Termination::failed, error}});
     } else {
       write_summary(dir / "summary.json", summary);
       try {
-        code = run_fe_dynamics(pipe, dir, summary);
+        const std::vector<NamedStatus> curves = run_fe_dynamics(pipe, dir, summary);
+        parts.insert(parts.end(), curves.begin(), curves.end());
       } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
-        summary["message"] = e.what();
-        code = 1;
+        parts.push_back({"dynamics", {Termination::failed, e.what()}});
       }
     }
   }
-  summary["status"] = code == 0 ? "ok" : "failed";
+  const Status run = worst(parts);
+  put_run_status(summary, run);
+  const int code = run.ok() ? 0 : 1;
   summary["seconds"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
   std::fprintf(stderr, "done in %.2f s -> %s\n", seconds_since(start), dir.string().c_str());

@@ -21,6 +21,7 @@
 #include "jointhb/pipeline/fe_fit_model.hpp"
 #include "plot_results.hpp"
 #include "run_support.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 
@@ -309,7 +310,10 @@ int FitCommand::run() const {
   const auto& o = section.options;
   Json summary = {
       {"jointhb_version", JOINTHB_VERSION},
-      {"status", r.ok ? "ok" : "failed"},
+      {"status", r.ok ? "ok" : "failed"},  // a fit was found (exit code 0); how the search ended:
+      {"termination", nullptr},              // put_status below (FitResult::status())
+      {"ok", nullptr},
+      {"message", nullptr},
       {"case", source},
       {"parameters", parameters},
       {"objective", r.ok ? Json(r.objective) : Json(nullptr)},
@@ -343,6 +347,7 @@ int FitCommand::run() const {
         {"initial_step", o.initial_step},
         {"jacobian_step", o.jacobian_step}}},
       {"seconds", {{"fit", r.seconds}, {"total", seconds_since(start)}}}};
+  put_status(summary, r.status());
   if (fe_model) {
     summary["options"]["friction_in_dynamics_only"] = section.friction_in_dynamics_only;
     const pipeline::StageCounters& k = fe_pipeline->counters();

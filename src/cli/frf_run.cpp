@@ -130,15 +130,13 @@ Json inputs_json(const io::DiscreteCase& c) {
 
 Json curve_json(std::size_t level, double force, const continuation::FrfCurve& curve,
                 bool check_jacobian) {
-  Json j = {{"level", level},
-            {"force_amplitude", force},
-            {"status", curve.completed() ? "ok" : "failed"},
-            {"stop_reason", std::string(continuation::to_string(curve.reason))},
-            {"message", curve.message},
-            {"points", curve.points.size()},
-            {"newton_iterations", curve.newton_iterations},
-            {"rejected_steps", curve.rejected_steps},
-            {"kept_harmonics", curve.kept_harmonics}};
+  Json j = {{"level", level}, {"force_amplitude", force}};
+  put_status(j, curve.status());
+  j["stop_reason"] = std::string(continuation::to_string(curve.reason));  // the detail of the status
+  j["points"] = curve.points.size();
+  j["newton_iterations"] = curve.newton_iterations;
+  j["rejected_steps"] = curve.rejected_steps;
+  j["kept_harmonics"] = curve.kept_harmonics;
   const continuation::FrfPoint* peak = nullptr;
   int folds = 0;
   for (const auto& p : curve.points) {
@@ -160,7 +158,6 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
                   {"assembly", curve.timings.assembly},
                   {"linear_solve", curve.timings.linear_solve},
                   {"total", curve.timings.total}};
-  merge_status(j, curve.outcome());
   return j;
 }
 
@@ -196,7 +193,7 @@ void check_setup(const io::DiscreteCase& c) {
 }
 
 struct AnalysisOutcome {
-  int failed = 0;
+  std::vector<NamedStatus> curves;  // how each curve ended, for the run's status
   std::size_t rows = 0;
   std::string what;  // for the final line
 };
@@ -234,7 +231,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       curve.reason = continuation::StopReason::start_failed;
       curve.message = e.what();
     }
-    if (!curve.completed()) ++outcome.failed;
+    outcome.curves.push_back({fmt::format("frf level {}", l), curve.status()});
     summary["curves"].push_back(curve_json(l, force, curve, options.check_jacobian));
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
     if (!curve.completed()) {
@@ -294,12 +291,11 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
       curve.message = e.what();
     }
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
-    outcome.failed += curve.completed() ? 0 : 1;
-    summary["backbones"].push_back(
-        {{"mode", mode},
-         {"status", curve.completed() ? "ok" : "failed"},
-         {"stop_reason", std::string(continuation::to_string(curve.reason))},
-         {"message", curve.message},
+    outcome.curves.push_back({fmt::format("nonlinear mode {}", mode), curve.status()});
+    Json entry = {{"mode", mode}};
+    put_status(entry, curve.status());
+    entry["stop_reason"] = std::string(continuation::to_string(curve.reason));  // the detail
+    entry.update(Json{
          {"linear_omega", curve.linear_omega},
          {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},
          {"linear_damping_ratio", curve.linear_damping_ratio},
@@ -308,7 +304,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
          {"rejected_steps", curve.rejected_steps},
          {"seconds", curve.seconds},
          {"curve", points}});
-    merge_status(summary["backbones"].back(), curve.outcome());
+    summary["backbones"].push_back(std::move(entry));
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
                                mode, curve.points.size(), curve.message);
@@ -331,8 +327,7 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
   if (c.frf) analyses.push_back("frf");
   if (c.nonlinear_modes) analyses.push_back("nonlinear_modes");
   Json summary = {{"jointhb_version", JOINTHB_VERSION},
-                  {"status", "ok"},
-                  {"message", ""},
+                  {"status", "ok"},  // the run's status below: "ok" or "failed", as the exit code
                   {"case", c.source},
                   {"analyses", analyses},
                   {"inputs", inputs_json(c)},
@@ -344,21 +339,19 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
   std::vector<AnalysisOutcome> outcomes;
   if (c.frf) outcomes.push_back(run_frf(c, pipe, dir, summary));
   if (c.nonlinear_modes) outcomes.push_back(run_backbone(c, pipe, dir, summary));
-  int failed = 0;
+  std::vector<NamedStatus> curves;
   std::string what;
   for (const auto& o : outcomes) {
-    failed += o.failed;
+    curves.insert(curves.end(), o.curves.begin(), o.curves.end());
     what += (what.empty() ? "" : " and ") + o.what;
   }
-  if (failed > 0) {
-    summary["status"] = "failed";
-    summary["message"] = fmt::format("{} curve(s) stopped before the end of the range", failed);
-  }
+  const Status run = worst(curves);
+  put_run_status(summary, run);
   summary["seconds"]["total"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
   std::cerr << fmt::format("jointhb run: {}: {} in {:.3g} s; wrote {}\n", c.source, what,
                            seconds_since(start), dir.string());
-  return failed > 0 ? exit_failure : exit_ok;
+  return run.ok() ? exit_ok : exit_failure;
 }
 
 }  // namespace jointhb::cli

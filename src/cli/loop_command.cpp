@@ -15,6 +15,7 @@
 #include "jointhb/contact/harmonic_loop.hpp"
 #include "jointhb/io/csv_writer.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -223,7 +224,7 @@ int LoopCommand::run() const {
     throw std::runtime_error("run_loop returned sample vectors of different lengths");
   }
 
-  const bool converged = r.state.status == contact::PeriodicStatus::converged;
+  const bool converged = r.state.termination == jointhb::Termination::converged;
   const bool sliding =
       peak_limit_ratio(r, options.friction_coefficient) >= 1.0 - gross_slip_tolerance;
   const std::string regime = sliding ? "gross slip" : (jenkins ? "stick" : "microslip");
@@ -277,10 +278,12 @@ int LoopCommand::run() const {
           {"kt_follows_normal", options.stiffness_follows_normal}}},
         {"iterations", r.state.iterations},
         {"residual", r.state.residual},
-        {"converged", converged},
-        {"message", r.state.message},
+        {"termination", nullptr},  // put_status below: the periodic state's status()
+        {"ok", nullptr},
+        {"message", nullptr},
         {"seconds", r.seconds},
     };
+    put_status(out, r.state.status());
     if (!csv_path_.empty()) out["csv"] = csv_path_;
     std::cout << out.dump(2) << '\n';
   } else {

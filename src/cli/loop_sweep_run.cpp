@@ -12,6 +12,7 @@
 #include "jointhb/contact/harmonic_loop.hpp"
 #include "jointhb/io/csv_writer.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "status_json.hpp"
 
 namespace jointhb::cli {
 namespace {
@@ -27,9 +28,9 @@ double relative_error(double formula, double reference) {
 }
 
 struct SweepOutcome {
-  bool ok = true;
-  int exit_code = exit_ok;
-  std::string message;
+  /// The run's status: reached_end when every amplitude was computed, failed (with the point and
+  /// why) when one threw.
+  Status run{Termination::reached_end, {}};
   int points_done = 0;
   double max_rel_err_general = 0.0;
   double max_rel_err_paper = 0.0;
@@ -60,7 +61,7 @@ void run_point(const io::LoopSweepCase& c, double ratio, io::CsvWriter& csv,
   options.time_samples = c.time_samples;
 
   const contact::LoopResult r = contact::run_loop(options);
-  if (r.state.status != contact::PeriodicStatus::converged) {
+  if (r.state.termination != jointhb::Termination::converged) {
     throw std::runtime_error(
         fmt::format("periodic state not converged after {} iterations (residual {}){}",
                     r.state.iterations, io::format_number(r.state.residual),
@@ -97,8 +98,7 @@ nlohmann::ordered_json summary_json(const io::LoopSweepCase& c, const SweepOutco
   const bool built_in = c.source == "built-in";
   nlohmann::ordered_json summary = {
       {"jointhb_version", JOINTHB_VERSION},
-      {"status", outcome.ok ? "ok" : "failed"},
-      {"message", outcome.message},
+      {"status", nullptr},  // the run's status, by put_run_status below
       {"case", c.source},
       {"description", built_in ? "built-in default case" : "case file"},
       {"analysis", "loop_sweep"},
@@ -125,6 +125,7 @@ nlohmann::ordered_json summary_json(const io::LoopSweepCase& c, const SweepOutco
     summary["max_rel_err_general"] = outcome.max_rel_err_general;
     summary["max_rel_err_paper"] = outcome.max_rel_err_paper;
   }
+  put_run_status(summary, outcome.run);
   return summary;
 }
 
@@ -153,16 +154,15 @@ int run_loop_sweep(const io::LoopSweepCase& c, const fs::path& dir, Clock::time_
       }
     }
   } catch (const std::exception& e) {
-    outcome.ok = false;
-    outcome.message = e.what();
+    outcome.run = {Termination::failed, e.what()};
   }
   if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';  // the summary replaces it
 
   const double seconds = seconds_since(start);
   write_summary(dir / "summary.json", summary_json(c, outcome, seconds));
   const std::string what = built_in ? "built-in default case" : c.source;
-  if (!outcome.ok) {
-    std::cerr << "jointhb run: " << what << ": failed: " << outcome.message << " ("
+  if (!outcome.run.ok()) {
+    std::cerr << "jointhb run: " << what << ": failed: " << outcome.run.message << " ("
               << outcome.points_done << " rows kept in " << (dir / "wd_sweep.csv").string()
               << ")\n";
     return exit_failure;

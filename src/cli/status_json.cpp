@@ -11,24 +11,29 @@ nlohmann::ordered_json to_json(const Status& status) {
           {"message", status.message}};
 }
 
-void merge_status(nlohmann::ordered_json& block, const Status& status) {
-  if (!block.is_object()) throw std::invalid_argument("merge_status: the status block is not a JSON object");
+void put_status(nlohmann::ordered_json& block, const Status& status) {
+  if (!block.is_object() && !block.is_null())
+    throw std::invalid_argument("put_status: the status block is not a JSON object");
   const nlohmann::ordered_json add = to_json(status);
-  // Rebuilt rather than appended: ordered_json keeps insertion order, and a reader of summary.json
-  // should find the termination next to the old "status" it refines.
+  for (auto it = add.begin(); it != add.end(); ++it) block[it.key()] = it.value();
+}
+
+void put_run_status(nlohmann::ordered_json& summary, const Status& run) {
+  if (!summary.is_object()) throw std::invalid_argument("put_run_status: summary is not a JSON object");
+  nlohmann::ordered_json head = {{"status", run.ok() ? "ok" : "failed"}};
+  put_status(head, run);
+  // Rebuilt rather than assigned: ordered_json keeps insertion order, and a reader should find
+  // the termination next to "status".
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  const auto put_new = [&] {
-    out["termination"] = add["termination"];
-    out["ok"] = add["ok"];
-  };
-  if (!block.contains("status")) put_new();
-  for (auto it = block.begin(); it != block.end(); ++it) {
-    if (it.key() == "termination" || it.key() == "ok") continue;  // replaced by this status
+  if (!summary.contains("status")) out.update(head);
+  for (auto it = summary.begin(); it != summary.end(); ++it) {
+    if (head.contains(it.key())) {
+      if (it.key() == "status") out.update(head);
+      continue;
+    }
     out[it.key()] = it.value();
-    if (it.key() == "status") put_new();
   }
-  if (!out.contains("message")) out["message"] = add["message"];
-  block = std::move(out);
+  summary = std::move(out);
 }
 
 }  // namespace jointhb::cli

@@ -89,13 +89,11 @@ Sweep sweep(const TangentialLaw& law, const PeriodicPath& path, const Vec2& t0,
 
 }  // namespace
 
-Status PeriodicStateResult::outcome() const {
-  const Termination t =
-      status == PeriodicStatus::converged ? Termination::converged : Termination::no_convergence;
-  if (!message.empty()) return {t, message};
+Status PeriodicStateResult::status() const {
+  if (!message.empty()) return {termination, message};
   char line[96];
   std::snprintf(line, sizeof line, "%d iterations, residual %.3g", iterations, residual);
-  return {t, line};
+  return {termination, line};
 }
 
 std::string PeriodicStateOptions::validate() const {
@@ -151,7 +149,7 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
     const bool stagnated =
         newton_steps >= 3 && residual > 0.5 * previous_residual && residual <= 64.0 * noise;
     if (residual <= options.tolerance * s.scale || residual <= 2.0 * noise || stagnated) {
-      result.status = PeriodicStatus::converged;
+      result.termination = Termination::converged;
       if (stagnated && residual > best_residual) t = best_t;
       break;
     }
@@ -215,7 +213,7 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
       residual = next_r;
     }
   }
-  if (result.status != PeriodicStatus::converged) t = best_t;  // the best state found
+  if (result.termination != Termination::converged) t = best_t;  // the best state found
 
   if (options.keep_step_derivatives) {
     result.d_traction.assign(n, Mat2::Zero());
@@ -226,7 +224,7 @@ PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const Periodi
   const Sweep final_sweep = sweep(law, path, t, &result);
   result.monodromy = final_sweep.monodromy;
   result.residual = (final_sweep.end - t).norm();
-  if (result.status != PeriodicStatus::converged) {
+  if (result.termination != Termination::converged) {
     result.message = "periodic state not converged after " + std::to_string(result.iterations) +
                      " periods; residual " + std::to_string(result.residual);
   }

@@ -29,4 +29,14 @@ std::string Status::brief() const {
   return out;
 }
 
+Status worst(std::span<const NamedStatus> parts) {
+  const NamedStatus* worst_part = nullptr;
+  for (const NamedStatus& part : parts)
+    if (worst_part == nullptr || part.status.termination > worst_part->status.termination) worst_part = &part;
+  if (worst_part == nullptr) return {Termination::converged, {}};
+  const Status& s = worst_part->status;
+  if (worst_part->name.empty()) return s;
+  return {s.termination, s.message.empty() ? worst_part->name : worst_part->name + ": " + s.message};
+}
+
 }  // namespace jointhb

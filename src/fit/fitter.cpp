@@ -46,7 +46,7 @@ std::string FitOptions::validate() const {
   return "";
 }
 
-Status FitResult::outcome() const {
+Status FitResult::status() const {
   // The one translation of NLopt's result names (nlopt_result_to_string) to the status convention.
   const std::string line =
       fmt::format("{} after {} evaluations, S = {:.6g}", stop_reason, evaluations, objective);

@@ -54,7 +54,7 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
   r.dissipation = state.dissipation;
   r.stuck = state.stuck;
   r.iterations = state.iterations;
-  r.converged = state.status == contact::PeriodicStatus::converged;
+  r.converged = state.termination == Termination::converged;
   r.message = state.message;
   if (!options.jacobian) return r;
 

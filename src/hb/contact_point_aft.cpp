@@ -287,7 +287,7 @@ ContactPointAftResult evaluate_contact_point(const contact::ContactPoint& point,
     r.dissipation = state.tangential.dissipation;
     r.stuck = state.tangential.stuck;
     r.iterations = state.tangential.iterations;
-    r.converged = state.tangential.status == contact::PeriodicStatus::converged;
+    r.converged = state.tangential.termination == Termination::converged;
     r.drift = state.tangential.residual;
     if (!r.converged && (options.drift_limit > 0.0 || options.drift_ratio > 0.0)) {
       const Eigen::MatrixXd t = r.traction_samples.leftCols<2>();

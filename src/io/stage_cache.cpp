@@ -45,7 +45,7 @@ using support::file_bytes;
 // contact::ContactPoint: a law object, not data) is counted but deliberately not stored: the
 // caller passes the laws to load_interface_model.
 using detail::aggregate_field_count;
-static_assert(aggregate_field_count<preload::PreloadStep>() == 7,
+static_assert(aggregate_field_count<preload::PreloadStep>() == 8,
               "PreloadStep gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
 static_assert(aggregate_field_count<fe::InterfaceContactState>() == 8,
               "InterfaceContactState gained or lost a field: serialise it in stage_cache.cpp and bump "
@@ -606,6 +606,18 @@ void put(RecordWriter& w, const fe::SparseCholeskyStatistics& s) {
   w.float64("factorize_seconds", s.factorize_seconds);
 }
 
+// A Termination (contact/termination.hpp) as an enumeration field: its enumerator's value.
+void put_termination(RecordWriter& w, Termination t) {
+  w.enumeration("termination", static_cast<std::uint8_t>(t));
+}
+
+Termination get_termination(RecordReader& r, std::string_view type) {
+  const std::uint8_t t = r.enumeration("termination");
+  if (t > static_cast<std::uint8_t>(Termination::failed))
+    throw std::runtime_error(fmt::format("{}: field 'termination' has no enumerator {}", type, t));
+  return static_cast<Termination>(t);
+}
+
 fe::SparseCholeskyStatistics get_factor(RecordReader& r) {
   fe::SparseCholeskyStatistics s;
   s.rows = r.int64("rows");
@@ -626,7 +638,7 @@ fe::SparseCholeskyStatistics get_factor(RecordReader& r) {
 
 std::string encode_preload(const preload::PreloadResult& p) {
   return encode_payload("PreloadResult", [&](RecordWriter& w) {
-    w.boolean("converged", p.converged);
+    put_termination(w, p.termination);
     w.string("message", p.message);
     w.records("steps", "PreloadStep", p.steps, [](RecordWriter& ws, const preload::PreloadStep& s) {
       ws.float64("load_factor", s.load_factor);
@@ -635,7 +647,8 @@ std::string encode_preload(const preload::PreloadResult& p) {
       ws.int32("chord_iterations", s.chord_iterations);
       ws.int32("line_search_cuts", s.line_search_cuts);
       ws.float64("residual", s.residual);
-      ws.boolean("converged", s.converged);
+      put_termination(ws, s.termination);
+      ws.string("message", s.message);
     });
     w.reals("displacement", p.displacement);
     w.float64("load_factor", p.load_factor);
@@ -680,7 +693,7 @@ std::string encode_preload(const preload::PreloadResult& p) {
 preload::PreloadResult decode_preload(std::string_view payload) {
   return decode_payload(payload, "PreloadResult", [](RecordReader& r) {
     preload::PreloadResult p;
-    p.converged = r.boolean("converged");
+    p.termination = get_termination(r, "PreloadResult");
     p.message = r.string("message");
     p.steps = r.records("steps", "PreloadStep", [](RecordReader& rs) {
       preload::PreloadStep s;
@@ -690,7 +703,8 @@ preload::PreloadResult decode_preload(std::string_view payload) {
       s.chord_iterations = rs.int32("chord_iterations");
       s.line_search_cuts = rs.int32("line_search_cuts");
       s.residual = rs.float64("residual");
-      s.converged = rs.boolean("converged");
+      s.termination = get_termination(rs, "PreloadStep");
+      s.message = rs.string("message");
       return s;
     });
     p.displacement = r.vector("displacement");
@@ -742,7 +756,7 @@ preload::PreloadResult decode_preload(std::string_view payload) {
 
 std::string encode_modes(const modal::ModalResult& m) {
   return encode_payload("ModalResult", [&](RecordWriter& w) {
-    w.enumeration("status", static_cast<std::uint8_t>(m.status));
+    put_termination(w, m.termination);
     w.string("message", m.message);
     w.reals("eigenvalues", m.eigenvalues);
     w.reals("frequencies_hz", m.frequencies_hz);
@@ -765,10 +779,7 @@ std::string encode_modes(const modal::ModalResult& m) {
 modal::ModalResult decode_modes(std::string_view payload) {
   return decode_payload(payload, "ModalResult", [](RecordReader& r) {
     modal::ModalResult m;
-    const std::uint8_t status = r.enumeration("status");
-    if (status > static_cast<std::uint8_t>(modal::ModalStatus::failed))
-      throw std::runtime_error(fmt::format("ModalResult: field 'status' has no enumerator {}", status));
-    m.status = static_cast<modal::ModalStatus>(status);
+    m.termination = get_termination(r, "ModalResult");
     m.message = r.string("message");
     m.eigenvalues = r.vector("eigenvalues");
     m.frequencies_hz = r.vector("frequencies_hz");

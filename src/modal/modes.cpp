@@ -135,24 +135,9 @@ std::string ModalResult::brief() const {
   return line;
 }
 
-Status ModalResult::outcome() const {
-  // The one translation of ModalStatus to the status convention (contact/termination.hpp).
-  Termination t = Termination::failed;
-  switch (status) {
-    case ModalStatus::converged:
-      t = Termination::converged;
-      break;
-    case ModalStatus::not_converged:
-      t = Termination::no_convergence;
-      break;
-    case ModalStatus::failed:
-      t = Termination::failed;
-      break;
-  }
-  std::string line = message;
-  if (line.empty())
-    line = std::to_string(eigenvalues.size()) + " of " + std::to_string(requested) + " modes converged";
-  return {t, std::move(line)};
+Status ModalResult::status() const {
+  if (!message.empty()) return {termination, message};
+  return {termination, std::to_string(eigenvalues.size()) + " of " + std::to_string(requested) + " modes converged"};
 }
 
 ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
@@ -190,7 +175,7 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
         Eigen::SparseMatrix<double>(K - options.shift * M).triangularView<Eigen::Lower>();
     factor.compute(shifted);
   } catch (const std::runtime_error& error) {
-    result.status = ModalStatus::failed;
+    result.termination = Termination::failed;
     result.message = "K - sigma*M (sigma = " + fmt_double(options.shift) +
                      ") is not positive definite: sigma must lie below the lowest eigenvalue and "
                      "K be positive semi-definite, M positive definite (" +
@@ -250,7 +235,7 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
 
   std::string message;
   if (info < 0) {
-    result.status = ModalStatus::failed;
+    result.termination = Termination::failed;
     result.message = "ARPACK dsaupd: " + dsaupd_message(info, ncv);
     result.lanczos_seconds = support::seconds_since(lanczos_start);
     result.seconds = support::seconds_since(start);
@@ -262,7 +247,7 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
               " modes converged: " +
               (info == 0 ? std::string("fewer than requested") : dsaupd_message(info, ncv));
   if (converged == 0) {
-    result.status = ModalStatus::not_converged;
+    result.termination = Termination::no_convergence;
     result.message = message;
     result.lanczos_seconds = support::seconds_since(lanczos_start);
     result.seconds = support::seconds_since(start);
@@ -278,7 +263,7 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
            workd.data(), workl.data(), lworkl, &eupd_info);
   result.lanczos_seconds = support::seconds_since(lanczos_start);
   if (eupd_info != 0) {
-    result.status = ModalStatus::failed;
+    result.termination = Termination::failed;
     result.message = "ARPACK dseupd: " + dseupd_message(eupd_info);
     result.seconds = support::seconds_since(start);
     return result;
@@ -326,8 +311,8 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
     result.backward_errors(j) = r / ((norm_k + std::abs(lambda) * norm_m) * phi.norm());
     result.shapes.col(j) = phi;
   }
-  result.status = (m == nev) ? ModalStatus::converged : ModalStatus::not_converged;
-  result.message = result.status == ModalStatus::converged ? std::string() : message;
+  result.termination = (m == nev) ? Termination::converged : Termination::no_convergence;
+  result.message = result.termination == Termination::converged ? std::string() : message;
   result.seconds = support::seconds_since(start);
   return result;
 }

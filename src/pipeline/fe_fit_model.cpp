@@ -74,7 +74,7 @@ void FeFitModel::set(const std::vector<double>& values) {
 fit::PredictedCurve FeFitModel::modal_curve() {
   fit::PredictedCurve curve;
   const modal::ModalResult& m = pipeline_.modes();
-  if (m.status != modal::ModalStatus::converged) return failed("modes: " + m.message);
+  if (m.termination != Termination::converged) return failed("modes: " + m.message);
   double a = 0.0, b = 0.0;  // Rayleigh damping as the dynamic stage resolves it
   if (pipeline_.analysis().dynamics) {
     const InterfaceSettings s = resolve_interface_settings(*pipeline_.analysis().dynamics, pipeline_.modal_options(), m);
@@ -108,7 +108,7 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
     curve.damping_ratio.push_back(pt.state.damping_ratio);
     lambdas.push_back(std::log10(pt.state.amplitude));
   }
-  if (!bb.ok()) curve.message = bb.stop_message;  // points beyond the last one fail in residuals()
+  if (!bb.status().ok()) curve.message = bb.stop_message;  // points beyond the last one fail in residuals()
   // The values at the measured amplitudes on the curve itself (not interpolated between
   // continuation points, whose error would move with the parameters).
   hb::InterfaceModeOptions mo;
@@ -155,7 +155,7 @@ fit::PredictedCurve FeFitModel::frf_curve(const fit::Target& t) {
     curve.abscissa.push_back(pt.frequency_hz);
     curve.amplitude.push_back(pt.amplitude_h1);
   }
-  if (!r.ok()) curve.message = r.curve.message;
+  if (!r.status().ok()) curve.message = r.curve.message;
   return curve;
 }
 
@@ -163,9 +163,9 @@ fit::ModelPrediction FeFitModel::predict(const std::vector<double>& values) {
   fit::ModelPrediction out;
   try {
     set(values);
-    if (pipeline_.needs_preload() && !pipeline_.preload().converged)
+    if (pipeline_.needs_preload() && !pipeline_.preload().status().ok())
       throw StageError("preload: " + pipeline_.preload().message);
-    if (pipeline_.modes().status != modal::ModalStatus::converged) throw StageError("modes: " + pipeline_.modes().message);
+    if (pipeline_.modes().termination != Termination::converged) throw StageError("modes: " + pipeline_.modes().message);
     for (const fit::Target& t : targets_) {
       if (t.kind == fit::TargetKind::modal)
         out.curves.push_back(modal_curve());

@@ -91,7 +91,7 @@ const preload::PreloadResult& FePipeline::preload() {
   } else {
     preload_ = preload::solve_preload(structure(), analysis_.preload);
     ++counters_.preload_solved;
-    if (preload_->converged) {
+    if (preload_->status().ok()) {
       const auto store_start = Clock::now();
       store_->store_preload(key, *preload_);
       info.store_seconds = seconds_since(store_start);
@@ -108,7 +108,7 @@ const modal::ModalResult& FePipeline::modes() {
     return *modes_;
   }
   const bool preloaded = needs_preload();
-  if (preloaded && !preload().converged) throw StageError("preload: " + preload_->message);
+  if (preloaded && !preload().status().ok()) throw StageError("preload: " + preload_->message);
   StageInfo info;
   info.key = key;
   info.location = store_->location("modes", key);
@@ -128,7 +128,7 @@ const modal::ModalResult& FePipeline::modes() {
     modes_ = modal::compute_modes(dofs().restrict(stiffness), dofs().restrict(structure().structure.mass),
                                   modal_options().value_or(modal::ModalOptions{}));
     ++counters_.modes_solved;
-    if (modes_->status == modal::ModalStatus::converged) {
+    if (modes_->termination == Termination::converged) {
       const auto store_start = Clock::now();
       store_->store_modes(key, *modes_);
       info.store_seconds = seconds_since(store_start);
@@ -167,7 +167,7 @@ const InterfaceStage& FePipeline::interface_stage() {
     throw std::invalid_argument("analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)");
   const FeDynamicsSpec& d = *analysis_.dynamics;
   const modal::ModalResult& m = modes();
-  if (m.status != modal::ModalStatus::converged) throw StageError("modes: " + m.message);
+  if (m.termination != Termination::converged) throw StageError("modes: " + m.message);
   InterfaceSettings settings = resolve_interface_settings(d, modal_options(), m);
   const reduction::ModalLoad load = load_vector();
   const std::vector<reduction::ModalOutputSpec> outputs = output_vectors();
@@ -332,7 +332,7 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
   return out;
 }
 
-Status BackboneCurve::outcome() const {
+Status BackboneCurve::status() const {
   // The pipeline's accept stops the continuation for three reasons of its own, which the
   // continuation records alike as stopped_by_user; the flags and the failure message tell them
   // apart. A point on the end is complete whatever the callback said (as in ok()).
@@ -343,7 +343,7 @@ Status BackboneCurve::outcome() const {
   return {continuation::termination(curve.reason), stop_message};
 }
 
-Status FrfCurve::outcome() const {
+Status FrfCurve::status() const {
   if (curve.completed()) return {Termination::reached_end, curve.message};
   if (stopped_by_callback) return {Termination::stopped_by_user, curve.message};
   if (curve.reason == continuation::StopReason::stopped_by_user)  // a non-finite point

@@ -33,10 +33,6 @@ std::string PreloadOptions::validate() const {
 
 namespace {
 
-// How the message of a load step that ran out of Newton iterations starts: PreloadResult::outcome()
-// recognises it (see there for why the message, not a field).
-constexpr std::string_view kIterationLimit = "no convergence in ";
-
 using SpMat = Eigen::SparseMatrix<double>;
 using support::seconds_since;
 
@@ -267,22 +263,6 @@ Eigen::SparseMatrix<double> dynamic_stiffness(const PreloadModel& model,
   return model.structure.stiffness + extra;
 }
 
-Status PreloadResult::outcome() const {
-  // The one translation of `converged` + `message` to the status convention
-  // (contact/termination.hpp). A failed load step either ran out of Newton iterations (more may
-  // help: no_convergence) or broke down (the tangent could not be factored, the line search found
-  // no decrease: failed). The result has no field for which: adding one would change the stage
-  // cache's layout (io/stage_cache.cpp, a new stage_cache_format) for a distinction the message
-  // already makes, and the message is written only by solve_preload, above, and kept by the cache.
-  if (converged) {  // the message says "converged: …" itself, which brief() adds again
-    constexpr std::string_view prefix = "converged: ";
-    const bool has = message.starts_with(prefix);
-    return {Termination::converged, has ? message.substr(prefix.size()) : message};
-  }
-  const bool limit = message.find(kIterationLimit) != std::string::npos;
-  return {limit ? Termination::no_convergence : Termination::failed, message};
-}
-
 PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (const std::string msg = options.validate(); !msg.empty())
@@ -324,7 +304,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   Evaluation last;
   // The factor may serve the next iteration as a chord step (reuse_factor_ratio).
   bool try_chord = false;
-  result.converged = true;
+  result.termination = Termination::converged;
   for (int k = 1; k <= options.load_steps; ++k) {
     PreloadStep step;
     step.load_factor = static_cast<double>(k) / options.load_steps;
@@ -332,17 +312,17 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
     Evaluation ev = evaluate(model, u, load, result.contact_seconds);
     double norm = dofs.restrict(ev.residual).norm();
     Eigen::VectorXd u_step = u;
-    std::string failure;
     for (int it = 0;; ++it) {
       step.residual = norm / reference;
       if (options.progress) options.progress(k, it, step.residual);
       if (step.residual <= options.residual_tolerance) {
-        step.converged = true;
+        step.termination = Termination::converged;
         break;
       }
       if (it == options.max_iterations) {
-        failure = fmt::format("{}{} iterations (relative residual {:.3e} > {:.1e})", kIterationLimit,
-                              options.max_iterations, step.residual, options.residual_tolerance);
+        step.termination = Termination::no_convergence;
+        step.message = fmt::format("no convergence in {} iterations (relative residual {:.3e} > {:.1e})",
+                                   options.max_iterations, step.residual, options.residual_tolerance);
         break;
       }
       if (try_chord && cholesky.factorized()) {
@@ -378,7 +358,8 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
         cholesky.factorize(free);
         ++step.factorizations;
       } catch (const std::exception& error) {
-        failure = fmt::format("the tangent stiffness could not be factored ({}); an interface may "
+        step.termination = Termination::failed;
+        step.message = fmt::format("the tangent stiffness could not be factored ({}); an interface may "
                               "have opened completely or the parts are not held",
                               error.what());
         break;
@@ -405,18 +386,19 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
         ++step.line_search_cuts;
       }
       if (!accepted) {
-        failure = fmt::format("the line search found no decrease after {} halvings (relative "
-                              "residual {:.3e})",
-                              options.max_line_search, step.residual);
+        step.termination = Termination::failed;
+        step.message = fmt::format("the line search found no decrease after {} halvings (relative "
+                                   "residual {:.3e})",
+                                   options.max_line_search, step.residual);
         break;
       }
     }
     result.steps.push_back(step);
-    if (!step.converged) {
-      result.converged = false;
+    if (step.termination != Termination::converged) {
+      result.termination = step.termination;
       result.message = fmt::format("preload step {}/{} (load factor {:.3g}): {}; the last converged "
                                    "state (load factor {:.3g}) is kept",
-                                   k, options.load_steps, step.load_factor, failure,
+                                   k, options.load_steps, step.load_factor, step.message,
                                    result.load_factor);
       break;
     }
@@ -440,8 +422,8 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
     result.support_reaction = max_preload > 0.0 ? reaction / max_preload : reaction;
   }
   result.dynamic_stiffness = dynamic_stiffness(model, u);
-  if (result.converged) {
-    result.message = fmt::format("converged: {} load steps, {} Newton iterations ({} factorisations)",
+  if (result.termination == Termination::converged) {
+    result.message = fmt::format("{} load steps, {} Newton iterations ({} factorisations)",
                                  options.load_steps, result.total_iterations,
                                  result.factor.factorizations);
   }

@@ -75,11 +75,17 @@ py::dict stage_dict(const pipeline::StageInfo& info) {
   return d;
 }
 
+// The status convention (contact/termination.hpp) in a result's dict, as in summary.json:
+// "termination", "ok" and "message", all from the result's status().
+void put_status(py::dict& d, const Status& status) {
+  d["termination"] = std::string(to_string(status.termination));
+  d["ok"] = status.ok();
+  d["message"] = status.message;
+}
+
 py::dict preload_dict(const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   py::dict d;
-  d["converged"] = p.converged;
-  d["termination"] = std::string(to_string(p.outcome().termination));  // contact/termination.hpp
-  d["message"] = p.message;
+  put_status(d, p.status());
   d["load_factor"] = p.load_factor;
   d["newton_iterations"] = p.total_iterations;
   d["displacement"] = p.displacement;
@@ -105,9 +111,7 @@ py::dict preload_dict(const preload::PreloadResult& p, const pipeline::StageInfo
 
 py::dict modes_dict(const modal::ModalResult& m, const pipeline::StageInfo& info) {
   py::dict d;
-  d["converged"] = m.status == modal::ModalStatus::converged;
-  d["termination"] = std::string(to_string(m.outcome().termination));
-  d["message"] = m.message;
+  put_status(d, m.status());
   d["frequencies_hz"] = m.frequencies_hz;
   d["elastic_frequencies_hz"] = pipeline::elastic_frequencies(m);
   d["residuals"] = m.residuals;
@@ -137,10 +141,20 @@ py::dict interface_dict(const pipeline::InterfaceStage& s) {
   return d;
 }
 
-std::string curve_status(bool ok, bool interrupted, bool stopped) {
+// A curve's "status" in the Python package: its termination, with Ctrl-C told apart from a
+// callback's stop (both are stopped_by_user): "interrupted" (KeyboardInterrupt), "ok" (ok()),
+// "stopped" (stopped_by_user: a callback returned False), else "failed".
+std::string curve_status(const Status& status, bool interrupted) {
   if (interrupted) return "interrupted";
-  if (ok) return "ok";
-  return stopped ? "stopped" : "failed";
+  if (status.ok()) return "ok";
+  return status.termination == Termination::stopped_by_user ? "stopped" : "failed";
+}
+
+// put_status and "status" for a curve; the message says so when Ctrl-C stopped it.
+void put_curve_status(py::dict& d, const Status& status, bool interrupted) {
+  d["status"] = curve_status(status, interrupted);
+  put_status(d, status);
+  if (interrupted) d["message"] = "interrupted (KeyboardInterrupt); the accepted points are kept";
 }
 
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
@@ -157,11 +171,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["slipping_points"] = column(b.points, [](const P& p) { return double(p.slipping_points); });
   d["open_points"] = column(b.points, [](const P& p) { return double(p.open_points); });
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
-  d["status"] = curve_status(b.ok(), interrupted, b.stopped_by_callback || b.reached_frequency_drop);
-  d["ok"] = b.ok();
-  d["termination"] = std::string(to_string(b.outcome().termination));  // Ctrl-C: stopped_by_user
-  d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
-                             : b.stop_message;
+  put_curve_status(d, b.status(), interrupted);  // Ctrl-C: stopped_by_user
   d["energy_gap"] = b.energy_gap;
   d["energy_warning"] = b.energy_warning;
   d["linear_frequency_hz"] = b.curve.linear_omega / kTwoPi;
@@ -187,11 +197,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
   d["slipping_points"] = column(r.points, [](const P& p) { return double(p.slipping_points); });
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
-  d["status"] = curve_status(r.ok(), interrupted, r.stopped_by_callback);
-  d["ok"] = r.ok();
-  d["termination"] = std::string(to_string(r.outcome().termination));
-  d["message"] = interrupted ? std::string("interrupted (KeyboardInterrupt); the accepted points are kept")
-                             : r.curve.message;
+  put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
   d["peak_frequency_hz"] = r.peak_frequency_hz;
   d["unknowns"] = r.curve.unknowns;
@@ -587,10 +593,7 @@ class DiscreteModel {
     d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
     d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
-    d["status"] = curve_status(r.completed(), on_point.interrupted(), r.reason == continuation::StopReason::stopped_by_user);
-    d["ok"] = r.completed();
-    d["termination"] = std::string(to_string(r.outcome().termination));
-    d["message"] = r.message;
+    put_curve_status(d, r.status(), on_point.interrupted());
     d["harmonics"] = r.kept_harmonics;
     d["seconds"] = r.timings.total;
     return d;
@@ -620,10 +623,7 @@ class DiscreteModel {
     d["damping_ratio"] = column(b.points, [](const P& p) { return p.state.damping_ratio; });
     d["W_D"] = column(b.points, [](const P& p) { return p.state.dissipation; });
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
-    d["status"] = curve_status(b.completed(), on_point.interrupted(), b.reason == continuation::StopReason::stopped_by_user);
-    d["ok"] = b.completed();
-    d["termination"] = std::string(to_string(b.outcome().termination));
-    d["message"] = b.message;
+    put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;
     d["seconds"] = b.seconds;

@@ -100,7 +100,7 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
   modal::ModalResult modes;
   for (;;) {
     modes = modal::compute_modes(K_ii, M_ii, mo);
-    if (modes.status != modal::ModalStatus::converged)
+    if (modes.termination != Termination::converged)
       throw std::runtime_error("Craig-Bampton: fixed-interface modes: " + modes.message);
     const bool above = modes.eigenvalues[modes.eigenvalues.size() - 1] > cutoff_lambda;
     if (above || mo.count >= std::min(options.max_modes, ni - 1)) {

@@ -127,8 +127,8 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   if (preload.interfaces.size() != model.interfaces.size())
     throw std::invalid_argument(fmt::format("modal interface: preload.interfaces: the preload has {} interfaces, the model {}",
                                             preload.interfaces.size(), model.interfaces.size()));
-  if (!preload.converged)
-    throw std::invalid_argument("modal interface: preload.converged: the preload did not converge (" + preload.message + ")");
+  if (!preload.status().ok())
+    throw std::invalid_argument("modal interface: preload.termination: the preload did not converge (" + preload.message + ")");
   const int num_full = model.mesh->num_dofs();
   if (preload.displacement.size() != num_full)
     throw std::invalid_argument(fmt::format("modal interface: preload.displacement: {} entries, the mesh has {} DOFs",
@@ -181,7 +181,7 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   for (;;) {
     if (mo.ncv != 0 && mo.ncv <= mo.count) mo.ncv = std::min(n, 2 * mo.count + 1);  // a fixed ncv must exceed count
     r.modes = modal::compute_modes(K, M, mo);
-    if (r.modes.status != modal::ModalStatus::converged)
+    if (r.modes.termination != Termination::converged)
       throw std::runtime_error("modal interface: modes of the stuck tangent: " + r.modes.message);
     const bool above = r.modes.eigenvalues[r.modes.eigenvalues.size() - 1] > cutoff_lambda;
     if (above || mo.count >= std::min(options.max_modes, n - 1)) {

@@ -385,15 +385,10 @@ std::string newton_failure(const FeStepper::Outcome& o, long step, double time, 
 
 }  // namespace
 
-Status FeTransientResult::outcome() const {
-  if (completed)
-    return {Termination::reached_end, message.empty() ? std::to_string(steps) + " steps" : message};
-  return {Termination::failed, message};
-}
-
-Status FeSteadyStateResult::outcome() const {
-  if (converged) return {Termination::converged, message};
-  return {failed ? Termination::failed : Termination::no_convergence, message};
+Status FeTransientResult::status() const {
+  if (termination == Termination::reached_end && message.empty())
+    return {termination, std::to_string(steps) + " steps"};
+  return {termination, message};
 }
 
 Eigen::VectorXd FeExcitation::at(double omega, double time, int num_dofs) const {
@@ -556,7 +551,7 @@ FeTransientResult integrate_fe(const preload::PreloadModel& model,
     result.max_step_iterations = std::max(result.max_step_iterations, o.iterations);
     result.line_search_cuts += o.line_search_cuts;
     if (!o.converged) {
-      result.completed = false;
+      result.termination = Termination::failed;
       result.message = newton_failure(o, i + 1, t, options.max_newton_iterations);
       break;
     }
@@ -626,7 +621,7 @@ FeSteadyStateResult fe_forced_steady_state(const preload::PreloadModel& model,
       result.max_step_iterations = std::max(result.max_step_iterations, o.iterations);
       result.line_search_cuts += o.line_search_cuts;
       if (!o.converged) {
-        result.failed = true;
+        result.termination = Termination::failed;
         result.message = newton_failure(o, index, t, scheme.max_newton_iterations);
         result.periods = p;
         result.samples.resize(0, 0);
@@ -649,7 +644,7 @@ FeSteadyStateResult fe_forced_steady_state(const preload::PreloadModel& model,
         relative((state.velocity - period_start.velocity).cwiseAbs().maxCoeff(), v_max));
     if (options.progress) options.progress(result.periods, result.change);
     if (result.change <= options.tolerance) {
-      result.converged = true;
+      result.termination = Termination::converged;
       break;
     }
   }
@@ -662,7 +657,7 @@ FeSteadyStateResult fe_forced_steady_state(const preload::PreloadModel& model,
   result.contact_dissipation = ledger.contact_dissipation;
   result.final_state = std::move(state);
   result.factorizations = stepper.factorizations();
-  result.message = result.converged
+  result.message = result.termination == Termination::converged
                        ? fmt::format("steady state after {} periods (relative change {:.2e})",
                                      result.periods, result.change)
                        : fmt::format("no steady state after {} periods: relative change {:.2e} > "

@@ -451,24 +451,10 @@ std::string newton_failure(const StepOutcome& o, int step, double time, int max_
 
 }  // namespace
 
-Status TransientResult::outcome() const {
-  // TransientStatus::not_converged is a Newton failure inside a step, which SteadyStatus calls
-  // failed: the same event gets the same termination.
-  if (status == TransientStatus::completed)
-    return {Termination::reached_end, message.empty() ? std::to_string(steps) + " steps" : message};
-  return {Termination::failed, message};
-}
-
-Status SteadyStateResult::outcome() const {
-  switch (status) {
-    case SteadyStatus::converged:
-      return {Termination::converged, message};
-    case SteadyStatus::not_converged:
-      return {Termination::no_convergence, message};
-    case SteadyStatus::failed:
-      return {Termination::failed, message};
-  }
-  return {Termination::failed, message};
+Status TransientResult::status() const {
+  if (termination == Termination::reached_end && message.empty())
+    return {termination, std::to_string(steps) + " steps"};
+  return {termination, message};
 }
 
 std::string NewmarkOptions::validate() const {
@@ -592,7 +578,7 @@ TransientResult integrate(const hb::DiscreteSystem& system, const hb::Excitation
     result.max_step_iterations = std::max(result.max_step_iterations, o.iterations);
     result.line_searches += o.line_search ? 1 : 0;
     if (!o.converged) {
-      result.status = TransientStatus::not_converged;
+      result.termination = Termination::failed;
       result.message = newton_failure(o, i + 1, next.time, options.max_newton_iterations);
       break;
     }
@@ -677,7 +663,7 @@ SteadyStateResult forced_steady_state(const hb::DiscreteSystem& system,
       ++result.steps;
       result.newton_iterations += o.iterations;
       if (!o.converged) {
-        result.status = SteadyStatus::failed;
+        result.termination = Termination::failed;
         result.message = newton_failure(o, static_cast<int>(index),
                                         t0 + static_cast<double>(index) * result.time_step,
                                         scheme.max_newton_iterations);
@@ -702,7 +688,7 @@ SteadyStateResult forced_steady_state(const hb::DiscreteSystem& system,
          group_change(max_abs_difference(state.contact_forces, period_start.contact_forces),
                       f_max)});
     if (result.change <= options.tolerance) {
-      result.status = SteadyStatus::converged;
+      result.termination = Termination::converged;
       break;
     }
   }
@@ -714,7 +700,7 @@ SteadyStateResult forced_steady_state(const hb::DiscreteSystem& system,
   result.external_work = ledger.external_work;
   result.viscous_dissipation = ledger.viscous_dissipation;
   result.final_state = std::move(state);
-  if (result.status == SteadyStatus::converged) {
+  if (result.termination == Termination::converged) {
     result.message = fmt::format("steady state after {} periods (relative change {:.2e})",
                                  result.periods, result.change);
   } else {

@@ -133,14 +133,14 @@ class CycleTracker {
 
 }  // namespace
 
-Status RingDownResult::outcome() const {
-  switch (status) {
-    case RingDownStatus::decayed:
+Status RingDownResult::status() const {
+  switch (reason) {
+    case RingDownReason::decayed:
       return {Termination::reached_end, message};
-    case RingDownStatus::max_periods:
+    case RingDownReason::max_periods:
       return {Termination::no_convergence, message};
-    case RingDownStatus::no_oscillation:  // died out above the stop ratio: more periods do not help
-    case RingDownStatus::integration_failed:
+    case RingDownReason::no_oscillation:  // died out above the stop ratio: more periods do not help
+    case RingDownReason::integration_failed:
       return {Termination::failed, message};
   }
   return {Termination::failed, message};
@@ -241,7 +241,7 @@ RingDownResult ring_down(const hb::DiscreteSystem& system, const RingDownOptions
     tracker.add(projector.dot(s.displacement), energy(s));
   };
 
-  result.status = RingDownStatus::max_periods;
+  result.reason = RingDownReason::max_periods;
   result.message = fmt::format("max_periods ({}) reached", options.max_periods);
   for (int p = 0; p < options.max_periods; ++p) {
     TransientResult chunk = integrate(system, hb::Excitation{}, 1.0, std::move(state),
@@ -250,14 +250,14 @@ RingDownResult ring_down(const hb::DiscreteSystem& system, const RingDownOptions
     result.newton_iterations += chunk.newton_iterations;
     state = std::move(chunk.final_state);
     tracker.scan(result.cycles, correct);
-    if (chunk.status != TransientStatus::completed) {
-      result.status = RingDownStatus::integration_failed;
+    if (chunk.termination != Termination::reached_end) {
+      result.reason = RingDownReason::integration_failed;
       result.message = chunk.message;
       break;
     }
     if (!result.cycles.empty() &&
         result.cycles.back().amplitude < options.stop_ratio * options.initial_amplitude) {
-      result.status = RingDownStatus::decayed;
+      result.reason = RingDownReason::decayed;
       result.message = fmt::format("amplitude below {} q0 after {} cycles", options.stop_ratio,
                                    result.cycles.size());
       break;
@@ -266,7 +266,7 @@ RingDownResult ring_down(const hb::DiscreteSystem& system, const RingDownOptions
         result.cycles.empty() ? period : 2.0 * pi / result.cycles.back().omega;
     const double now = static_cast<double>(result.steps) * result.time_step;
     if (now - tracker.last_extremum_time() > std::max(50.0 * period, 4.0 * last_period)) {
-      result.status = RingDownStatus::no_oscillation;
+      result.reason = RingDownReason::no_oscillation;
       result.message = fmt::format("no extremum of q since t = {} s", tracker.last_extremum_time());
       break;
     }

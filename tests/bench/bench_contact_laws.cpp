@@ -152,7 +152,7 @@ void BM_PeriodicState(benchmark::State& state) {
   for (auto _ : state) {
     const auto result = jointhb::contact::solve_periodic_state(law, path);
     periods += result.iterations;
-    converged = converged && result.status == jointhb::contact::PeriodicStatus::converged;
+    converged = converged && result.termination == jointhb::Termination::converged;
     benchmark::DoNotOptimize(result.dissipation);
   }
   if (!converged) {

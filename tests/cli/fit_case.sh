@@ -39,6 +39,10 @@ import csv, json, sys, os
 d = sys.argv[1]
 s = json.load(open(os.path.join(d, "fit.json")))
 assert s["status"] == "ok", s["status"]
+# How the search ended (FitResult::status(), docs/cli.md "Status blocks"), after "status".
+assert list(s)[1:5] == ["status", "termination", "ok", "message"], list(s)
+assert s["termination"] in ("converged", "no_convergence", "failed"), s["termination"]
+assert s["ok"] == (s["termination"] == "converged") and s["stop_reason"] in s["message"], s["message"]
 names = [p["name"] for p in s["parameters"]]
 assert names == ["contacts[0].normal_force", "contacts[0].kt0"], names
 fn, kt = (p["value"] for p in s["parameters"])

@@ -8,14 +8,14 @@ run_capture loop --json
 import json, math, sys
 d = json.load(open(sys.argv[1]))
 keys = ["W_D", "F_hat", "loading_span", "W_D_paper", "W_D_general", "W_D_paper_amplitude_reading",
-        "W_D_jenkins", "g_max", "regime", "inputs", "iterations", "residual", "converged", "seconds"]
+        "W_D_jenkins", "g_max", "regime", "inputs", "iterations", "residual", "termination", "ok", "message", "seconds"]
 missing = [k for k in keys if k not in d]
 assert not missing, f"missing keys {missing}"
 assert d["W_D"] > 0, d["W_D"]
 rel = abs(d["W_D_general"] - d["W_D"]) / d["W_D"]
 assert rel <= 1e-9, f"W_D_general differs from W_D by {rel:g}"
 assert d["W_D_jenkins"] is None
-assert d["converged"] is True
+assert (d["termination"], d["ok"]) == ("converged", True) and "converged" not in d, d["message"]
 assert d["regime"] == "microslip", d["regime"]
 assert d["inputs"]["law"] == "gaul-mayer" and d["inputs"]["mu"] == 0.3
 assert abs(d["g_max"] - 0.3 * 100 / ((1 - 1 / 3) * 1e6)) <= 1e-12 * d["g_max"]

@@ -49,7 +49,7 @@ run_capture run "$SOURCE_DIR/cases/04-two-dof-two-joints/case.yaml" -o "$WORK/tw
 import json, sys
 s = json.load(open(sys.argv[1]))
 b = s["backbones"]
-assert [x["mode"] for x in b] == [1, 2] and all(x["status"] == "ok" for x in b), b
+assert [x["mode"] for x in b] == [1, 2] and all(x["ok"] is True and x["termination"] == "reached_end" for x in b), b
 f1, f2 = (x["linear_frequency_hz"] for x in b)
 assert f2 > f1 and all(p["frequency_hz"] <= x["linear_frequency_hz"] * (1 + 1e-9)
                        for x in b for p in x["curve"])

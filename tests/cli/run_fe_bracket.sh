@@ -23,7 +23,7 @@ assert s["status"] == "ok" and s["model"]["parts"] == ["plate", "BRACKET"], s["m
 mass = 0.1 * 0.05 * 0.004 * 2700 + (0.06 * 0.03 * 0.005 + 0.005 * 0.03 * 0.055) * 7850
 assert abs(s["model"]["mass_kg"] / mass - 1) < 1e-12, (s["model"]["mass_kg"], mass)
 p = s["preload"]
-assert p["status"] == "converged" and p["support"] == "user constraints", p["support"]
+assert p["termination"] == "converged" and p["support"] == "user constraints", p["support"]
 i = p["interfaces"][0]
 assert abs(i["clamping_force"] / 8000.0 - 1) < 1e-7, i["clamping_force"]
 assert abs(i["area"] / (0.06 * 0.03) - 1) < 1e-12, i["area"]

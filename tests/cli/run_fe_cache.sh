@@ -16,7 +16,7 @@ s = json.load(open(f"{d}/summary.json"))
 assert s["status"] == "ok", s["status"]
 p, m = s["preload"], s["modes"]
 assert p["cache"] == want_p and m["cache"] == want_m, (p["cache"], m["cache"])
-assert p["status"] == "converged" and m["status"] == "converged"
+assert p["termination"] == "converged" and m["termination"] == "converged"
 print(f"  preload {p['cache']}: solve {p['seconds']['total']:.3f} s, cache {p['cache_seconds']:.3f} s;"
       f" modes {m['cache']}: solve {m['seconds']:.3f} s, cache {m['cache_seconds']:.3f} s; run {s['seconds']:.2f} s")
 PY

@@ -20,7 +20,7 @@ s = json.load(open(f"{d}/summary.json"))
 assert s["status"] == "ok" and s["kind"] == "fe", s["status"]
 assert s["model"]["parts"] == ["base", "plate", "cover"], s["model"]["parts"]
 p = s["preload"]
-assert p["status"] == "converged" and p["load_factor"] == 1.0, p["message"]
+assert p["termination"] == "converged" and p["load_factor"] == 1.0, p["message"]
 assert p["support_reaction_relative"] < 1e-9, p["support_reaction_relative"]
 assert len(p["bolts"]) == 4 and all(abs(b["force"] / 5000.0 - 1) < 1e-12 for b in p["bolts"]), p["bolts"]
 total = sum(b["force"] for b in p["bolts"])          # every bolt passes through both interfaces

@@ -17,7 +17,7 @@ d = sys.argv[1]
 s = json.load(open(f"{d}/summary.json"))
 assert s["status"] == "ok" and s["kind"] == "fe", s["status"]
 p = s["preload"]
-assert p["status"] == "converged" and p["load_factor"] == 1.0
+assert p["termination"] == "converged" and p["ok"] is True and p["load_factor"] == 1.0
 assert p["support_reaction_relative"] < 1e-9, p["support_reaction_relative"]
 i = p["interfaces"][0]
 assert abs(i["clamping_force"] / 10000.0 - 1) < 1e-7, i["clamping_force"]

@@ -62,6 +62,8 @@ def test_the_linear_limit_is_the_first_elastic_mode_with_the_cases_damping(lap):
     assert curve["frequency_hz"][-1] < curve["frequency_hz"][0] and curve["damping_ratio"][-1] > 0.005
     assert curve["termination"] == "reached_end" and curve["ok"]
     assert lap.preload()["termination"] == "converged" and lap.modes()["termination"] == "converged"
+    for stage in (lap.preload(), lap.modes()):  # the status convention, as in summary.json
+        assert stage["ok"] is True and stage["message"] and "converged" not in stage, stage["message"]
 
 
 def test_a_callback_sees_every_point_and_can_stop_the_curve(lap):

@@ -344,7 +344,7 @@ int main(int argc, char** argv) {
           rel(l.dissipation_paper_amplitude_reading, l.dissipation_general),
           rel(r.general_amplitude_reading, l.dissipation_general), r.paper_literal,
           rel(r.paper_literal, l.dissipation_general), r.tolerance,
-          l.state.status == contact::PeriodicStatus::converged ? 1 : 0, l.state.iterations,
+          l.state.termination == jointhb::Termination::converged ? 1 : 0, l.state.iterations,
           l.state.residual);
     }
   }
@@ -412,7 +412,7 @@ int main(int argc, char** argv) {
       e_brute = std::max(e_brute, eb);
       defect = std::max(defect, r.brute.periodicity_defect);
       iterations = std::max(iterations, l.state.iterations);
-      const bool converged = l.state.status == contact::PeriodicStatus::converged;
+      const bool converged = l.state.termination == jointhb::Termination::converged;
       if (!(converged && std::isfinite(l.dissipation) && eg <= r.tolerance && eq <= r.tolerance)) {
         failed = true;
         fmt::print(stderr,

@@ -296,7 +296,7 @@ Run solve(const Material& material, Support support, ElementType type, int nz) {
   options.shift = -std::pow(2.0 * kPi * 10.0, 2);
   const auto result =
       jointhb::modal::compute_modes(dofs.restrict(m.stiffness), dofs.restrict(m.mass), options);
-  if (result.status != jointhb::modal::ModalStatus::converged)
+  if (result.termination != jointhb::Termination::converged)
     throw std::runtime_error("compute_modes: " + result.message);
   run.seconds = m.seconds + result.seconds;
 

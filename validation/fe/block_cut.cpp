@@ -154,7 +154,7 @@ Response respond(const Model& model, const Eigen::SparseMatrix<double>& stiffnes
   options.shift = -std::pow(2.0 * std::numbers::pi * 100.0, 2);
   options.tolerance = 1e-13;
   r.modes = jointhb::modal::compute_modes(stiffness, model.matrices.mass, options);
-  if (r.modes.status != jointhb::modal::ModalStatus::converged)
+  if (r.modes.termination != jointhb::Termination::converged)
     throw std::runtime_error("compute_modes: " + r.modes.message);
   std::vector<FixedNodes> fixed;
   for (const std::string& set : model.root) fixed.push_back({model.mesh.node_sets.at(set)});

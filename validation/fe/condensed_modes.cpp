@@ -68,14 +68,14 @@ int main(int argc, char** argv) {
   pipeline::FePipeline pipe(c, c);
   const preload::PreloadModel& model = pipe.structure();
   const preload::PreloadResult& p = pipe.preload();
-  if (!p.converged) {
+  if (!p.status().ok()) {
     std::printf("preload failed: %s\n", p.message.c_str());
     return 1;
   }
   auto t = std::chrono::steady_clock::now();
   const modal::ModalResult& full = pipe.modes();  // of K_t on every DOF (free-free: no constraints)
   const double full_seconds = seconds_since(t);
-  if (full.status != modal::ModalStatus::converged) {
+  if (full.termination != jointhb::Termination::converged) {
     std::printf("full modes failed: %s\n", full.message.c_str());
     return 1;
   }

@@ -177,7 +177,7 @@ Measurement run(const Refinement& r, double reuse_ratio) {
   s.clamping_error = std::abs(clamping - preload_sum) / preload_sum;
 
   // modes about the preloaded state, free-free (no user constraints: every DOF is free)
-  if (s.preload.converged) {
+  if (s.preload.status().ok()) {
     const auto t0 = Clock::now();
     const fe::DofMap dofs = fe::DofMap::from_fixed_nodes(c.mesh.num_nodes(), c.constraints);
     const Eigen::SparseMatrix<double> K = dofs.restrict(s.preload.dynamic_stiffness);
@@ -258,7 +258,7 @@ void print_summary(const Measurement& s) {
   std::printf("build   %8.2f s  (peak RSS %.0f MiB)\n", s.build_seconds, s.rss_after_build);
   std::printf("preload %8.2f s  %s; contact %.2f s, Newton matrix %.2f s, factor+solve %.2f s "
               "(peak RSS %.0f MiB)\n",
-              p.seconds, p.message.c_str(), p.contact_seconds, p.assembly_seconds, p.factor_seconds,
+              p.seconds, p.status().brief().c_str(), p.contact_seconds, p.assembly_seconds, p.factor_seconds,
               s.rss_after_preload);
   std::printf("        factor: %s, %d factorisations\n", p.factor.brief().c_str(),
               p.factor.factorizations);
@@ -294,11 +294,11 @@ int check(const Measurement& s, double tolerance) {
   const preload::PreloadResult& p = s.preload;
   const modal::ModalResult& m = s.modes;
   const double residual = p.steps.empty() ? NAN : p.steps.back().residual;
-  bound(p.converged, "preload converged (" + p.message + ")");
+  bound(p.status().ok(), "preload converged (" + p.message + ")");
   bound(residual <= tolerance, fmt::format("final relative residual {:.3e} <= {:.1e}", residual, tolerance));
   bound(s.clamping_error <= 1e-8, fmt::format("clamping force error {:.3e} <= 1e-8", s.clamping_error));
   bound(p.support_reaction <= 1e-10, fmt::format("support reaction {:.3e} <= 1e-10", p.support_reaction));
-  bound(m.status == modal::ModalStatus::converged && m.eigenvalues.size() == 20,
+  bound(m.termination == jointhb::Termination::converged && m.eigenvalues.size() == 20,
         "20 modes converged (" + m.message + ")");
   if (m.eigenvalues.size() > kRigid) {
     bound(max_rigid_hz(m) < 1.0, fmt::format("rigid-body modes |f| {:.3e} < 1 Hz", max_rigid_hz(m)));

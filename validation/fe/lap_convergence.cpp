@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
   for (const Mesh& m : meshes) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto lap = validation::make_lap_fixture(m.nx, m.ny, m.nz, m.radius);
-    if (!lap->preload.converged) {
+    if (!lap->preload.status().ok()) {
       std::printf("%s: preload failed\n", m.label.c_str());
       ok = false;
       continue;

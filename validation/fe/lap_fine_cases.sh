@@ -64,7 +64,7 @@ for kind in ("backbones", "frfs"):
         t = c["seconds"]
         print(f"{config},{kind[:-1]}{i},{c['points']},{c['unknowns']},{c['harmonics']},{t['total']:.2f},{t['aft']:.2f},"
               f"{t.get('products', 0):.2f},{t.get('preconditioner_build', 0):.2f},{t.get('preconditioner_apply', 0):.2f},"
-              f"{t.get('gmres_iterations', 0)},{c['newton_iterations']},{run_s:.2f},{peak:.0f},{c['status']}")
+              f"{t.get('gmres_iterations', 0)},{c['newton_iterations']},{run_s:.2f},{peak:.0f},{c['termination']}")
 EOF
 done
 echo "table: $csv"

@@ -249,7 +249,7 @@ Summary run(const Config& cfg, std::FILE* points_csv, std::FILE* order_csv) {
   Summary sum;
   const auto t_start = std::chrono::steady_clock::now();
   const auto lap = validation::make_lap_fixture(cfg.nx, cfg.ny, cfg.nz, cfg.radius);
-  if (!lap->preload.converged) {
+  if (!lap->preload.status().ok()) {
     std::printf("%s: preload failed: %s\n", cfg.label.c_str(), lap->preload.message.c_str());
     sum.ok = false;
     return sum;
@@ -356,14 +356,14 @@ Summary run(const Config& cfg, std::FILE* points_csv, std::FILE* order_csv) {
           newmark_start(*lap, *balances[best], hbs[best], omega, force, rayleigh_b, steps, nm);
       const auto r = timeint::fe_forced_steady_state(lap->model, lap->preload, ex, omega, so, start);
       Measure m;
-      if (!r.failed) m = from_coefficients("", r.coefficients(0, 1), r.coefficients(0, 2));
+      if (r.termination != Termination::failed) m = from_coefficients("", r.coefficients(0, 1), r.coefficients(0, 2));
       m.method = fmt::format("NM N={}", steps);
-      m.ok = !r.failed && r.converged;
+      m.ok = r.termination == Termination::converged;
       m.message = r.message;
       m.seconds = r.seconds;
       m.iterations = r.periods;
       m.change = r.change;
-      if (!r.failed) {
+      if (r.termination != Termination::failed) {
         m.external_work = r.external_work;
         m.dissipation = r.contact_dissipation.at(0);
         // Remaining transient: geometric decay of the period changes, ρ over the last 5 periods

@@ -132,7 +132,7 @@ modal::ModalResult modes(const Sparse& K, const Sparse& M, int count) {
   o.count = count;
   o.shift = -std::pow(2.0 * std::numbers::pi * kShiftHz, 2);
   modal::ModalResult r = modal::compute_modes(K, M, o);
-  if (r.status != modal::ModalStatus::converged)
+  if (r.termination != jointhb::Termination::converged)
     throw std::runtime_error("compute_modes: " + r.message);
   return r;
 }
@@ -397,8 +397,8 @@ Level solve_level(Lap& lap, double preload, const Tied& bonded) {
   preload::PreloadOptions options = lap.c.preload;
   options.load_steps = L.load_steps = load_steps_for(preload);
   const preload::PreloadResult p = preload::solve_preload(lap.model, options);
-  L.converged = p.converged;
-  if (!p.converged) std::printf("preload %.0f N: %s\n", preload, p.message.c_str());
+  L.converged = p.status().ok();
+  if (!p.status().ok()) std::printf("preload %.0f N: %s\n", preload, p.message.c_str());
   L.iterations = p.total_iterations;
   for (const preload::PreloadStep& s : p.steps) L.line_search_cuts += s.line_search_cuts;
   L.seconds = p.seconds;

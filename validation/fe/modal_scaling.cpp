@@ -78,6 +78,6 @@ int main(int argc, char** argv) {
       " %d solves\n",
       checksum, result.factor_seconds, result.lanczos_seconds, result.seconds, result.ncv,
       result.iterations, result.operator_applications);
-  const bool ok = result.status == jointhb::modal::ModalStatus::converged && worst_elastic < 1e-8;
+  const bool ok = result.termination == jointhb::Termination::converged && worst_elastic < 1e-8;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -272,7 +272,7 @@ int main(int argc, char** argv) {
       const timeint::RingDownResult r = timeint::ring_down(c.system, ro);
       s.cycles += r.cycles.size();
       s.seconds += r.seconds;
-      if (r.status != timeint::RingDownStatus::decayed) {
+      if (r.reason != timeint::RingDownReason::decayed) {
         s.decayed = false;
         fail(fmt::format("{}: ring-down from q0 = {} did not decay: {}", c.name, q0, r.message));
       }

@@ -170,7 +170,7 @@ TiPoint time_integration(const System& s, const hb::Excitation& e, double omega,
   p.seconds = r.seconds;
   p.periods = r.periods;
   p.message = r.message;
-  if (r.status != timeint::SteadyStatus::converged) return p;
+  if (r.termination != jointhb::Termination::converged) return p;
   p.x1 = {r.coefficients(s.output_dof, 1), -r.coefficients(s.output_dof, 2)};
   p.amplitude_max = r.amplitude_max[s.output_dof];
   p.mean = r.coefficients(s.output_dof, 0);

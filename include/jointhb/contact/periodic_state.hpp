@@ -43,14 +43,11 @@ struct PeriodicStateOptions {
   [[nodiscard]] std::string validate() const;
 };
 
-enum class PeriodicStatus {
-  converged,      ///< periodicity satisfied to the tolerance
-  not_converged,  ///< iteration limit reached: the state is the best found, see `residual`
-};
-
 struct PeriodicStateResult {
-  PeriodicStatus status = PeriodicStatus::not_converged;
-  std::string message;
+  /// converged: periodicity satisfied to the tolerance; no_convergence: max_iterations reached,
+  /// the state is the best found (see `residual`).
+  Termination termination = Termination::no_convergence;
+  std::string message;  ///< one line; may be empty (status() then states the residual)
   std::vector<Vec2> traction;         ///< t_T(t_i), i = 0..N-1
   double dissipation = 0.0;           ///< Σ of the step dissipations over one period (W_D)
   double loading_slip = 0.0;          ///< slip travelled on non-elastic branches over one period
@@ -66,9 +63,9 @@ struct PeriodicStateResult {
   std::vector<Vec2> d_stiffness;      ///< d_i = ∂t_{i+1}/∂k_{i+1}
   Vec2 anchor_offset = Vec2::Zero();  ///< g_0 - g_ref (for the derivative of the anchor)
   double anchor_stiffness = 0.0;      ///< k_0
-  /// The status convention (contact/termination.hpp): converged → converged, not_converged
-  /// (max_iterations) → no_convergence. Message `message`, or the residual when empty.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`, or with the
+  /// iterations and residual when the message is empty (formatted here, not in the solver's loop).
+  [[nodiscard]] Status status() const;
 };
 
 PeriodicStateResult solve_periodic_state(const TangentialLaw& law, const PeriodicPath& path,

@@ -9,11 +9,19 @@
 // → modal → reduction → hb → continuation → fit → pipeline → io → cli; a layer includes only lower
 // ones): every result of every layer can return a Status. It depends on nothing of contact.
 //
-// Each result keeps its own detailed enum or flags (ModalStatus, StopReason, ...); its `outcome()`
-// member is the one place where those are translated to a Termination. The JSON form
-// ({"termination", "ok", "message"}) is written by the command-line program (src/cli/
+// Every result reads the same way: `result.status()` returns a Status (`.termination`,
+// `.message`, `.ok()`, `.brief()`). A result with nothing more to say than a Termination stores
+// `Termination termination` and `std::string message` and status() returns them (PreloadResult,
+// ModalResult, PeriodicStateResult, the time integrations' results); a result whose detail says
+// more keeps that detail (a continuation's StopReason, a ring-down's RingDownReason, the fit's
+// NLopt stop reason) and its status() is the one place where the detail is translated. The JSON
+// form ({"termination", "ok", "message"}) is written by the command-line program (src/cli/
 // status_json.hpp), since the library keeps its JSON library private.
+//
+// The enumerators' values are stored in the stage cache (io/stage_cache.cpp): append, never
+// reorder; their order is also the order of severity used by worst().
 
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -59,5 +67,17 @@ struct Status {
   /// "converged: <message>", or just "converged" when the message is empty.
   [[nodiscard]] std::string brief() const;
 };
+
+/// One part of a run (a stage, a curve) and how it ended, for worst().
+struct NamedStatus {
+  std::string name;  ///< e.g. "preload", "backbone mode 1", "curve level 2"
+  Status status;
+};
+
+/// The status of a run made of parts (its stages and curves): the worst part, in the enumerators'
+/// order (converged < reached_end < stopped_by_user < no_convergence < failed), the first such on
+/// a tie, with the part's name before its message ("preload: …"). No parts: converged with an empty
+/// message. The one definition of a run's overall status (summary.json's top level).
+[[nodiscard]] Status worst(std::span<const NamedStatus> parts);
 
 }  // namespace jointhb

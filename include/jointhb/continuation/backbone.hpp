@@ -45,7 +45,7 @@ struct BackboneCurve {
   double seconds = 0.0;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
-  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
+  [[nodiscard]] Status status() const { return {termination(reason), message}; }
 };
 
 /// Throws std::invalid_argument on invalid options or system; numerical failures end the curve

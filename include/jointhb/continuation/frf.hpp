@@ -65,7 +65,7 @@ struct FrfCurve {
   FrfTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
-  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
+  [[nodiscard]] Status status() const { return {termination(reason), message}; }
 };
 
 /// Traces one FRF curve for one excitation level; `on_point` sees each accepted point (for flushed

@@ -82,7 +82,7 @@ struct InterfaceBackbone {
   InterfaceTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
-  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
+  [[nodiscard]] Status status() const { return {termination(reason), message}; }
 };
 
 /// Throws std::invalid_argument on invalid options or model; numerical failures end the curve
@@ -131,7 +131,7 @@ struct InterfaceFrf {
   InterfaceTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
-  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
+  [[nodiscard]] Status status() const { return {termination(reason), message}; }
 };
 
 InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const InterfaceFrfOptions& options,

@@ -151,7 +151,7 @@ struct Result {
   int krylov_iterations = 0;  ///< GMRES iterations (newton_krylov), failed runs included
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message}.
-  [[nodiscard]] Status outcome() const { return {termination(reason), message}; }
+  [[nodiscard]] Status status() const { return {termination(reason), message}; }
 };
 
 /// Called for every accepted point (the start included) in order; return false to stop the run.

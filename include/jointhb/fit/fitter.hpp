@@ -90,7 +90,9 @@ struct FitResult {
   std::vector<double> best;       ///< θ̂
   double objective = 0.0;         ///< S(θ̂)
   std::vector<double> residuals;  ///< r(θ̂)
-  bool ok = false;                ///< a successful evaluation exists
+  /// A successful evaluation exists (best, objective and residuals are valid). Not how the search
+  /// ended: that is status() (a fit found at MAXEVAL_REACHED is ok with status() no_convergence).
+  bool ok = false;
   int evaluations = 0;            ///< all, including replayed ones and the Jacobian's
   int model_evaluations = 0;      ///< calls of the model (not replayed)
   int replayed = 0;               ///< answered from the history
@@ -115,7 +117,7 @@ struct FitResult {
   /// start that found θ̂: no successful evaluation → failed; SUCCESS, STOPVAL_REACHED, FTOL_REACHED,
   /// XTOL_REACHED → converged; MAXEVAL_REACHED, MAXTIME_REACHED → no_convergence; FORCED_STOP →
   /// stopped_by_user; NLopt's failures (FAILURE, ROUNDOFF_LIMITED, ...) → failed.
-  [[nodiscard]] Status outcome() const;
+  [[nodiscard]] Status status() const;
 };
 
 /// Runs the fit. Throws std::invalid_argument for invalid parameters or options. `replay`: rows

@@ -31,7 +31,9 @@ struct ContactAftResult {
   double dissipation = 0.0;       ///< W_D over the period [J]
   bool stuck = true;              ///< no slip over the period
   bool skipped = false;           ///< linear-spring shortcut taken
-  bool converged = true;          ///< periodic state converged
+  /// Periodic state converged. A per-evaluation flag of the AFT loop, kept a bool rather than a
+  /// Status (contact/termination.hpp): see hb::ContactDiagnostics::converged.
+  bool converged = true;
   int iterations = 0;
   std::string message;
 };

@@ -86,7 +86,10 @@ struct ContactPointAftResult {
   double open_fraction = 0.0;        ///< share of samples below the gapping floor
   bool stuck = true;                 ///< every tangential step elastic (no slip, never open)
   ContactPointShortcut shortcut = ContactPointShortcut::none;
-  bool converged = true;  ///< periodic state converged (always true for a shortcut)
+  /// Periodic state converged (always true for a shortcut). One per point per evaluation in the
+  /// OpenMP loop over points: a bool, not a Status (contact/termination.hpp), to keep the hot loop
+  /// free of allocations; `message` is written only when it is false.
+  bool converged = true;
   double drift = 0.0;     ///< |t_0 − Φ_N(t_0)| of the returned state, per unit area
   bool drifting = false;  ///< not periodic, accepted by drift_tolerance
   int iterations = 0;     ///< periods evaluated by the periodic solve
@@ -108,7 +111,9 @@ struct InterfaceAftResult {
   double dissipation = 0.0;  ///< Σ_p a_p W_D,p (a_p = 1 without areas), summed in point order
   int open_points = 0;       ///< points open throughout
   int stuck_points = 0;      ///< points that stick throughout
-  bool converged = true;     ///< every point converged
+  /// Every point converged: a validity flag of one evaluation (as ContactPointAftResult's), not
+  /// how a computation ended; the continuation turns a false one into its StopReason.
+  bool converged = true;
   std::string message;       ///< the first point that did not, and why
 };
 

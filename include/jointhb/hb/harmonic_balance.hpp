@@ -61,6 +61,10 @@ struct ContactDiagnostics {
   bool stuck = true;     ///< no slip during the period
   bool skipped = false;  ///< evaluated as a linear spring (no AFT)
   int iterations = 0;    ///< periodic-state iterations
+  /// The contact's periodic state converged. A bool, not a Status (contact/termination.hpp): one
+  /// per contact per residual evaluation, inside the Newton loop, where a message string would be
+  /// an allocation each; it is not how a computation ended but a validity flag of one evaluation,
+  /// which the continuation turns into its StopReason (and so into a status) when it matters.
   bool converged = true;
 };
 
@@ -83,7 +87,9 @@ struct HarmonicBalanceEvaluation {
   std::vector<ContactDiagnostics> contacts;
   double dissipation = 0.0;          ///< Σ contact W_D [J] (periodic states)
   double fourier_dissipation = 0.0;  ///< Σ contact W_D from the Fourier coefficients [J]
-  bool ok = true;                    ///< false when a contact's periodic state did not converge
+  /// false when a contact's periodic state did not converge: a validity flag of one residual
+  /// evaluation (see ContactDiagnostics::converged), not a status; `message` names the contact.
+  bool ok = true;
   std::string message;
 };
 

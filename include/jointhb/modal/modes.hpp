@@ -46,15 +46,11 @@ struct ModalOptions {
   [[nodiscard]] std::string validate() const;
 };
 
-enum class ModalStatus {
-  converged,      ///< all `count` modes converged
-  not_converged,  ///< fewer modes converged (max_iterations reached, or no shifts applicable):
-                  ///< the converged ones are returned, see `message`
-  failed,         ///< K − σM could not be factored or ARPACK stopped with an error: no modes
-};
-
 struct ModalResult {
-  ModalStatus status = ModalStatus::failed;
+  /// converged: all `count` modes converged; no_convergence: fewer did (ARPACK's restarts ran
+  /// out, or no shifts applicable), the converged ones are returned, see `message`; failed: K − σM
+  /// could not be factored or ARPACK stopped with an error, no modes.
+  Termination termination = Termination::failed;
   std::string message;          ///< one line; empty when converged
   Eigen::VectorXd eigenvalues;  ///< λ_j = ω_j² [rad²/s²], ascending
   /// f_j = sign(λ_j)·√|λ_j| / (2π) [Hz]: a rigid-body mode whose λ came out slightly negative by
@@ -83,10 +79,9 @@ struct ModalResult {
 
   /// One line: "20 modes, 0.0 … 1234.5 Hz, max residual …, … iterations, … s".
   [[nodiscard]] std::string brief() const;
-  /// The status convention (contact/termination.hpp): converged → converged, not_converged →
-  /// no_convergence (ARPACK's restarts ran out; the converged modes are kept), failed → failed.
-  /// The message is `message`, or "m of count modes converged" when that is empty.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`, or with
+  /// "m of count modes converged" when that is empty.
+  [[nodiscard]] Status status() const;
 };
 
 /// The `options.count` modes of K φ = λ M φ nearest `options.shift`. K and M: square, same size,

@@ -17,8 +17,8 @@
 // fit` (parameters → pipeline → residuals, pipeline/fe_fit_model.hpp), the Python package and the
 // validation programs. The object prints nothing; progress comes through callbacks.
 //
-// Failures: a stage that fails numerically reports it in its result (PreloadResult::converged,
-// ModalResult::status, a curve's StopReason; each result's outcome() says it in the one convention
+// Failures: a stage that fails numerically reports it in its result (PreloadResult::termination,
+// ModalResult::termination, a curve's StopReason; each result's status() says it in the one convention
 // of contact/termination.hpp); asking for a stage that needs a failed one throws StageError naming
 // the failed stage. Invalid inputs throw std::invalid_argument.
 
@@ -96,11 +96,10 @@ struct BackboneCurve {
   double energy_gap = 0.0;                ///< largest |ζ/ζ_E − 1| along the curve
   std::string energy_warning;             ///< set when energy_gap > energy_gap_warning
   int harmonics = 0, time_samples = 0;
-  [[nodiscard]] bool ok() const { return curve.completed() || reached_frequency_drop; }
   /// The status convention (contact/termination.hpp), message `stop_message`: the curve reached
-  /// its end or the frequency drop → reached_end (ok() is outcome().ok()); on_point returned false
+  /// its end or the frequency drop → reached_end (status().ok()); on_point returned false
   /// → stopped_by_user; a non-finite point → failed; otherwise continuation::termination(reason).
-  [[nodiscard]] Status outcome() const;
+  [[nodiscard]] Status status() const;
 };
 
 /// One accepted point of a nonlinear FRF (a row of frf.csv).
@@ -123,11 +122,10 @@ struct FrfCurve {
   std::vector<FrfPoint> points;
   bool stopped_by_callback = false;
   double peak_amplitude = 0.0, peak_frequency_hz = 0.0;  ///< the largest accepted |fundamental|
-  [[nodiscard]] bool ok() const { return curve.completed(); }
   /// The status convention (contact/termination.hpp), message `curve.message`: the end reached →
-  /// reached_end (ok() is outcome().ok()); on_point returned false → stopped_by_user; a non-finite
+  /// reached_end (status().ok()); on_point returned false → stopped_by_user; a non-finite
   /// point → failed; otherwise continuation::termination(reason).
-  [[nodiscard]] Status outcome() const;
+  [[nodiscard]] Status status() const;
 };
 
 /// Return false to stop the curve (it ends with the points accepted so far).

@@ -83,7 +83,13 @@ struct PreloadStep {
   int chord_iterations = 0;  ///< accepted iterations that reused the previous factor
   int line_search_cuts = 0;
   double residual = 0.0;  ///< relative, at the end of the step
-  bool converged = false;
+  /// converged: the residual met residual_tolerance; no_convergence: max_iterations used first;
+  /// failed: the tangent could not be factored or the line search found no decrease.
+  Termination termination = Termination::failed;
+  std::string message;  ///< why the step did not converge (empty when it did)
+
+  /// The status convention (contact/termination.hpp): `termination` with `message`.
+  [[nodiscard]] Status status() const { return {termination, message}; }
 };
 
 /// The contact state of one interface at the preloaded state.
@@ -100,8 +106,11 @@ struct InterfaceResult {
 };
 
 struct PreloadResult {
-  bool converged = false;
-  std::string message;  ///< one line
+  /// converged: every load step converged; otherwise the termination of the first load step that
+  /// did not (no_convergence: it used all max_iterations; failed: a tangent that could not be
+  /// factored or a line search without decrease).
+  Termination termination = Termination::failed;
+  std::string message;  ///< one line: the totals when converged, else the failed step and why
   std::vector<PreloadStep> steps;
   Eigen::VectorXd displacement;  ///< u (full DOFs) at the last converged load step
   double load_factor = 0.0;      ///< s of that step (1 when converged)
@@ -116,10 +125,8 @@ struct PreloadResult {
   int total_iterations = 0;
   double assembly_seconds = 0.0, contact_seconds = 0.0, factor_seconds = 0.0, seconds = 0.0;
 
-  /// The status convention (contact/termination.hpp): converged → converged; a load step that
-  /// used all max_iterations → no_convergence; a tangent that could not be factored or a line
-  /// search without decrease → failed. The message is `message` (without its "converged: ").
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`.
+  [[nodiscard]] Status status() const { return {termination, message}; }
 };
 
 /// Throws std::invalid_argument naming a part that is neither constrained nor joined (through
@@ -131,8 +138,8 @@ void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> 
 
 /// Solves eq. (P-1). Throws std::invalid_argument on invalid options or a model whose parts are
 /// not all connected (by interfaces and bolts) or constrained (naming the part). Numerical
-/// failures (no convergence, a singular tangent) end with converged = false, a message, and the
-/// last converged step kept.
+/// failures (no convergence, a singular tangent) end with a termination other than converged, a
+/// message, and the last converged step kept.
 [[nodiscard]] PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& options);
 
 /// The DOFs of a statically determinate 3-2-1 support of the mesh (nodes A, B, C far apart):

@@ -105,8 +105,10 @@ std::optional<FeState> stuck_linear_fe_state(const preload::PreloadModel& model,
                                              const FeNewmarkOptions& options, double time = 0.0);
 
 struct FeTransientResult {
-  bool completed = true;
-  std::string message;  ///< empty when completed
+  /// reached_end: all steps taken; failed: Newton failed in a step (final_state is the last good
+  /// state).
+  Termination termination = Termination::reached_end;
+  std::string message;  ///< empty when all steps were taken
   FeState final_state;
   int steps = 0;
   long newton_iterations = 0;
@@ -118,9 +120,9 @@ struct FeTransientResult {
   double external_work = 0.0;    ///< Σ ½(f_n + f_{n+1})·Δw [J]
   double viscous_dissipation = 0.0;  ///< Σ ½(v_n + v_{n+1})ᵀ C Δw [J]
   double seconds = 0.0;
-  /// The status convention (contact/termination.hpp): completed → reached_end, else (Newton failed
-  /// in a step) failed. Message `message`, or "N steps" when empty.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`, or with
+  /// "N steps" when that is empty.
+  [[nodiscard]] Status status() const;
 };
 
 /// `steps` steps from `initial`. Throws std::invalid_argument on invalid options, excitation or
@@ -145,8 +147,10 @@ struct FeSteadyStateOptions {
 };
 
 struct FeSteadyStateResult {
-  bool converged = false;
-  bool failed = false;  ///< Newton failed: message says where, no period data
+  /// converged: (w, ẇ) repeat over a period to the tolerance; no_convergence: max_periods
+  /// reached, the last period is reported (see `change`); failed: Newton failed in a step,
+  /// `message` says where, no period data.
+  Termination termination = Termination::no_convergence;
   std::string message;
   int periods = 0;
   double change = 0.0;  ///< relative change of (w, ẇ) over the last period
@@ -170,9 +174,8 @@ struct FeSteadyStateResult {
   int factorizations = 0;
   double seconds = 0.0;
   double seconds_per_step = 0.0;
-  /// The status convention (contact/termination.hpp): converged → converged, failed (Newton failed
-  /// in a step) → failed, otherwise (max_periods) → no_convergence.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`.
+  [[nodiscard]] Status status() const { return {termination, message}; }
 };
 
 /// Integrates whole periods from `initial` (default: stuck_linear_fe_state, else the preloaded

@@ -63,14 +63,11 @@ std::optional<State> stuck_linear_state(const hb::DiscreteSystem& system,
                                         const hb::Excitation& excitation, double omega,
                                         double time = 0.0);
 
-enum class TransientStatus {
-  completed,      ///< all steps taken
-  not_converged,  ///< Newton failed in a step: stopped there, final_state is the last good state
-};
-
 struct TransientResult {
-  TransientStatus status = TransientStatus::completed;
-  std::string message;                      ///< one line (empty when completed)
+  /// reached_end: all steps taken; failed: Newton failed in a step, stopped there (final_state is
+  /// the last good state) — the same event SteadyStateResult calls failed.
+  Termination termination = Termination::reached_end;
+  std::string message;                      ///< one line (empty when all steps were taken)
   State final_state;                        ///< the state after the last completed step
   int steps = 0;                            ///< completed steps
   long newton_iterations = 0;               ///< Newton iterations over all steps
@@ -80,10 +77,9 @@ struct TransientResult {
   double external_work = 0.0;               ///< Σ ½(f_n + f_{n+1})·(x_{n+1} - x_n) [J]
   double viscous_dissipation = 0.0;         ///< Σ ½(v_n + v_{n+1})ᵀ C (x_{n+1} - x_n) [J]
   double seconds = 0.0;                     ///< wall time
-  /// The status convention (contact/termination.hpp): completed → reached_end (all steps taken);
-  /// not_converged (Newton failed in a step) → failed, as SteadyStatus::failed. Message `message`,
-  /// or "N steps" when empty.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`, or with
+  /// "N steps" when that is empty.
+  [[nodiscard]] Status status() const;
 };
 
 /// `steps` steps of size options.time_step from `initial` under f_ex(t) at fundamental frequency
@@ -105,14 +101,11 @@ struct SteadyStateOptions {
   [[nodiscard]] std::string validate() const;
 };
 
-enum class SteadyStatus {
-  converged,      ///< the period-start state repeats to the tolerance
-  not_converged,  ///< max_periods reached: the last period is reported, see `change`
-  failed,  ///< Newton failed in a step: `message` says where; no period data (empty matrices)
-};
-
 struct SteadyStateResult {
-  SteadyStatus status = SteadyStatus::not_converged;
+  /// converged: the period-start state repeats to the tolerance; no_convergence: max_periods
+  /// reached, the last period is reported (see `change`); failed: Newton failed in a step,
+  /// `message` says where, no period data (empty matrices).
+  Termination termination = Termination::no_convergence;
   std::string message;      ///< one line
   int periods = 0;          ///< periods integrated
   double change = 0.0;      ///< relative change of the period-start state over the last period
@@ -136,9 +129,8 @@ struct SteadyStateResult {
   long steps = 0;              ///< steps over all periods
   long newton_iterations = 0;  ///< over all steps
   double seconds = 0.0;        ///< wall time
-  /// The status convention (contact/termination.hpp): converged → converged, not_converged
-  /// (max_periods) → no_convergence, failed (Newton failed in a step) → failed.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp): `termination` with `message`.
+  [[nodiscard]] Status status() const { return {termination, message}; }
 };
 
 /// Periodic steady state under f_ex(t) at Ω by integrating whole periods until the state at the

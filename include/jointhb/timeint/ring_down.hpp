@@ -63,7 +63,9 @@ struct RingDownCycle {
   double peak_energy = 0.0;  ///< [J] ½(E(t_k) + E(t_{k+1}))
 };
 
-enum class RingDownStatus {
+/// Why a ring-down stopped: more than Termination says (two different failures), so kept as the
+/// detail; RingDownResult::status() is its one translation.
+enum class RingDownReason {
   decayed,            ///< a cycle amplitude fell below stop_ratio · q0
   max_periods,        ///< max_periods reached first (e.g. a stuck, undamped joint)
   no_oscillation,     ///< no new maximum for 50 T_mode and 4 last cycle periods: motion died out
@@ -71,7 +73,7 @@ enum class RingDownStatus {
 };
 
 struct RingDownResult {
-  RingDownStatus status = RingDownStatus::max_periods;
+  RingDownReason reason = RingDownReason::max_periods;
   std::string message;  ///< one line
   std::vector<RingDownCycle> cycles;
   double linear_omega = 0.0;  ///< ω of the stuck linear mode [rad/s]
@@ -79,10 +81,10 @@ struct RingDownResult {
   double seconds = 0.0;       ///< wall time
   long steps = 0;             ///< Newmark steps
   long newton_iterations = 0;
-  /// The status convention (contact/termination.hpp): decayed → reached_end (the goal, stop_ratio,
-  /// was reached); max_periods → no_convergence; no_oscillation (the motion died out above the
-  /// stop ratio: more periods would not help) and integration_failed → failed.
-  [[nodiscard]] Status outcome() const;
+  /// The status convention (contact/termination.hpp), message `message`: decayed → reached_end
+  /// (the goal, stop_ratio, was reached); max_periods → no_convergence; no_oscillation (the motion
+  /// died out above the stop ratio: more periods would not help) and integration_failed → failed.
+  [[nodiscard]] Status status() const;
 };
 
 /// The drift-tolerant estimate over cycles k and k+1 (see the header comment).

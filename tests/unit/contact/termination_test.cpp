@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "jointhb/contact/termination.hpp"
 
@@ -37,4 +38,31 @@ TEST(Termination, StatusDefaultsToFailedAndBriefJoinsNameAndMessage) {
   const Status stopped{Termination::stopped_by_user, "stopped by the accept callback at point 3"};
   EXPECT_FALSE(stopped.ok());
   EXPECT_EQ(stopped.brief(), "stopped_by_user: stopped by the accept callback at point 3");
+}
+
+TEST(Termination, WorstOfARunIsItsMostSevereNamedPart) {
+  EXPECT_EQ(jointhb::worst({}).termination, Termination::converged);
+  EXPECT_TRUE(jointhb::worst({}).message.empty());
+
+  const std::vector<jointhb::NamedStatus> ok_run = {
+      {"preload", {Termination::converged, "4 load steps"}},
+      {"backbone mode 1", {Termination::reached_end, "reached the end"}}};
+  const Status ok = jointhb::worst(ok_run);
+  EXPECT_EQ(ok.termination, Termination::reached_end);
+  EXPECT_TRUE(ok.ok());
+  EXPECT_EQ(ok.message, "backbone mode 1: reached the end");
+
+  // failed outranks no_convergence, which outranks stopped_by_user; the first of equals wins.
+  const std::vector<jointhb::NamedStatus> bad_run = {
+      {"curve level 0", {Termination::stopped_by_user, "stopped"}},
+      {"curve level 1", {Termination::failed, "step below min_step"}},
+      {"curve level 2", {Termination::no_convergence, "max_points"}},
+      {"curve level 3", {Termination::failed, "start failed"}}};
+  const Status bad = jointhb::worst(bad_run);
+  EXPECT_EQ(bad.termination, Termination::failed);
+  EXPECT_FALSE(bad.ok());
+  EXPECT_EQ(bad.brief(), "failed: curve level 1: step below min_step");
+
+  const std::vector<jointhb::NamedStatus> unnamed = {{"", {Termination::no_convergence, "x"}}};
+  EXPECT_EQ(jointhb::worst(unnamed).message, "x");
 }

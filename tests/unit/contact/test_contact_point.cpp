@@ -73,7 +73,7 @@ TEST(ContactPoint, PeriodicSensitivityWithNormalMotionMatchesFiniteDifferences) 
                       -2e-6 + 1.5e-6 * std::cos(th + 0.4));
   }
   const auto base = cp.periodic(path);
-  ASSERT_EQ(base.tangential.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(base.tangential.termination, jointhb::Termination::converged);
   Eigen::MatrixXd dir(3 * n, 1);
   for (int i = 0; i < n; ++i) {
     const double th = 2.0 * std::numbers::pi * i / n;

@@ -16,7 +16,7 @@ TEST(HarmonicLoop, DissipationMatchesGeneralFormulaToRoundOff) {
       o.exponent = n;
       o.amplitude = ratio * o.friction_coefficient * o.normal_force / ((1 - n) * o.stiffness);
       const auto r = jc::run_loop(o);
-      ASSERT_EQ(r.state.status, jc::PeriodicStatus::converged);
+      ASSERT_EQ(r.state.termination, jointhb::Termination::converged);
       EXPECT_NEAR(r.dissipation_general, r.dissipation, 1e-12 * r.dissipation)
           << "n=" << n << " a/gmax=" << ratio;
     }
@@ -66,11 +66,11 @@ TEST(HarmonicLoop, ExtremeAmplitudesNormalMotionAndHarmonicsStayFinite) {
       // the mean force towards the limit over ~1e26 periods: that steady state is out of Newton's
       // reach (1 - M ≈ 1e-26) and is reported as not converged, with a message, never as NaN.
       if (normal_motion && a == 1e-30) {
-        if (r.state.status != jc::PeriodicStatus::converged) {
+        if (r.state.termination != jointhb::Termination::converged) {
           EXPECT_NE(r.state.message.find("not converged"), std::string::npos);
         }
       } else {
-        EXPECT_EQ(r.state.status, jc::PeriodicStatus::converged) << a << " " << normal_motion;
+        EXPECT_EQ(r.state.termination, jointhb::Termination::converged) << a << " " << normal_motion;
       }
     }
   }

@@ -50,7 +50,7 @@ TEST(PeriodicState, MatchesLongCyclingAtLargeAmplitude) {
   jc::GaulMayerLaw law(0.3);
   const auto path = rich_path(200, 0.12, 0.3);
   const auto r = jc::solve_periodic_state(law, path);
-  ASSERT_EQ(r.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(r.termination, jointhb::Termination::converged);
   EXPECT_LE(r.iterations, 10);
   const Vec2 cycled = run_cycles(law, path, Vec2::Zero(), 400);
   EXPECT_NEAR((cycled - r.traction[0]).norm(), 0.0, 1e-12);
@@ -72,7 +72,7 @@ TEST(PeriodicState, SmallAmplitudeNewtonWhereCyclingStalls) {
     path.limits.push_back({p.slip_limit, p.stiffness});
   }
   const auto r = jc::solve_periodic_state(law, path);
-  ASSERT_EQ(r.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(r.termination, jointhb::Termination::converged);
   EXPECT_LE(r.iterations, 6);
   const auto loop = jc::closed_form::symmetric_loop(a, p);
   EXPECT_NEAR(r.traction[0].x(), loop.force_amplitude, 1e-10 * loop.force_amplitude);
@@ -103,7 +103,7 @@ TEST(PeriodicState, PreloadedTractionAcrossTheMotionRelaxesByDampedNewton) {
   o.reference_traction = Vec2(2.948e4, 0.0);
   o.reference_slip = path.slip[0];
   const auto r = jc::solve_periodic_state(law, path, o);
-  ASSERT_EQ(r.status, jc::PeriodicStatus::converged) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
   EXPECT_LE(r.iterations, 20);
   const Vec2 cycled = run_cycles(law, path, o.reference_traction, 20000);
   EXPECT_NEAR((cycled - r.traction[0]).norm(), 0.0, 1e-9 * limit);
@@ -132,7 +132,7 @@ TEST(PeriodicState, TranslationLikePeriodMapIsCrossedWithinFewPeriods) {
   po.reference_traction = Vec2(lap_h3_path::kReferenceTraction[0], lap_h3_path::kReferenceTraction[1]);
   po.reference_slip = Vec2(lap_h3_path::kReferenceSlip[0], lap_h3_path::kReferenceSlip[1]);
   const jc::PeriodicContactResult r = point.periodic(path, po);
-  ASSERT_EQ(r.tangential.status, jc::PeriodicStatus::converged) << r.tangential.message;
+  ASSERT_EQ(r.tangential.termination, jointhb::Termination::converged) << r.tangential.message;
   EXPECT_LE(r.tangential.iterations, 30);
   // Brute force from the anchor: 20 000 periods of exact steps.
   Vec2 t = po.reference_traction;
@@ -174,7 +174,7 @@ TEST(PeriodicState, JenkinsThatCannotStickAtTheReferenceMovesToTheClosestPeriodi
   jc::PeriodicStateOptions o;
   o.reference_traction = Vec2(0.9, 0.0);
   const auto r = jc::solve_periodic_state(law, path, o);
-  ASSERT_EQ(r.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(r.termination, jointhb::Termination::converged);
   EXPECT_TRUE(r.stuck);
   for (int i = 0; i < 64; ++i) {
     EXPECT_NEAR(r.traction[i].x(), 1.0 - 10.0 * (0.05 - path.slip[i].x()), 1e-14);
@@ -193,7 +193,7 @@ TEST(PeriodicState, GappingErasesMemory) {
     path.limits.push_back({p, 10.0 * p});
   }
   const auto r = jc::solve_periodic_state(law, path);
-  ASSERT_EQ(r.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(r.termination, jointhb::Termination::converged);
   EXPECT_LE(r.iterations, 3);
   for (int i = 0; i < 100; ++i) {
     if (path.limits[i].slip_limit == 0.0) {
@@ -209,7 +209,7 @@ TEST(PeriodicState, SensitivityMatchesFiniteDifferencesOfTheWholeSolve) {
     const int samples = 48;
     const auto path = rich_path(samples, 0.08, 0.4);
     const auto base = jc::solve_periodic_state(law, path);
-    ASSERT_EQ(base.status, jc::PeriodicStatus::converged);
+    ASSERT_EQ(base.termination, jointhb::Termination::converged);
     // Three perturbation directions: smooth slip, limit and stiffness modulations.
     const int m = 3;
     Eigen::MatrixXd dslip = Eigen::MatrixXd::Zero(2 * samples, m);

@@ -127,7 +127,7 @@ TEST(TangentialStep2D, JenkinsOnACircleConvergesToTheClosedForm) {
       path.limits.push_back({fs, k});
     }
     const auto r = jc::solve_periodic_state(law, path);
-    ASSERT_EQ(r.status, jc::PeriodicStatus::converged);
+    ASSERT_EQ(r.termination, jointhb::Termination::converged);
     const double error = std::abs(r.dissipation - exact) / exact;
     if (previous_error > 0.0) {
       // first-order splitting in the direction: the error falls at least ~4x per 4x samples

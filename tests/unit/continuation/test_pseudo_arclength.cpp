@@ -345,36 +345,36 @@ TEST(ContinuationArclength, MaxPointsStops) {
 
 // The status convention (contact/termination.hpp) on real traces of the S-curve: to the end, stopped
 // by the callback, out of points, turned back across the start; and the full translation table.
-TEST(ContinuationArclength, OutcomeMapsTheStopReason) {
+TEST(ContinuationArclength, StatusMapsTheStopReason) {
   using jointhb::Termination;
   jcont::Options o;
   o.parameter_start = -4.0;
   o.parameter_end = 4.0;
   const auto full = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), o);
   ASSERT_EQ(full.reason, jcont::StopReason::reached_end) << describe(full);
-  EXPECT_EQ(full.outcome().termination, Termination::reached_end);
-  EXPECT_TRUE(full.outcome().ok());
-  EXPECT_EQ(full.outcome().brief(), "reached_end: " + full.message);
+  EXPECT_EQ(full.status().termination, Termination::reached_end);
+  EXPECT_TRUE(full.status().ok());
+  EXPECT_EQ(full.status().brief(), "reached_end: " + full.message);
 
   int calls = 0;
   const auto stop_at_three = [&](const jcont::Point&) { return ++calls < 3; };
   const auto stopped = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), o, stop_at_three);
   ASSERT_EQ(stopped.reason, jcont::StopReason::stopped_by_user) << describe(stopped);
-  EXPECT_EQ(stopped.outcome().termination, Termination::stopped_by_user);
-  EXPECT_FALSE(stopped.outcome().ok());
-  EXPECT_EQ(stopped.outcome().message, stopped.message);
+  EXPECT_EQ(stopped.status().termination, Termination::stopped_by_user);
+  EXPECT_FALSE(stopped.status().ok());
+  EXPECT_EQ(stopped.status().message, stopped.message);
 
   o.max_points = 5;
   const auto short_run = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), o);
   ASSERT_EQ(short_run.reason, jcont::StopReason::max_points) << describe(short_run);
-  EXPECT_EQ(short_run.outcome().termination, Termination::no_convergence);
+  EXPECT_EQ(short_run.status().termination, Termination::no_convergence);
 
   o = jcont::Options{};
   o.parameter_start = -1.5;
   o.parameter_end = 4.0;
   const auto back = jcont::trace(s_curve(), VectorXd::Constant(1, -1.9), o);
   ASSERT_EQ(back.reason, jcont::StopReason::left_range) << describe(back);
-  EXPECT_EQ(back.outcome().termination, Termination::failed);
+  EXPECT_EQ(back.status().termination, Termination::failed);
 
   EXPECT_EQ(jcont::termination(jcont::StopReason::reached_end), Termination::reached_end);
   EXPECT_EQ(jcont::termination(jcont::StopReason::stopped_by_user), Termination::stopped_by_user);
@@ -386,7 +386,7 @@ TEST(ContinuationArclength, OutcomeMapsTheStopReason) {
   jcont::Result r;
   r.reason = jcont::StopReason::min_step;
   r.message = "step below min_step";
-  EXPECT_EQ(r.outcome().brief(), "failed: step below min_step");
+  EXPECT_EQ(r.status().brief(), "failed: step below min_step");
 }
 
 TEST(ContinuationArclength, StartWithoutRootFails) {

@@ -137,18 +137,18 @@ TEST(Fitter, FailedEvaluationsArePenalisedNotFatal) {
       p, {});
   EXPECT_FALSE(none.ok);
   EXPECT_EQ(none.failed_evaluations, none.evaluations);
-  EXPECT_EQ(none.outcome().termination, Termination::failed);
-  EXPECT_EQ(none.outcome().message, "every evaluation failed");
+  EXPECT_EQ(none.status().termination, Termination::failed);
+  EXPECT_EQ(none.status().message, "every evaluation failed");
   // A successful fit stops on one of NLopt's tolerances (or its evaluation budget).
-  const Termination t = r.outcome().termination;
-  EXPECT_TRUE(t == Termination::converged || t == Termination::no_convergence) << r.outcome().brief();
+  const Termination t = r.status().termination;
+  EXPECT_TRUE(t == Termination::converged || t == Termination::no_convergence) << r.status().brief();
   FitResult budget = r;
   budget.stop_reason = "MAXEVAL_REACHED";
-  EXPECT_EQ(budget.outcome().termination, Termination::no_convergence);
+  EXPECT_EQ(budget.status().termination, Termination::no_convergence);
   budget.stop_reason = "XTOL_REACHED";
-  EXPECT_EQ(budget.outcome().termination, Termination::converged);
+  EXPECT_EQ(budget.status().termination, Termination::converged);
   budget.stop_reason = "ROUNDOFF_LIMITED";
-  EXPECT_EQ(budget.outcome().termination, Termination::failed);
+  EXPECT_EQ(budget.status().termination, Termination::failed);
 }
 
 TEST(Fitter, ResumeFromHistoryGivesTheSameResultWithFewerModelCalls) {

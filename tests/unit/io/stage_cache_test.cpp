@@ -126,7 +126,7 @@ const pl::PreloadResult& lap_preload() {
 
 modal::ModalResult hand_made_modes() {
   modal::ModalResult m;
-  m.status = modal::ModalStatus::not_converged;
+  m.termination = jointhb::Termination::no_convergence;
   m.message = "2 of 3 modes converged";
   m.eigenvalues = Eigen::Vector3d(-0.0, 1.0e-300, std::numbers::pi * 1e6);
   m.frequencies_hz = Eigen::Vector3d(-std::numeric_limits<double>::denorm_min(), 1.0, 159.0);
@@ -155,7 +155,7 @@ modal::ModalResult hand_made_modes() {
 }
 
 void expect_same(const modal::ModalResult& a, const modal::ModalResult& b) {
-  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.termination, b.termination);
   EXPECT_EQ(a.message, b.message);
   EXPECT_TRUE(same_bits(a.eigenvalues, b.eigenvalues));
   EXPECT_TRUE(same_bits(a.frequencies_hz, b.frequencies_hz));
@@ -276,10 +276,10 @@ void write_cache_file(const fs::path& file, std::string_view stage, std::string_
 /// A small preload result with every kind of field filled (no solve).
 pl::PreloadResult hand_made_preload() {
   pl::PreloadResult p;
-  p.converged = true;
+  p.termination = jointhb::Termination::converged;
   p.message = "";
-  p.steps.push_back({0.5, 3, 2, 1, 0, 1e-10, true});
-  p.steps.push_back({1.0, 2, 1, 1, 1, 2e-11, true});
+  p.steps.push_back({0.5, 3, 2, 1, 0, 1e-10, jointhb::Termination::converged, ""});
+  p.steps.push_back({1.0, 2, 1, 1, 1, 2e-11, jointhb::Termination::converged, ""});
   p.displacement = Eigen::VectorXd::Random(12);
   p.load_factor = 1.0;
   pl::InterfaceResult i;
@@ -344,7 +344,7 @@ TEST(Fingerprint, FileContents) {
 
 TEST(StageCache, PreloadRoundTripIsBitIdentical) {
   const pl::PreloadResult& p = lap_preload();
-  ASSERT_TRUE(p.converged) << p.message;
+  ASSERT_EQ(p.termination, jointhb::Termination::converged) << p.message;
   ASSERT_GT(p.dynamic_stiffness.nonZeros(), 0);
   ASSERT_EQ(p.interfaces.size(), 1u);
   TempDir dir;
@@ -355,7 +355,7 @@ TEST(StageCache, PreloadRoundTripIsBitIdentical) {
   const auto q = cache.load_preload("0123");
   ASSERT_TRUE(q.has_value());
   EXPECT_TRUE(cache.warnings().empty());
-  EXPECT_EQ(q->converged, p.converged);
+  EXPECT_EQ(q->termination, p.termination);
   EXPECT_EQ(q->message, p.message);
   ASSERT_EQ(q->steps.size(), p.steps.size());
   EXPECT_EQ(q->steps.back().iterations, p.steps.back().iterations);
@@ -557,12 +557,12 @@ TEST(StageCacheFormat, PayloadIsTheDocumentedRecord) {
   EXPECT_EQ(r.type, "ModalResult");
   std::vector<std::string> names;
   for (const auto& f : r.fields) names.push_back(f.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"status", "message", "eigenvalues", "frequencies_hz", "shapes",
+  EXPECT_EQ(names, (std::vector<std::string>{"termination", "message", "eigenvalues", "frequencies_hz", "shapes",
                                              "residuals", "backward_errors", "shift", "requested", "iterations",
                                              "operator_applications", "mass_applications", "ncv", "factor",
                                              "factor_seconds", "lanczos_seconds", "seconds"}));
   RawRecord copy = r;
-  EXPECT_EQ(copy.field("status").code, 6);    // enumeration
+  EXPECT_EQ(copy.field("termination").code, 6);  // enumeration
   EXPECT_EQ(copy.field("message").code, 5);   // string
   EXPECT_EQ(copy.field("eigenvalues").code, 7);  // f64 array
   EXPECT_EQ(copy.field("eigenvalues").bytes.size(), 3 * sizeof(double));

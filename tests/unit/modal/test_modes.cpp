@@ -17,7 +17,6 @@ namespace {
 using jointhb::modal::compute_modes;
 using jointhb::modal::ModalOptions;
 using jointhb::modal::ModalResult;
-using jointhb::modal::ModalStatus;
 using SpMat = Eigen::SparseMatrix<double>;
 
 constexpr double kStiffness = 1.0e6;  // k [N/m]
@@ -84,7 +83,7 @@ TEST(ModalArpack, FixedFreeChainMatchesItsClosedForm) {
   ModalOptions options;
   options.count = 12;
   const ModalResult result = compute_modes(K, M, options);
-  ASSERT_EQ(result.status, ModalStatus::converged) << result.message;
+  ASSERT_EQ(result.termination, jointhb::Termination::converged) << result.message;
   ASSERT_EQ(result.eigenvalues.size(), 12);
   for (int j = 1; j <= 12; ++j) {
     const double s = std::sin((2 * j - 1) * std::numbers::pi / (2.0 * (2 * n + 1)));
@@ -111,7 +110,7 @@ TEST(ModalArpack, ConsistentMassBarMatchesDenseGeneralizedEigensolver) {
   options.count = 10;
   options.shift = -1e3;
   const ModalResult result = compute_modes(K, M, options);
-  ASSERT_EQ(result.status, ModalStatus::converged) << result.message;
+  ASSERT_EQ(result.termination, jointhb::Termination::converged) << result.message;
   for (int j = 0; j < 10; ++j) {
     EXPECT_NEAR(result.eigenvalues(j) / dense.eigenvalues()(j), 1.0, 1e-10) << "mode " << j;
     // Same M-normalised vector up to sign.
@@ -131,7 +130,7 @@ TEST(ModalArpack, FreeFreeChainGivesTheRigidModeAndTheElasticOnes) {
   ModalOptions options;
   options.count = 8;  // default shift −(2π·1 Hz)²
   const ModalResult result = compute_modes(K, M, options);
-  ASSERT_EQ(result.status, ModalStatus::converged) << result.message;
+  ASSERT_EQ(result.termination, jointhb::Termination::converged) << result.message;
   const double lambda_1 =
       4.0 * kStiffness / kMass * std::pow(std::sin(std::numbers::pi / (2 * n)), 2);
   EXPECT_LT(std::abs(result.eigenvalues(0)), 1e-8 * lambda_1);
@@ -155,7 +154,7 @@ TEST(ModalArpack, FreeFreeBarWithConsistentMassMatchesDense) {
   ModalOptions options;
   options.count = 6;
   const ModalResult result = compute_modes(K, M, options);
-  ASSERT_EQ(result.status, ModalStatus::converged) << result.message;
+  ASSERT_EQ(result.termination, jointhb::Termination::converged) << result.message;
   EXPECT_LT(std::abs(result.eigenvalues(0)), 1e-8 * dense.eigenvalues()(1));
   for (int j = 1; j < 6; ++j) {
     EXPECT_NEAR(result.eigenvalues(j) / dense.eigenvalues()(j), 1.0, 1e-10) << "mode " << j;
@@ -175,7 +174,7 @@ TEST(ModalArpack, SameInputGivesTheSameOutputBitForBit) {
   options.count = 7;
   const ModalResult first = compute_modes(K, M, options);
   const ModalResult second = compute_modes(K, M, options);
-  ASSERT_EQ(first.status, ModalStatus::converged);
+  ASSERT_EQ(first.termination, jointhb::Termination::converged);
   EXPECT_EQ(first.iterations, second.iterations);
   EXPECT_EQ((first.eigenvalues - second.eigenvalues).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((first.shapes - second.shapes).cwiseAbs().maxCoeff(), 0.0);
@@ -188,7 +187,7 @@ TEST(ModalArpack, ReportsAShiftAboveTheLowestEigenvalueAsAFailedFactorization) {
   options.count = 3;
   options.shift = 4.0 * kStiffness / kMass * 0.5;  // well inside the spectrum
   const ModalResult result = compute_modes(K, M, options);
-  EXPECT_EQ(result.status, ModalStatus::failed);
+  EXPECT_EQ(result.termination, jointhb::Termination::failed);
   EXPECT_NE(result.message.find("not positive definite"), std::string::npos) << result.message;
   EXPECT_EQ(result.eigenvalues.size(), 0);
 }
@@ -201,28 +200,28 @@ TEST(ModalArpack, ReportsTooFewIterationsAsNotConverged) {
   options.ncv = 11;
   options.max_iterations = 1;
   const ModalResult result = compute_modes(K, M, options);
-  EXPECT_EQ(result.status, ModalStatus::not_converged);
+  EXPECT_EQ(result.termination, jointhb::Termination::no_convergence);
   EXPECT_NE(result.message.find("modes converged"), std::string::npos) << result.message;
   EXPECT_LT(result.eigenvalues.size(), 10);
 }
 
 // The status convention (contact/termination.hpp) on the three ways compute_modes ends.
-TEST(ModalArpack, OutcomeMapsEachModalStatus) {
+TEST(ModalArpack, StatusSaysEachTermination) {
   SpMat K, M;
   spring_mass_chain(50, true, K, M);
   ModalOptions options;
   options.count = 3;
   const ModalResult good = compute_modes(K, M, options);
-  ASSERT_EQ(good.status, ModalStatus::converged) << good.message;
-  EXPECT_EQ(good.outcome().termination, jointhb::Termination::converged);
-  EXPECT_TRUE(good.outcome().ok());
-  EXPECT_EQ(good.outcome().brief(), "converged: 3 of 3 modes converged");  // message is empty
+  ASSERT_EQ(good.termination, jointhb::Termination::converged) << good.message;
+  EXPECT_EQ(good.status().termination, jointhb::Termination::converged);
+  EXPECT_TRUE(good.status().ok());
+  EXPECT_EQ(good.status().brief(), "converged: 3 of 3 modes converged");  // message is empty
 
   options.shift = 4.0 * kStiffness / kMass * 0.5;  // inside the spectrum: K − σM indefinite
   const ModalResult failed = compute_modes(K, M, options);
-  ASSERT_EQ(failed.status, ModalStatus::failed);
-  EXPECT_EQ(failed.outcome().termination, jointhb::Termination::failed);
-  EXPECT_EQ(failed.outcome().message, failed.message);
+  ASSERT_EQ(failed.termination, jointhb::Termination::failed);
+  EXPECT_EQ(failed.status().termination, jointhb::Termination::failed);
+  EXPECT_EQ(failed.status().message, failed.message);
 
   spring_mass_chain(3000, true, K, M);
   options = ModalOptions{};
@@ -230,10 +229,10 @@ TEST(ModalArpack, OutcomeMapsEachModalStatus) {
   options.ncv = 11;
   options.max_iterations = 1;
   const ModalResult short_run = compute_modes(K, M, options);
-  ASSERT_EQ(short_run.status, ModalStatus::not_converged);
-  EXPECT_EQ(short_run.outcome().termination, jointhb::Termination::no_convergence);
-  EXPECT_FALSE(short_run.outcome().ok());
-  EXPECT_EQ(short_run.outcome().brief(), "no_convergence: " + short_run.message);
+  ASSERT_EQ(short_run.termination, jointhb::Termination::no_convergence);
+  EXPECT_EQ(short_run.status().termination, jointhb::Termination::no_convergence);
+  EXPECT_FALSE(short_run.status().ok());
+  EXPECT_EQ(short_run.status().brief(), "no_convergence: " + short_run.message);
 }
 
 TEST(ModalArpack, RejectsInvalidOptionsAndMatricesNamingTheField) {

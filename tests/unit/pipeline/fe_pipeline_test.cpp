@@ -40,8 +40,8 @@ pipeline::FeNonlinearModesSpec short_curve() {
 TEST(pipeline_FePipeline, StagesAreComputedOnceAndKeptWhileTheirKeysHold) {
   FePipeline p(lap_case(), lap_case());
   EXPECT_TRUE(p.needs_preload());
-  ASSERT_TRUE(p.preload().converged);
-  ASSERT_EQ(p.modes().status, modal::ModalStatus::converged);
+  ASSERT_TRUE(p.preload().status().ok());
+  ASSERT_EQ(p.modes().termination, jointhb::Termination::converged);
   (void)p.modes();
   (void)p.interface_stage();
   (void)p.interface_stage();
@@ -113,11 +113,11 @@ TEST(pipeline_FePipeline, TheDampingCurveStartsAtTheLinearModeAndItsDamping) {
     EXPECT_TRUE(std::isfinite(pt.output_amplitude) && pt.output_amplitude >= 0.0);
     return true;
   });
-  ASSERT_TRUE(b.ok()) << b.stop_message;
+  ASSERT_TRUE(b.status().ok()) << b.stop_message;
   ASSERT_GE(b.points.size(), 3u);
   EXPECT_EQ(seen, static_cast<int>(b.points.size()));
-  EXPECT_EQ(b.outcome().termination, Termination::reached_end) << b.outcome().brief();
-  EXPECT_EQ(b.outcome().message, b.stop_message);
+  EXPECT_EQ(b.status().termination, Termination::reached_end) << b.status().brief();
+  EXPECT_EQ(b.status().message, b.stop_message);
   const pipeline::BackbonePoint& first = b.points.front();
   // Linear limit: the first elastic mode of K_t (the condensation keeps it to the cutoff's
   // truncation error) and ζ = the case's 0.5 % (b = 2ζ/ω₁ at that mode), up to that frequency
@@ -141,42 +141,42 @@ TEST(pipeline_FePipeline, ACallbackStopsTheCurveWithItsPointsKept) {
   const pipeline::BackboneCurve b = p.backbone(1, short_curve(), [&](const pipeline::BackbonePoint&) { return ++calls < 3; });
   EXPECT_EQ(b.points.size(), 3u);
   EXPECT_TRUE(b.stopped_by_callback);
-  EXPECT_FALSE(b.ok());
+  EXPECT_FALSE(b.status().ok());
   EXPECT_EQ(b.stop_message, "stopped by the caller");
-  EXPECT_EQ(b.outcome().termination, Termination::stopped_by_user);
-  EXPECT_EQ(b.outcome().brief(), "stopped_by_user: stopped by the caller");
+  EXPECT_EQ(b.status().termination, Termination::stopped_by_user);
+  EXPECT_EQ(b.status().brief(), "stopped_by_user: stopped by the caller");
 }
 
 // The pipeline's own reasons to end a curve, which the continuation records alike as
 // stopped_by_user (the accept callback returned false): the flags tell them apart.
-TEST(pipeline_FePipeline, CurveOutcomesTellTheFrequencyDropTheCallerAndANonFinitePointApart) {
+TEST(pipeline_FePipeline, CurveStatusesTellTheFrequencyDropTheCallerAndANonFinitePointApart) {
   pipeline::BackboneCurve b;
   b.curve.reason = continuation::StopReason::stopped_by_user;
   b.stop_message = "a point is not finite";
-  EXPECT_EQ(b.outcome().termination, Termination::failed);
+  EXPECT_EQ(b.status().termination, Termination::failed);
   b.stopped_by_callback = true;
-  EXPECT_EQ(b.outcome().termination, Termination::stopped_by_user);
+  EXPECT_EQ(b.status().termination, Termination::stopped_by_user);
   b.stopped_by_callback = false;
   b.reached_frequency_drop = true;
-  EXPECT_EQ(b.outcome().termination, Termination::reached_end);
-  EXPECT_EQ(b.outcome().ok(), b.ok());
+  EXPECT_EQ(b.status().termination, Termination::reached_end);
+  EXPECT_TRUE(b.status().ok());  // the goal it was given
   b.reached_frequency_drop = false;
   b.curve.reason = continuation::StopReason::max_points;
-  EXPECT_EQ(b.outcome().termination, Termination::no_convergence);
-  EXPECT_EQ(b.outcome().ok(), b.ok());
+  EXPECT_EQ(b.status().termination, Termination::no_convergence);
+  EXPECT_FALSE(b.status().ok());
 
   pipeline::FrfCurve f;
   f.curve.reason = continuation::StopReason::reached_end;
   f.curve.message = "reached";
-  EXPECT_EQ(f.outcome().termination, Termination::reached_end);
-  EXPECT_EQ(f.outcome().ok(), f.ok());
+  EXPECT_EQ(f.status().termination, Termination::reached_end);
+  EXPECT_TRUE(f.status().ok());
   f.curve.reason = continuation::StopReason::stopped_by_user;
-  EXPECT_EQ(f.outcome().termination, Termination::failed);
+  EXPECT_EQ(f.status().termination, Termination::failed);
   f.stopped_by_callback = true;
-  EXPECT_EQ(f.outcome().termination, Termination::stopped_by_user);
+  EXPECT_EQ(f.status().termination, Termination::stopped_by_user);
   f.curve.reason = continuation::StopReason::min_step;
   f.stopped_by_callback = false;
-  EXPECT_EQ(f.outcome().brief(), "failed: reached");
+  EXPECT_EQ(f.status().brief(), "failed: reached");
 }
 
 TEST(pipeline_FePipeline, AFailedPreloadIsReportedToTheStagesAfterIt) {
@@ -184,9 +184,9 @@ TEST(pipeline_FePipeline, AFailedPreloadIsReportedToTheStagesAfterIt) {
   a.preload.max_iterations = 1;
   a.preload.max_line_search = 0;
   FePipeline p(lap_case(), a);
-  EXPECT_FALSE(p.preload().converged);
-  EXPECT_FALSE(p.preload().outcome().ok());
-  EXPECT_EQ(p.preload().outcome().message, p.preload().message);
+  EXPECT_NE(p.preload().termination, Termination::converged);
+  EXPECT_FALSE(p.preload().status().ok());
+  EXPECT_EQ(p.preload().status().message, p.preload().message);
   try {
     (void)p.modes();
     FAIL() << "modes() after a failed preload must throw";

@@ -120,7 +120,7 @@ TEST(PreloadSolver, UniformClampingMatchesTheExponentialLawInClosedForm) {
   pl::PreloadOptions o;
   o.residual_tolerance = 1e-11;
   const pl::PreloadResult r = pl::solve_preload(m, o);
-  ASSERT_TRUE(r.converged) << r.message;
+  ASSERT_TRUE(r.status().ok()) << r.message;
   const double area = 0.02 * 0.02, p = 4000.0 / area;
   const auto& iface = r.interfaces.front();
   EXPECT_NEAR(iface.clamping_force / 4000.0 - 1.0, 0.0, 1e-9);
@@ -142,7 +142,7 @@ TEST(PreloadSolver, LocalBoltConcentratesThePressureAndBalancesTheBoltForce) {
   pl::PreloadOptions o;
   o.residual_tolerance = 1e-10;
   const pl::PreloadResult r = pl::solve_preload(m, o);
-  ASSERT_TRUE(r.converged) << r.message;
+  ASSERT_TRUE(r.status().ok()) << r.message;
   const auto& iface = r.interfaces.front();
   EXPECT_NEAR(iface.clamping_force / 4000.0 - 1.0, 0.0, 1e-8);
   // Pressure at the point nearest the axis vs at a corner.
@@ -174,8 +174,8 @@ TEST(PreloadSolver, FactorReuseSavesFactorisationsAndReachesTheSameState) {
   pl::PreloadOptions reuse = plain;
   reuse.reuse_factor_ratio = 0.1;
   const pl::PreloadResult a = pl::solve_preload(m, plain), b = pl::solve_preload(m, reuse);
-  ASSERT_TRUE(a.converged) << a.message;
-  ASSERT_TRUE(b.converged) << b.message;
+  ASSERT_TRUE(a.status().ok()) << a.message;
+  ASSERT_TRUE(b.status().ok()) << b.message;
   EXPECT_EQ(a.factor.factorizations, a.total_iterations);
   int chords = 0, factorizations = 0;
   for (const pl::PreloadStep& s : b.steps) {
@@ -208,15 +208,17 @@ TEST(PreloadSolver, UnconnectedPartIsNamed) {
 
 // The status convention (contact/termination.hpp): a converged preload, and one whose first load
 // step runs out of Newton iterations (one iteration cannot reach 1e-14 from the unloaded state).
-TEST(PreloadSolver, OutcomeMapsConvergedAndTheIterationLimit) {
+TEST(PreloadSolver, StatusSaysConvergedOrTheIterationLimit) {
   const fe::Mesh mesh = two_blocks();
   const pl::PreloadModel m = model_of(mesh, 1.0);
   const pl::PreloadResult good = pl::solve_preload(m, {});
-  ASSERT_TRUE(good.converged) << good.message;
-  const jointhb::Status ok = good.outcome();
+  ASSERT_TRUE(good.status().ok()) << good.message;
+  const jointhb::Status ok = good.status();
   EXPECT_EQ(ok.termination, jointhb::Termination::converged);
   EXPECT_TRUE(ok.ok());
-  EXPECT_EQ(ok.brief(), good.message);  // "converged: 4 load steps, …", not "converged: converged: …"
+  EXPECT_EQ(ok.brief(), "converged: " + good.message);  // "converged: 4 load steps, …"
+  EXPECT_EQ(good.message.find("converged"), std::string::npos) << good.message;  // said once
+  for (const pl::PreloadStep& step : good.steps) EXPECT_EQ(step.termination, jointhb::Termination::converged);
 
   pl::PreloadOptions o;
   o.max_iterations = 1;
@@ -224,16 +226,23 @@ TEST(PreloadSolver, OutcomeMapsConvergedAndTheIterationLimit) {
   o.residual_tolerance = 1e-14;
   o.reuse_factor_ratio = 0.0;
   const pl::PreloadResult bad = pl::solve_preload(m, o);
-  ASSERT_FALSE(bad.converged);
-  const jointhb::Status s = bad.outcome();
+  ASSERT_FALSE(bad.status().ok());
+  const jointhb::Status s = bad.status();
   EXPECT_EQ(s.termination, jointhb::Termination::no_convergence) << bad.message;
   EXPECT_FALSE(s.ok());
   EXPECT_EQ(s.message, bad.message);
+  // The load step that stopped says the same, with its own reason inside the result's message.
+  ASSERT_EQ(bad.steps.size(), 1u);
+  EXPECT_EQ(bad.steps[0].status().termination, jointhb::Termination::no_convergence);
+  EXPECT_NE(bad.message.find(bad.steps[0].message), std::string::npos) << bad.message;
 
-  // Any other failure (a tangent that cannot be factored, a line search without decrease) is a
-  // breakdown; a default (never solved) result is failed too.
-  pl::PreloadResult broken;
-  broken.message = "preload step 1/4 (load factor 0.25): the tangent stiffness could not be factored (x)";
-  EXPECT_EQ(broken.outcome().termination, jointhb::Termination::failed);
-  EXPECT_EQ(pl::PreloadResult{}.outcome().termination, jointhb::Termination::failed);
+  // A line search without decrease is a breakdown (more iterations would not cure it); a
+  // default (never solved) result is failed too.
+  o.max_iterations = 200;  // far more than Newton needs to reach round-off
+  o.max_line_search = 0;
+  o.residual_tolerance = 1e-300;  // below round-off: some Newton step must fail to decrease ‖r‖
+  const pl::PreloadResult broken = pl::solve_preload(m, o);
+  EXPECT_EQ(broken.status().termination, jointhb::Termination::failed) << broken.message;
+  EXPECT_NE(broken.message.find("line search"), std::string::npos) << broken.message;
+  EXPECT_EQ(pl::PreloadResult{}.status().termination, jointhb::Termination::failed);
 }

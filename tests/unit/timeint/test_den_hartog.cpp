@@ -262,7 +262,7 @@ TEST(DenHartog, NewmarkWithStiffJenkinsConvergesToTheClosedForm) {
       o.tolerance = 1e-8;
       o.max_periods = 200;
       const auto r = ti::forced_steady_state(jenkins_oscillator(c.r, kappa), ex, omega, o, start);
-      ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+      ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
       error[i] = (r.amplitude_max[0] - d.amplitude) / d.amplitude;
       harmonic[i] = Eigen::Vector2d(r.coefficients(0, 1), r.coefficients(0, 2));
     }

@@ -94,7 +94,7 @@ TEST(NewmarkLinear, OneDofMatchesReceptanceWithSecondOrderRate) {
   double previous = 0.0;
   for (int steps : {32, 64, 128}) {
     const auto r = ti::forced_steady_state(sys, ex, omega, steady_options(steps));
-    ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+    ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
     // The discrete steady state is the receptance at the warped frequency, to round-off.
     const double dt = r.time_step;
     EXPECT_LT(harmonic_error(r, 1, receptance(sys, f, warped(omega, dt), sys.stiffness)), 1e-9)
@@ -129,7 +129,7 @@ TEST(NewmarkLinear, TwoDofStaticAndTwoHarmonicsWithSecondOrderRate) {
   double previous1 = 0.0, previous2 = 0.0;
   for (int steps : {64, 128, 256}) {
     const auto r = ti::forced_steady_state(sys, ex, omega, steady_options(steps));
-    ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+    ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
     const double dt = r.time_step;
     EXPECT_LT((r.coefficients.col(0) - x_static).cwiseAbs().maxCoeff(), 1e-9 * x_static.norm());
     EXPECT_LT(harmonic_error(r, 1, receptance(sys, f1, warped(omega, dt), sys.stiffness)), 1e-9);
@@ -162,7 +162,7 @@ TEST(NewmarkLinear, HhtAlphaIsSecondOrderAndDampsUnresolvedModes) {
     auto o = steady_options(steps);
     o.integrator.alpha = -0.1;
     const auto r = ti::forced_steady_state(sys, ex, omega, o);
-    ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+    ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
     const double error = harmonic_error(r, 1, exact);
     if (previous > 0.0) {
       EXPECT_NEAR(std::log2(previous / error), 2.0, 0.1);
@@ -204,7 +204,7 @@ TEST(NewmarkTransient, JenkinsRingDownEnergyBalance) {
   o.time_step = 1.0 / 400;  // T_n/400 of the free system
   int calls = 0;
   const auto r = ti::integrate(sys, {}, 0.0, start, 4000, o, [&](const ti::State&) { ++calls; });
-  ASSERT_EQ(r.status, ti::TransientStatus::completed) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::reached_end) << r.message;
   EXPECT_EQ(calls, 4000);
   EXPECT_NEAR(r.final_state.time, 10.0, 1e-12);
   const auto energy = [&](const ti::State& s) {
@@ -241,7 +241,7 @@ TEST(NewmarkContacts, StuckContactsAreLinearSprings) {
   const auto ex = cosine_force(1, 1.0);
   const double omega = 9.0;
   const auto r = ti::forced_steady_state(sys, ex, omega, steady_options(128));
-  ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
   const auto x = receptance(sys, Eigen::Vector2d(0.0, 1.0), warped(omega, r.time_step),
                             hb::stuck_stiffness(sys));
   EXPECT_LT(harmonic_error(r, 1, x), 1e-7);  // Gaul–Mayer's softening is O(|F|/μF_N) ~ 1e-8
@@ -263,7 +263,7 @@ TEST(NewmarkContacts, JenkinsSteadyStateEnergyBalance) {
   auto o = steady_options(512);
   o.tolerance = 1e-10;
   const auto r = ti::forced_steady_state(sys, ex, 1.1 * 2 * pi, o);
-  ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
   const double d = r.contact_dissipation[0];
   const double fs = c.slip_limit();
   const double span = r.samples.row(0).maxCoeff() - r.samples.row(0).minCoeff();
@@ -289,7 +289,7 @@ TEST(NewmarkContacts, GaulMayerDissipationMatchesPeriodicStateOfTheGapHistory) {
   sys.contacts.push_back(c);
   const auto ex = cosine_force(0, 0.3);
   const auto r = ti::forced_steady_state(sys, ex, 1.2 * 2 * pi, steady_options(512));
-  ASSERT_EQ(r.status, ti::SteadyStatus::converged) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
   // The same law on the sampled gap history, solved for periodicity directly.
   jc::PeriodicPath path;
   for (Eigen::Index j = 0; j < r.samples.cols(); ++j) {
@@ -298,7 +298,7 @@ TEST(NewmarkContacts, GaulMayerDissipationMatchesPeriodicStateOfTheGapHistory) {
   }
   const jc::GaulMayerLaw law(c.exponent);
   const auto loop = jc::solve_periodic_state(law, path);
-  ASSERT_EQ(loop.status, jc::PeriodicStatus::converged);
+  ASSERT_EQ(loop.termination, jointhb::Termination::converged);
   const double peak = r.contact_force_samples.cwiseAbs().maxCoeff();
   EXPECT_GT(peak, 0.3 * c.slip_limit());  // well inside microslip, not stuck
   EXPECT_LT(peak, 0.999 * c.slip_limit());
@@ -335,7 +335,7 @@ TEST(NewmarkNewton, StiffJenkinsContactsWithLargeStepsConverge) {
   ti::NewmarkOptions o;
   o.time_step = 2 * pi / 20.0 / 64;
   const auto r = ti::integrate(sys, ex, 20.0, ti::rest_state(sys), 64 * 20, o);
-  ASSERT_EQ(r.status, ti::TransientStatus::completed) << r.message;
+  ASSERT_EQ(r.termination, jointhb::Termination::reached_end) << r.message;
   std::printf("  %ld Newton iterations in %d steps (max %d in one), %ld line searches\n",
               r.newton_iterations, r.steps, r.max_step_iterations, r.line_searches);
   EXPECT_GT(r.contact_dissipation[0], 0.0);
@@ -355,12 +355,12 @@ TEST(NewmarkNewton, NonConvergenceIsAStatus) {
   o.max_newton_iterations = 1;
   o.newton_tolerance = 1e-14;
   const auto r = ti::integrate(sys, cosine_force(0, 5.0), 2 * pi, ti::rest_state(sys), 200, o);
-  EXPECT_EQ(r.status, ti::TransientStatus::not_converged);
+  EXPECT_EQ(r.termination, jointhb::Termination::failed);
   EXPECT_NE(r.message.find("Newton did not converge"), std::string::npos) << r.message;
   // The status convention (contact/termination.hpp): a Newton failure in a step is `failed`, for
   // the transient as for the steady state below; max_periods is `no_convergence`.
-  EXPECT_EQ(r.outcome().termination, jointhb::Termination::failed);
-  EXPECT_EQ(r.outcome().message, r.message);
+  EXPECT_EQ(r.status().termination, jointhb::Termination::failed);
+  EXPECT_EQ(r.status().message, r.message);
   EXPECT_LT(r.steps, 200);
   EXPECT_NEAR(r.final_state.time, r.steps * o.time_step, 1e-12);
 
@@ -368,37 +368,37 @@ TEST(NewmarkNewton, NonConvergenceIsAStatus) {
   so.integrator = o;
   so.integrator.time_step = 0.0;
   const auto s = ti::forced_steady_state(sys, cosine_force(0, 5.0), 2 * pi, so);
-  EXPECT_EQ(s.status, ti::SteadyStatus::failed);
-  EXPECT_EQ(s.outcome().termination, jointhb::Termination::failed);
+  EXPECT_EQ(s.termination, jointhb::Termination::failed);
+  EXPECT_EQ(s.status().termination, jointhb::Termination::failed);
   EXPECT_NE(s.message.find("Newton"), std::string::npos);
 
   so = steady_options(64);
   so.max_periods = 2;
   const auto t = ti::forced_steady_state(sys, cosine_force(0, 5.0), 2 * pi, so);
-  EXPECT_EQ(t.status, ti::SteadyStatus::not_converged);
-  EXPECT_EQ(t.outcome().termination, jointhb::Termination::no_convergence);
+  EXPECT_EQ(t.termination, jointhb::Termination::no_convergence);
+  EXPECT_EQ(t.status().termination, jointhb::Termination::no_convergence);
   EXPECT_EQ(t.periods, 2);
   EXPECT_NE(t.message.find("no steady state after 2 periods"), std::string::npos) << t.message;
 }
 
-TEST(NewmarkOutcome, CompletedRunsReachTheEndAndRingDownStatusesMapOneToOne) {
+TEST(NewmarkStatus, CompletedRunsReachTheEndAndRingDownReasonsMapOneToOne) {
   auto sys = one_dof(0.02);
   ti::NewmarkOptions o;
   o.time_step = 0.01;
   const auto r = ti::integrate(sys, cosine_force(0, 5.0), 2 * pi, ti::rest_state(sys), 20, o);
-  ASSERT_EQ(r.status, ti::TransientStatus::completed) << r.message;
-  EXPECT_EQ(r.outcome().termination, jointhb::Termination::reached_end);
-  EXPECT_EQ(r.outcome().brief(), "reached_end: 20 steps");
+  ASSERT_EQ(r.termination, jointhb::Termination::reached_end) << r.message;
+  EXPECT_EQ(r.status().termination, jointhb::Termination::reached_end);
+  EXPECT_EQ(r.status().brief(), "reached_end: 20 steps");
 
   ti::RingDownResult d;
-  d.status = ti::RingDownStatus::decayed;
-  EXPECT_EQ(d.outcome().termination, jointhb::Termination::reached_end);
-  d.status = ti::RingDownStatus::max_periods;
-  EXPECT_EQ(d.outcome().termination, jointhb::Termination::no_convergence);
-  d.status = ti::RingDownStatus::no_oscillation;
-  EXPECT_EQ(d.outcome().termination, jointhb::Termination::failed);
-  d.status = ti::RingDownStatus::integration_failed;
-  EXPECT_EQ(d.outcome().termination, jointhb::Termination::failed);
+  d.reason = ti::RingDownReason::decayed;
+  EXPECT_EQ(d.status().termination, jointhb::Termination::reached_end);
+  d.reason = ti::RingDownReason::max_periods;
+  EXPECT_EQ(d.status().termination, jointhb::Termination::no_convergence);
+  d.reason = ti::RingDownReason::no_oscillation;
+  EXPECT_EQ(d.status().termination, jointhb::Termination::failed);
+  d.reason = ti::RingDownReason::integration_failed;
+  EXPECT_EQ(d.status().termination, jointhb::Termination::failed);
 }
 
 TEST(NewmarkOptions, ValidationNamesTheField) {

@@ -66,7 +66,7 @@ TEST(RingDownLinear, OneDofViscousGivesDampedFrequencyAndDampingRatio) {
 
   auto o = options(1.0, 256);
   const auto r = ti::ring_down(system, o);
-  ASSERT_EQ(r.status, ti::RingDownStatus::decayed) << r.message;
+  ASSERT_EQ(r.reason, ti::RingDownReason::decayed) << r.message;
   // ln(1000)/(2πζ) ≈ 55 cycles; the first maximum located is the one after t = 0.
   EXPECT_GE(r.cycles.size(), 50U);
   const Errors corrected = linear_errors(r, omega_d, zeta);
@@ -118,7 +118,7 @@ TEST(RingDownLinear, SecondModeOfTwoDofsGivesItsOwnFrequencyAndDamping) {
   auto o = options(0.5, 128);
   o.mode = 2;
   auto r = ti::ring_down(system, o);
-  ASSERT_EQ(r.status, ti::RingDownStatus::decayed) << r.message;
+  ASSERT_EQ(r.reason, ti::RingDownReason::decayed) << r.message;
   EXPECT_NEAR(r.linear_omega, omega[1], 1e-9 * omega[1]);
   Errors e = linear_errors(r, omega[1] * std::sqrt(1.0 - 0.03 * 0.03), 0.03);
   std::printf("[ring-down] 2 DOF modal, mode 2: max rel. error ω %.2e, ζ %.2e\n", e.omega, e.zeta);
@@ -129,7 +129,7 @@ TEST(RingDownLinear, SecondModeOfTwoDofsGivesItsOwnFrequencyAndDamping) {
   const double a = 0.05, b = 0.002;
   system.damping = (a * m + b * k).sparseView();
   r = ti::ring_down(system, o);
-  ASSERT_EQ(r.status, ti::RingDownStatus::decayed) << r.message;
+  ASSERT_EQ(r.reason, ti::RingDownReason::decayed) << r.message;
   const double zeta2 = a / (2.0 * omega[1]) + b * omega[1] / 2.0;
   e = linear_errors(r, omega[1] * std::sqrt(1.0 - zeta2 * zeta2), zeta2);
   std::printf("[ring-down] 2 DOF Rayleigh (ζ2 = %.4f), mode 2: max rel. error ω %.2e, ζ %.2e\n",
@@ -160,7 +160,7 @@ TEST(RingDownJenkins, GrossSlipDropsAsDerivedAndStuckRingsAtTheStuckFrequency) {
   o.max_periods = 400;
   o.stop_ratio = 1e-12;
   const auto r = ti::ring_down(system, o);
-  ASSERT_EQ(r.status, ti::RingDownStatus::max_periods) << r.message;
+  ASSERT_EQ(r.reason, ti::RingDownReason::max_periods) << r.message;
   ASSERT_GE(r.cycles.size(), 10U);
   const auto drop = [&](double x, double y) {
     return 2 * fs / kSpring - 4 * fs * fs / (kSpring * kt * (x + y));
@@ -207,7 +207,7 @@ TEST(RingDownGaulMayer, MicroslipDampingVanishesAndMatchesTheEnergyMethod) {
   auto o = options(1.0, 256);
   o.max_periods = 300;
   const auto r = ti::ring_down(system, o);
-  ASSERT_NE(r.status, ti::RingDownStatus::integration_failed) << r.message;
+  ASSERT_NE(r.reason, ti::RingDownReason::integration_failed) << r.message;
   ASSERT_GE(r.cycles.size(), 100U);
   double worst_energy = 0.0;
   int compared = 0;
