@@ -182,7 +182,7 @@ class FeCaseReader {
       if (const auto* e = f.find("element")) {
         const std::string name = reader_.text(e->value, f.path_of("element"));
         const auto t = fe::element_type_of_abaqus_name(name);
-        if (!t) reader_.fail(e->value, f.path_of("element"), "must be one of C3D8, C3D8I, C3D20, C3D20R, got '" + name + "'");
+        if (!t) reader_.fail(e->value, f.path_of("element"), "must be one of C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10, C3D6, C3D15, got '" + name + "'");
         type = *t;
       }
       if (const auto* box = f.find("box")) {
@@ -216,7 +216,11 @@ class FeCaseReader {
             for (const auto& card : r.ignored_cards)
               c.warnings.push_back(fmt::format("{}:{}: {} skipped (jointhb takes materials, loads and steps from the case file)", file.string(), card.line, card.keyword));
           } else if (ext == ".msh") {
+            // `element` chooses the formulation of Gmsh's hexahedra only: tetrahedra and prisms
+            // are read as C3D4, C3D10, C3D6 or C3D15 whatever it says (a tet never becomes a hex).
             fe::GmshOptions g;
+            if (const auto* e = f.find("element"); e && fe::family(type) != fe::ElementFamily::hexahedron)
+              reader_.fail(e->value, f.path_of("element"), fmt::format("for a .msh mesh must be a hexahedron type (C3D8, C3D8I, C3D20, C3D20R): it selects the formulation of the file's hexahedra; its tetrahedra and prisms are read as C3D4/C3D10/C3D6/C3D15, got '{}'", fe::abaqus_name(type)));
             if (node_count(type) == 8) g.hex8_type = type; else g.hex20_type = type;
             part_mesh = fe::read_gmsh(file, g);
           } else {
