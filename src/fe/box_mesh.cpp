@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "box_mesh_split.hpp"
+
 namespace jointhb::fe {
 
 std::string BoxOptions::validate() const {
@@ -62,6 +64,7 @@ Mesh box_mesh(const BoxOptions& options) {
   if (const std::string message = options.validate(); !message.empty()) {
     throw std::invalid_argument("box_mesh: " + message);
   }
+  if (family(options.type) != ElementFamily::hexahedron) return detail::split_box_mesh(options);
   const int n_local = node_count(options.type);
   const int steps = n_local == 20 ? 2 : 1;
   std::array<int, 3> points{};  // lattice points along each axis

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
@@ -31,10 +32,16 @@ std::string GmshOptions::validate() const {
 namespace {
 
 // Gmsh element types (manual, "MSH file format": elementType).
+constexpr int kTri3 = 2;
 constexpr int kQuad4 = 3;
+constexpr int kTet4 = 4;
 constexpr int kHex8 = 5;
+constexpr int kPrism6 = 6;
+constexpr int kTri6 = 9;
+constexpr int kTet10 = 11;
 constexpr int kQuad8 = 16;
 constexpr int kHex20 = 17;
+constexpr int kPrism15 = 18;
 
 std::string type_name(int type) {
   static const std::map<int, const char*> names = {
@@ -59,6 +66,32 @@ constexpr std::array<int, 20> kGmshOfAbaqus = {
     16, 18, 19, 17,              // edges 4-5, 5-6, 6-7, 7-4
     10, 12, 14, 15,              // edges 0-4, 1-5, 2-6, 3-7
 };
+
+// Gmsh's 10-node tetrahedron lists its mid-edge nodes by edge 0-1, 1-2, 2-0, 3-0, 3-2, 3-1 (the
+// figure "Tetrahedron10" of the manual: node 8 on edge 2-3, node 9 on edge 1-3); Abaqus/VTK by
+// 0-1, 1-2, 2-0, 0-3, 1-3, 2-3: Gmsh's nodes 8 and 9 are swapped.
+constexpr std::array<int, 10> kGmshOfAbaqusTet10 = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+
+// Gmsh's 15-node prism (type 18; type 13 is the 18-node one) lists its mid-edge nodes by edge
+// 0-1, 0-2, 0-3, 1-2, 1-4, 2-5, 3-4, 3-5, 4-5; Abaqus by 0-1, 1-2, 2-0, 3-4, 4-5, 5-3, 0-3, 1-4,
+// 2-5. The corners agree (0-2 at w = -1 counter-clockwise seen from +w, 3-5 above them).
+constexpr std::array<int, 15> kGmshOfAbaqusPrism15 = {0, 1, 2, 3,  4,  5,  6, 9,
+                                                      7, 12, 14, 13, 8, 10, 11};
+
+// The element type of a Gmsh volume element type other than the hexahedra, or none.
+struct VolumeType {
+  ElementType type;
+  const int* gmsh_of_abaqus;  // nullptr: same order
+};
+std::optional<VolumeType> other_volume_type(int gmsh_type) {
+  switch (gmsh_type) {
+    case kTet4: return VolumeType{ElementType::tet4, nullptr};
+    case kTet10: return VolumeType{ElementType::tet10, kGmshOfAbaqusTet10.data()};
+    case kPrism6: return VolumeType{ElementType::wedge6, nullptr};
+    case kPrism15: return VolumeType{ElementType::wedge15, kGmshOfAbaqusPrism15.data()};
+    default: return std::nullopt;
+  }
+}
 
 struct Line {
   int number = 0;
@@ -338,11 +371,15 @@ class GmshReader {
 
   void add_volume_elements(Mesh& mesh, const ElementBlock& block,
                            std::unordered_map<long, int>& element_line) const {
-    if (block.type != kHex8 && block.type != kHex20) {
+    const std::optional<VolumeType> other = other_volume_type(block.type);
+    if (block.type != kHex8 && block.type != kHex20 && !other) {
       std::string hint;
-      if (block.type == 12) hint = "; for 20-node hexahedra set Mesh.SecondOrderIncomplete = 1";
+      if (block.type == 12 || block.type == 13)
+        hint = "; for 20-node hexahedra and 15-node prisms set Mesh.SecondOrderIncomplete = 1";
       fail(block.line, fmt::format("element {} in volume {} is not supported: only hexahedra "
-                                   "(type 5, 8 nodes; type 17, 20 nodes){}",
+                                   "(type 5, 8 nodes; type 17, 20 nodes), tetrahedra (type 4, 4 "
+                                   "nodes; type 11, 10 nodes) and prisms (type 6, 6 nodes; type "
+                                   "18, 15 nodes){}",
                                    type_name(block.type), block.entity, hint));
     }
     const std::vector<int>& groups = physicals(3, block.entity);
@@ -356,17 +393,21 @@ class GmshReader {
     const int part_id = part_index(mesh, part);
     std::vector<int>& set = mesh.element_sets[part];
     const bool quadratic = block.type == kHex20;
+    const ElementType type =
+        other ? other->type : quadratic ? options_.hex20_type : options_.hex8_type;
     for (const RawElement& raw : block.elements) {
-      check_node_count(block, raw, quadratic ? 20 : 8);
+      check_node_count(block, raw, static_cast<std::size_t>(node_count(type)));
       if (const auto [it, fresh] = element_line.emplace(raw.tag, raw.line); !fresh) {
         fail(raw.line,
              fmt::format("element {} defined twice (first at line {})", raw.tag, it->second));
       }
       Element element;
-      element.type = quadratic ? options_.hex20_type : options_.hex8_type;
+      element.type = type;
       element.part = part_id;
       for (std::size_t a = 0; a < raw.nodes.size(); ++a) {
-        const std::size_t gmsh = quadratic ? static_cast<std::size_t>(kGmshOfAbaqus[a]) : a;
+        std::size_t gmsh = a;
+        if (quadratic) gmsh = static_cast<std::size_t>(kGmshOfAbaqus[a]);
+        if (other && other->gmsh_of_abaqus) gmsh = static_cast<std::size_t>(other->gmsh_of_abaqus[a]);
         element.nodes[a] = node_index(raw, raw.nodes[gmsh]);
       }
       set.push_back(mesh.num_elements());
@@ -375,16 +416,23 @@ class GmshReader {
     }
   }
 
-  using FaceKey = std::array<int, 4>;  // sorted corner nodes
+  using FaceKey = std::array<int, 4>;  // sorted corner nodes; -1 first for a triangle
+
+  static FaceKey face_key(const std::vector<int>& corners) {
+    FaceKey key = {-1, -1, -1, -1};
+    std::copy(corners.begin(), corners.end(), key.begin());
+    std::sort(key.begin(), key.end());
+    return key;
+  }
 
   static std::map<FaceKey, std::vector<Face>> faces_by_corners(const Mesh& mesh) {
     std::map<FaceKey, std::vector<Face>> faces;
     for (int e = 0; e < mesh.num_elements(); ++e) {
-      for (int f = 0; f < 6; ++f) {
-        const std::vector<int> nodes = face_nodes(mesh, {e, f});
-        FaceKey key = {nodes[0], nodes[1], nodes[2], nodes[3]};
-        std::sort(key.begin(), key.end());
-        faces[key].push_back({e, f});
+      const ElementType type = mesh.elements[static_cast<std::size_t>(e)].type;
+      for (int f = 0; f < face_count(type); ++f) {
+        std::vector<int> corners = face_nodes(mesh, {e, f});
+        corners.resize(static_cast<std::size_t>(face_corner_count(type, f)));
+        faces[face_key(corners)].push_back({e, f});
       }
     }
     return faces;
@@ -394,28 +442,33 @@ class GmshReader {
                             const std::map<FaceKey, std::vector<Face>>& faces) const {
     const std::vector<int>& groups = physicals(2, block.entity);
     if (groups.empty()) return;
-    if (block.type != kQuad4 && block.type != kQuad8) {
+    const bool quadrangle = block.type == kQuad4 || block.type == kQuad8;
+    const bool triangle = block.type == kTri3 || block.type == kTri6;
+    if (!quadrangle && !triangle) {
       fail(block.line, fmt::format("element {} in physical surface '{}' is not supported: "
-                                   "surfaces are made of quadrangles (type 3 or 16) on "
-                                   "hexahedron faces",
+                                   "surfaces are made of quadrangles (type 3 or 16) or triangles "
+                                   "(type 2 or 9) on element faces",
                                    type_name(block.type), physical_name(2, groups.front())));
     }
+    const char* shape = quadrangle ? "quadrangle" : "triangle";
+    const std::size_t corners = quadrangle ? 4 : 3;
+    const bool quadratic = block.type == kQuad8 || block.type == kTri6;
     for (const RawElement& raw : block.elements) {
-      check_node_count(block, raw, block.type == kQuad4 ? 4 : 8);
-      FaceKey key{};
-      for (std::size_t a = 0; a < 4; ++a) key[a] = node_index(raw, raw.nodes[a]);
-      std::sort(key.begin(), key.end());
-      const auto it = faces.find(key);
+      check_node_count(block, raw, quadratic ? 2 * corners : corners);
+      std::vector<int> corner_nodes;
+      for (std::size_t a = 0; a < corners; ++a) corner_nodes.push_back(node_index(raw, raw.nodes[a]));
+      const auto it = faces.find(face_key(corner_nodes));
       const std::string surface = physical_name(2, groups.front());
       if (it == faces.end()) {
-        fail(raw.line, fmt::format("quadrangle {} of physical surface '{}' is not a face of any "
-                                   "hexahedron",
-                                   raw.tag, surface));
+        fail(raw.line, fmt::format("{} {} of physical surface '{}' is not a face of any "
+                                   "volume element",
+                                   shape, raw.tag, surface));
       }
       if (it->second.size() > 1) {
         fail(raw.line,
-             fmt::format("quadrangle {} of physical surface '{}' is a face of two "
-                         "hexahedra ({} and {}): a surface must lie on the boundary",
+             fmt::format("{} {} of physical surface '{}' is a face of two "
+                         "elements ({} and {}): a surface must lie on the boundary",
+                         shape,
                          raw.tag, surface,
                          mesh.element_ids[static_cast<std::size_t>(it->second[0].element)],
                          mesh.element_ids[static_cast<std::size_t>(it->second[1].element)]));
@@ -444,7 +497,7 @@ class GmshReader {
     for (const ElementBlock& block : blocks_) {
       if (block.dim == 3) add_volume_elements(mesh, block, element_line);
     }
-    if (mesh.elements.empty()) fail(0, "no hexahedra: the file has no volume elements");
+    if (mesh.elements.empty()) fail(0, "no volume elements: the file has no hexahedra, tetrahedra or prisms");
     const auto faces = faces_by_corners(mesh);
     for (const ElementBlock& block : blocks_) {
       if (block.dim == 2) add_surface_elements(mesh, block, faces);

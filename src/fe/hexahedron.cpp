@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "jointhb/fe/simplex_elements.hpp"
+
 namespace jointhb::fe {
 
 namespace {
@@ -106,11 +108,25 @@ Eigen::Matrix<double, 3, 20> hex20_shape_derivatives(const Eigen::Vector3d& xi) 
 }
 
 Eigen::VectorXd shape_functions(ElementType type, const Eigen::Vector3d& xi) {
+  switch (type) {
+    case ElementType::tet4: return tet4_shape_functions(xi);
+    case ElementType::tet10: return tet10_shape_functions(xi);
+    case ElementType::wedge6: return wedge6_shape_functions(xi);
+    case ElementType::wedge15: return wedge15_shape_functions(xi);
+    default: break;
+  }
   if (node_count(type) == 20) return hex20_shape_functions(xi);
   return hex8_shape_functions(xi);
 }
 
 Eigen::Matrix3Xd shape_derivatives(ElementType type, const Eigen::Vector3d& xi) {
+  switch (type) {
+    case ElementType::tet4: return tet4_shape_derivatives(xi);
+    case ElementType::tet10: return tet10_shape_derivatives(xi);
+    case ElementType::wedge6: return wedge6_shape_derivatives(xi);
+    case ElementType::wedge15: return wedge15_shape_derivatives(xi);
+    default: break;
+  }
   if (node_count(type) == 20) return hex20_shape_derivatives(xi);
   return hex8_shape_derivatives(xi);
 }

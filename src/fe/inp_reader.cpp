@@ -368,7 +368,7 @@ class InpReader {
     const std::optional<ElementType> known = element_type_of_abaqus_name(type_name);
     if (!known) {
       fail(card.line, fmt::format("element type {} is not supported (supported: C3D8, C3D8I, "
-                                  "C3D20, C3D20R)",
+                                  "C3D20, C3D20R, C3D4, C3D10, C3D6, C3D15)",
                                   type_name));
     }
     const ElementType type = *known;
@@ -494,13 +494,24 @@ class InpReader {
         fail(data.line, fmt::format("{}: face label '{}' is not one of S1..S6", context, e[1]));
       }
       const int face = label[1] - '1';
+      // S5, S6 exist on hexahedra only, S5 on wedges too (tetrahedra have S1..S4).
+      const auto add_face = [&](int element) {
+        const ElementType type = mesh_.elements[static_cast<std::size_t>(element)].type;
+        if (face >= face_count(type)) {
+          fail(data.line,
+               fmt::format("{}: element {} is a {} with faces S1..S{}, not {}", context,
+                           mesh_.element_ids[static_cast<std::size_t>(element)], abaqus_name(type),
+                           face_count(type), label));
+        }
+        surface.second.push_back({element, face});
+      };
       if (to_integer(e[0])) {
-        surface.second.push_back({element_index({data.line, e[0]}, context), face});
+        add_face(element_index({data.line, e[0]}, context));
         continue;
       }
       const NamedSet* set = find_set(element_sets_, e[0]);
       if (set == nullptr) fail(data.line, fmt::format("{}: unknown element set '{}'", context, e[0]));
-      for (int element : set->members) surface.second.push_back({element, face});
+      for (int element : set->members) add_face(element);
     }
   }
 

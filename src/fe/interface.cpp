@@ -180,12 +180,35 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
   const std::vector<Face>& bottom_faces = surface(options.bottom_surface, "bottom_surface");
   const std::vector<Face>& top_faces = surface(options.top_surface, "top_surface");
 
-  // One face type (quad4 or quad8) on both surfaces.
-  const int face_nodes_per_face = face_node_count(
-      mesh.elements.at(static_cast<std::size_t>(bottom_faces.front().element)).type);
+  // Quadrilateral faces only (zero-thickness elements on triangles are not implemented), and one
+  // face type (quad4 or quad8) on both surfaces.
+  auto nodes_of = [&](const Face& f) {
+    return face_node_count(mesh.elements.at(static_cast<std::size_t>(f.element)).type, f.face);
+  };
+  auto check_quadrilateral = [&](const std::vector<Face>& faces, const char* side,
+                                 const std::string& name) {
+    for (const Face& f : faces) {
+      const ElementType type = mesh.elements.at(static_cast<std::size_t>(f.element)).type;
+      if (f.face < 0 || f.face >= face_count(type)) {
+        throw std::invalid_argument(fmt::format("{}: surface '{}': {} does not exist ({} has {} "
+                                                "faces)",
+                                                who, name, describe(mesh, side, f),
+                                                abaqus_name(type), face_count(type)));
+      }
+      if (face_corner_count(type, f.face) != 4) {
+        throw std::invalid_argument(fmt::format(
+            "{}: surface '{}' has a triangular face ({}, tri{} of a {}): interface elements "
+            "need quadrilateral faces (hexahedra, or the side faces S3..S5 of wedges)",
+            who, name, describe(mesh, side, f), face_node_count(type, f.face), abaqus_name(type)));
+      }
+    }
+  };
+  check_quadrilateral(bottom_faces, "bottom", options.bottom_surface);
+  check_quadrilateral(top_faces, "top", options.top_surface);
+  const int face_nodes_per_face = nodes_of(bottom_faces.front());
   auto check_type = [&](const std::vector<Face>& faces, const char* side, const std::string& name) {
     for (const Face& f : faces) {
-      const int n = face_node_count(mesh.elements.at(static_cast<std::size_t>(f.element)).type);
+      const int n = nodes_of(f);
       if (n != face_nodes_per_face) {
         throw std::invalid_argument(fmt::format(
             "{}: mixed quad4/quad8 faces: {} (surface '{}') has {} nodes, the first bottom face "

@@ -1,14 +1,59 @@
 #include "jointhb/fe/mesh.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace jointhb::fe {
 
-int node_count(ElementType type) {
-  return (type == ElementType::hex20 || type == ElementType::hex20_reduced) ? 20 : 8;
+ElementFamily family(ElementType type) {
+  switch (type) {
+    case ElementType::tet4:
+    case ElementType::tet10: return ElementFamily::tetrahedron;
+    case ElementType::wedge6:
+    case ElementType::wedge15: return ElementFamily::wedge;
+    default: return ElementFamily::hexahedron;
+  }
 }
 
-int face_node_count(ElementType type) { return node_count(type) == 20 ? 8 : 4; }
+bool is_quadratic(ElementType type) {
+  return type == ElementType::hex20 || type == ElementType::hex20_reduced ||
+         type == ElementType::tet10 || type == ElementType::wedge15;
+}
+
+int node_count(ElementType type) {
+  switch (type) {
+    case ElementType::hex20:
+    case ElementType::hex20_reduced: return 20;
+    case ElementType::tet4: return 4;
+    case ElementType::tet10: return 10;
+    case ElementType::wedge6: return 6;
+    case ElementType::wedge15: return 15;
+    default: return 8;
+  }
+}
+
+int corner_count(ElementType type) {
+  switch (family(type)) {
+    case ElementFamily::tetrahedron: return 4;
+    case ElementFamily::wedge: return 6;
+    default: return 8;
+  }
+}
+
+int face_count(ElementType type) {
+  switch (family(type)) {
+    case ElementFamily::tetrahedron: return 4;
+    case ElementFamily::wedge: return 5;
+    default: return 6;
+  }
+}
+
+int face_node_count(ElementType type) {
+  if (family(type) != ElementFamily::hexahedron)
+    throw std::invalid_argument(std::string("face_node_count: ") + abaqus_name(type) +
+                                " has triangular faces; use face_node_count(type, face)");
+  return node_count(type) == 20 ? 8 : 4;
+}
 
 const char* abaqus_name(ElementType type) {
   switch (type) {
@@ -16,13 +61,18 @@ const char* abaqus_name(ElementType type) {
     case ElementType::hex8_incompatible: return "C3D8I";
     case ElementType::hex20: return "C3D20";
     case ElementType::hex20_reduced: return "C3D20R";
+    case ElementType::tet4: return "C3D4";
+    case ElementType::tet10: return "C3D10";
+    case ElementType::wedge6: return "C3D6";
+    case ElementType::wedge15: return "C3D15";
   }
   return "?";
 }
 
 std::optional<ElementType> element_type_of_abaqus_name(std::string_view name) {
   for (ElementType type : {ElementType::hex8, ElementType::hex8_incompatible, ElementType::hex20,
-                           ElementType::hex20_reduced})
+                           ElementType::hex20_reduced, ElementType::tet4, ElementType::tet10,
+                           ElementType::wedge6, ElementType::wedge15})
     if (name == abaqus_name(type)) return type;
   return std::nullopt;
 }
@@ -31,6 +81,19 @@ const std::array<std::array<int, 2>, 12>& hex_edge_corners() {
   static constexpr std::array<std::array<int, 2>, 12> edges = {
       {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
   return edges;
+}
+
+std::span<const std::array<int, 2>> edge_corners(ElementType type) {
+  // Edge k carries the mid-edge node corner_count + k (mesh.hpp).
+  static constexpr std::array<std::array<int, 2>, 6> tet = {
+      {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}};
+  static constexpr std::array<std::array<int, 2>, 9> wedge = {
+      {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}, {0, 3}, {1, 4}, {2, 5}}};
+  switch (family(type)) {
+    case ElementFamily::tetrahedron: return tet;
+    case ElementFamily::wedge: return wedge;
+    default: return hex_edge_corners();
+  }
 }
 
 namespace {
@@ -44,12 +107,53 @@ constexpr std::array<std::array<int, 8>, 6> kFaces = {{
     {2, 3, 7, 6, 10, 19, 14, 18},
     {3, 0, 4, 7, 11, 16, 15, 19},
 }};
+// Tetrahedron S1..S4: 3 corners (outward), then the tet10 mid-edge nodes of edges (0 1), (1 2),
+// (2 0) of the face.
+constexpr std::array<std::array<int, 6>, 4> kTetFaces = {{
+    {0, 2, 1, 6, 5, 4},
+    {0, 1, 3, 4, 8, 7},
+    {1, 2, 3, 5, 9, 8},
+    {2, 0, 3, 6, 7, 9},
+}};
+// Wedge S1..S5: triangles S1, S2 (3 + 3 nodes), quadrilaterals S3..S5 (4 + 4 nodes).
+constexpr std::array<std::array<int, 8>, 5> kWedgeFaces = {{
+    {0, 2, 1, 8, 7, 6, -1, -1},
+    {3, 4, 5, 9, 10, 11, -1, -1},
+    {0, 1, 4, 3, 6, 13, 9, 12},
+    {1, 2, 5, 4, 7, 14, 10, 13},
+    {2, 0, 3, 5, 8, 12, 11, 14},
+}};
+
+void check_face(ElementType type, int face) {
+  if (face < 0 || face >= face_count(type))
+    throw std::out_of_range(std::string(abaqus_name(type)) + ": face index " +
+                            std::to_string(face) + " must be 0.." +
+                            std::to_string(face_count(type) - 1));
+}
 }  // namespace
 
+int face_corner_count(ElementType type, int face) {
+  check_face(type, face);
+  switch (family(type)) {
+    case ElementFamily::tetrahedron: return 3;
+    case ElementFamily::wedge: return face < 2 ? 3 : 4;
+    default: return 4;
+  }
+}
+
+int face_node_count(ElementType type, int face) {
+  const int corners = face_corner_count(type, face);
+  return is_quadratic(type) ? 2 * corners : corners;
+}
+
 std::span<const int> face_local_nodes(ElementType type, int face) {
-  if (face < 0 || face > 5) throw std::out_of_range("face index must be 0..5");
-  return {kFaces[static_cast<std::size_t>(face)].data(),
-          static_cast<std::size_t>(face_node_count(type))};
+  const auto count = static_cast<std::size_t>(face_node_count(type, face));
+  const auto f = static_cast<std::size_t>(face);
+  switch (family(type)) {
+    case ElementFamily::tetrahedron: return {kTetFaces[f].data(), count};
+    case ElementFamily::wedge: return {kWedgeFaces[f].data(), count};
+    default: return {kFaces[f].data(), count};
+  }
 }
 
 std::vector<int> face_nodes(const Mesh& mesh, const Face& face) {
@@ -63,9 +167,10 @@ std::vector<int> face_nodes(const Mesh& mesh, const Face& face) {
 Eigen::Vector3d face_centre(const Mesh& mesh, const Face& face) {
   const Element& element = mesh.elements.at(static_cast<std::size_t>(face.element));
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (int local : face_local_nodes(element.type, face.face).first(4))
+  const int corners = face_corner_count(element.type, face.face);
+  for (int local : face_local_nodes(element.type, face.face).first(static_cast<std::size_t>(corners)))
     centre += mesh.coordinates.col(element.nodes[static_cast<std::size_t>(local)]);
-  return centre / 4.0;
+  return centre / static_cast<double>(corners);
 }
 
 void append(Mesh& mesh, const Mesh& other) {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "jointhb/fe/hexahedron.hpp"
+#include "jointhb/fe/simplex_elements.hpp"
 
 namespace jointhb::fe {
 
@@ -35,6 +36,18 @@ Eigen::Matrix3d jacobian(const Mesh& mesh, int element, const Eigen::Vector3d& x
 // The points where det J is sampled (mesh_checks.hpp).
 std::vector<Eigen::Vector3d> sample_points(ElementType type) {
   std::vector<Eigen::Vector3d> points;
+  if (family(type) != ElementFamily::hexahedron) {
+    // Linear tetrahedra and wedges: the corners and the centre; quadratic ones: the points of
+    // the mass rule (as the 3×3×3 rule for hex20).
+    if (!is_quadratic(type)) {
+      for (int a = 0; a < node_count(type); ++a)
+        points.push_back(simplex_node_natural_coordinates(type, a));
+      points.push_back(centre_natural_coordinates(type));
+    } else {
+      for (const GaussPoint& g : integration_rule(type, true)) points.push_back(g.xi);
+    }
+    return points;
+  }
   if (node_count(type) == 8) {
     for (int a = 0; a < 8; ++a) points.push_back(hex_node_natural_coordinates(a));
     points.emplace_back(0.0, 0.0, 0.0);
@@ -44,10 +57,10 @@ std::vector<Eigen::Vector3d> sample_points(ElementType type) {
   return points;
 }
 
-// The longest of the element's 12 corner-to-corner edges.
+// The longest of the element's corner-to-corner edges (12, 6 or 9).
 double longest_edge(const Mesh& mesh, const Element& element) {
   double longest = 0.0;
-  for (const auto& [a, b] : hex_edge_corners()) {
+  for (const auto& [a, b] : edge_corners(element.type)) {
     longest = std::max(longest, (mesh.coordinates.col(element.nodes[static_cast<std::size_t>(a)]) -
                                  mesh.coordinates.col(element.nodes[static_cast<std::size_t>(b)]))
                                     .norm());
@@ -112,7 +125,8 @@ void check_sets(const Mesh& mesh, std::vector<MeshProblem>& problems) {
   }
   for (const auto& [name, faces] : mesh.surfaces) {
     for (const Face& f : faces) {
-      if (f.element < 0 || f.element >= mesh.num_elements() || f.face < 0 || f.face > 5) {
+      if (f.element < 0 || f.element >= mesh.num_elements() || f.face < 0 ||
+          f.face >= face_count(mesh.elements[static_cast<std::size_t>(f.element)].type)) {
         bad(fmt::format("surface '{}': face (element index {}, face {}) does not exist", name,
                         f.element, f.face));
         break;
@@ -131,7 +145,9 @@ double jacobian_ratio(const Mesh& mesh, int element) {
 
 double element_volume(const Mesh& mesh, int element) {
   double volume = 0.0;
-  for (const GaussPoint& g : hex_gauss_rule(3))
+  const ElementType type = mesh.elements.at(static_cast<std::size_t>(element)).type;
+  for (const GaussPoint& g : family(type) == ElementFamily::hexahedron ? hex_gauss_rule(3)
+                                                                        : integration_rule(type, true))
     volume += g.weight * jacobian(mesh, element, g.xi).determinant();
   return volume;
 }

@@ -1,4 +1,4 @@
-// Solid hexahedra: equations (1)–(4) of solid_element.hpp.
+// Solid elements: equations (1)–(4) of solid_element.hpp.
 #include "jointhb/fe/solid_element.hpp"
 
 #include <Eigen/Cholesky>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "jointhb/fe/hexahedron.hpp"
+#include "jointhb/fe/simplex_elements.hpp"
 #include "solid_element_kernel.hpp"
 
 namespace jointhb::fe {
@@ -24,26 +25,44 @@ struct RuleTable {
   std::vector<Eigen::Vector3d> points;
 };
 
+// The node count identifies the shape functions: 8 hex8, 20 hex20, 4 tet4, 10 tet10, 6 wedge6,
+// 15 wedge15.
 template <int N>
 Eigen::Matrix<double, N, 1> shape_at(const Eigen::Vector3d& xi) {
   if constexpr (N == 8)
     return hex8_shape_functions(xi);
-  else
+  else if constexpr (N == 20)
     return hex20_shape_functions(xi);
+  else if constexpr (N == 4)
+    return tet4_shape_functions(xi);
+  else if constexpr (N == 10)
+    return tet10_shape_functions(xi);
+  else if constexpr (N == 6)
+    return wedge6_shape_functions(xi);
+  else
+    return wedge15_shape_functions(xi);
 }
 
 template <int N>
 Eigen::Matrix<double, 3, N> derivatives_at(const Eigen::Vector3d& xi) {
   if constexpr (N == 8)
     return hex8_shape_derivatives(xi);
-  else
+  else if constexpr (N == 20)
     return hex20_shape_derivatives(xi);
+  else if constexpr (N == 4)
+    return tet4_shape_derivatives(xi);
+  else if constexpr (N == 10)
+    return tet10_shape_derivatives(xi);
+  else if constexpr (N == 6)
+    return wedge6_shape_derivatives(xi);
+  else
+    return wedge15_shape_derivatives(xi);
 }
 
 template <int N>
-RuleTable<N> make_table(int points_per_direction) {
+RuleTable<N> make_table(const std::vector<GaussPoint>& rule) {
   RuleTable<N> t;
-  for (const GaussPoint& p : hex_gauss_rule(points_per_direction)) {
+  for (const GaussPoint& p : rule) {
     t.shape.push_back(shape_at<N>(p.xi));
     t.derivatives.push_back(derivatives_at<N>(p.xi));
     t.weights.push_back(p.weight);
@@ -53,10 +72,24 @@ RuleTable<N> make_table(int points_per_direction) {
 }
 
 template <int N>
+RuleTable<N> make_table(int points_per_direction) {
+  return make_table<N>(hex_gauss_rule(points_per_direction));
+}
+
+template <int N>
 const RuleTable<N>& table(int points_per_direction) {
   static const RuleTable<N> two = make_table<N>(2);
   static const RuleTable<N> three = make_table<N>(3);
   return points_per_direction == 2 ? two : three;
+}
+
+// Tetrahedra and wedges: the stiffness (mass = false) or mass table of integration_rule
+// (simplex_elements.hpp); N identifies the type.
+template <int N>
+const RuleTable<N>& simplex_table(ElementType type, bool mass) {
+  static const RuleTable<N> stiffness_table = make_table<N>(integration_rule(type, false));
+  static const RuleTable<N> mass_table = make_table<N>(integration_rule(type, true));
+  return mass ? mass_table : stiffness_table;
 }
 
 // Adds c_λ g_a g_bᵀ + c_μ g_b g_aᵀ + c_μ (g_a·g_b) I₃ to the upper node blocks (a ≤ b) of K,
@@ -92,14 +125,13 @@ Eigen::Matrix3d jacobian(const Eigen::Matrix<double, 3, N>& dn,
 // Compatible elements (hex8, hex20, hex20_reduced): eq. (1) with the stiffness rule and eq. (2)
 // with the mass rule. Returns the volume, or −1 when det J ≤ 0 somewhere.
 template <int N>
-double compatible_kernel(int stiffness_points, int mass_points, const double* coordinates,
-                         const detail::IsotropicConstants& c, double* stiffness, double* mass) {
+double tabulated_kernel(const RuleTable<N>& ks, const RuleTable<N>& ms, const double* coordinates,
+                        const detail::IsotropicConstants& c, double* stiffness, double* mass) {
   const Eigen::Map<const Eigen::Matrix<double, 3, N>> x(coordinates);
   Eigen::Map<Eigen::Matrix<double, 3 * N, 3 * N>> k_out(stiffness);
   Eigen::Map<Eigen::Matrix<double, 3 * N, 3 * N>> m_out(mass);
 
   Eigen::Matrix<double, 3 * N, 3 * N> k = Eigen::Matrix<double, 3 * N, 3 * N>::Zero();
-  const RuleTable<N>& ks = table<N>(stiffness_points);
   for (std::size_t q = 0; q < ks.weights.size(); ++q) {
     const Eigen::Matrix3d j = jacobian<N>(ks.derivatives[q], x);
     const double det = j.determinant();
@@ -114,7 +146,6 @@ double compatible_kernel(int stiffness_points, int mass_points, const double* co
   // Eq. (2): the scalar matrix m_ab = ρ Σ w det J N_a N_b, placed on the diagonal of each block.
   Eigen::Matrix<double, N, N> m = Eigen::Matrix<double, N, N>::Zero();
   double volume = 0.0;
-  const RuleTable<N>& ms = table<N>(mass_points);
   for (std::size_t q = 0; q < ms.weights.size(); ++q) {
     const double det = jacobian<N>(ms.derivatives[q], x).determinant();
     if (!(det > 0.0)) return -1.0;
@@ -128,6 +159,22 @@ double compatible_kernel(int stiffness_points, int mass_points, const double* co
     for (int a = 0; a < N; ++a)
       for (int d = 0; d < 3; ++d) m_out(3 * a + d, 3 * b + d) = m(a, b);
   return volume;
+}
+
+// Hexahedra: the tensor-product Gauss rules.
+template <int N>
+double compatible_kernel(int stiffness_points, int mass_points, const double* coordinates,
+                         const detail::IsotropicConstants& c, double* stiffness, double* mass) {
+  return tabulated_kernel<N>(table<N>(stiffness_points), table<N>(mass_points), coordinates, c,
+                             stiffness, mass);
+}
+
+// Tetrahedra and wedges: the rules of integration_rule.
+template <int N>
+double simplex_kernel(ElementType type, const double* coordinates,
+                      const detail::IsotropicConstants& c, double* stiffness, double* mass) {
+  return tabulated_kernel<N>(simplex_table<N>(type, false), simplex_table<N>(type, true),
+                             coordinates, c, stiffness, mass);
 }
 
 // hex8_incompatible: eqs. (1), (3), (4). The 8 nodal gradients and the 3 incompatible-mode
@@ -207,14 +254,36 @@ double element_kernel(ElementType type, const double* coordinates, const Isotrop
       return compatible_kernel<20>(3, 3, coordinates, c, stiffness, mass);
     case ElementType::hex20_reduced:
       return compatible_kernel<20>(2, 3, coordinates, c, stiffness, mass);
+    case ElementType::tet4:
+      return simplex_kernel<4>(type, coordinates, c, stiffness, mass);
+    case ElementType::tet10:
+      return simplex_kernel<10>(type, coordinates, c, stiffness, mass);
+    case ElementType::wedge6:
+      return simplex_kernel<6>(type, coordinates, c, stiffness, mass);
+    case ElementType::wedge15:
+      return simplex_kernel<15>(type, coordinates, c, stiffness, mass);
   }
   return -1.0;
 }
 
 }  // namespace detail
 
-int stiffness_rule(ElementType type) { return type == ElementType::hex20 ? 3 : 2; }
-int mass_rule(ElementType type) { return node_count(type) == 20 ? 3 : 2; }
+namespace {
+void require_hexahedron(ElementType type, const char* who) {
+  if (family(type) != ElementFamily::hexahedron)
+    throw std::invalid_argument(std::string(who) + ": " + abaqus_name(type) +
+                                " has no tensor-product Gauss rule (use integration_rule)");
+}
+}  // namespace
+
+int stiffness_rule(ElementType type) {
+  require_hexahedron(type, "stiffness_rule");
+  return type == ElementType::hex20 ? 3 : 2;
+}
+int mass_rule(ElementType type) {
+  require_hexahedron(type, "mass_rule");
+  return node_count(type) == 20 ? 3 : 2;
+}
 
 ElementMatrices element_matrices(ElementType type, const Eigen::Matrix3Xd& coordinates,
                                  const Material& material) {
@@ -248,7 +317,7 @@ Vector6d element_centre_strain(ElementType type, const Eigen::Matrix3Xd& coordin
   const Eigen::Index n = coordinates.cols();
   if (displacements.size() != 3 * n)
     throw std::invalid_argument("element_centre_strain: displacements must have 3n entries");
-  const Eigen::Matrix3Xd dn = shape_derivatives(type, Eigen::Vector3d::Zero());
+  const Eigen::Matrix3Xd dn = shape_derivatives(type, centre_natural_coordinates(type));
   const Eigen::Matrix3d j = dn * coordinates.transpose();
   if (!(j.determinant() > 0.0))
     throw std::invalid_argument("element_centre_strain: det J <= 0 at the centre");

@@ -186,7 +186,7 @@ class FeCaseReader {
       if (const auto* e = f.find("element")) {
         const std::string name = reader_.text(e->value, f.path_of("element"));
         const auto t = fe::element_type_of_abaqus_name(name);
-        if (!t) reader_.fail(e->value, f.path_of("element"), "must be one of C3D8, C3D8I, C3D20, C3D20R, got '" + name + "'");
+        if (!t) reader_.fail(e->value, f.path_of("element"), "must be one of C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10, C3D6, C3D15, got '" + name + "'");
         type = *t;
       }
       if (const auto* box = f.find("box")) {
@@ -221,7 +221,11 @@ class FeCaseReader {
           } else if (ext == ".msh") {
             if (const auto* ig = f.find("ignore_cards"))
               reader_.fail(ig->value, f.path_of("ignore_cards"), "applies to .inp decks only");
+            // `element` chooses the formulation of Gmsh's hexahedra only: tetrahedra and prisms
+            // are read as C3D4, C3D10, C3D6 or C3D15 whatever it says (a tet never becomes a hex).
             fe::GmshOptions g;
+            if (const auto* e = f.find("element"); e && fe::family(type) != fe::ElementFamily::hexahedron)
+              reader_.fail(e->value, f.path_of("element"), fmt::format("for a .msh mesh must be a hexahedron type (C3D8, C3D8I, C3D20, C3D20R): it selects the formulation of the file's hexahedra; its tetrahedra and prisms are read as C3D4/C3D10/C3D6/C3D15, got '{}'", fe::abaqus_name(type)));
             if (node_count(type) == 8) g.hex8_type = type; else g.hex20_type = type;
             part_mesh = fe::read_gmsh(file, g);
           } else {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <fstream>
 #include <set>
+#include <span>
+#include <array>
 #include <stdexcept>
 
 namespace jointhb::io {
@@ -238,6 +240,34 @@ void write_grid(const std::filesystem::path& path, const Grid& grid, const VtkOp
 
 }  // namespace
 
+namespace {
+
+// The VTK cell type of an element and, where the node orders differ, the element's local node of
+// each VTK point (VTK file formats, "Linear/Non-linear cell types"; mesh.hpp):
+//   hex8 12, hex20 25, tet4 10, tet10 24: VTK's order is Abaqus'.
+//   wedge6 13, wedge15 26: VTK's triangle (0,1,2) has its right-hand normal pointing away from
+//   (3,4,5), Abaqus' towards it, so each triangle is traversed backwards: VTK (0 1 2 3 4 5) =
+//   Abaqus (0 2 1 3 5 4); VTK's mid-edge nodes on (0,1), (1,2), (2,0), (3,4), (4,5), (5,3), (0,3),
+//   (1,4), (2,5) are then Abaqus' 8, 7, 6, 11, 10, 9, 12, 14, 13.
+struct VtkCell {
+  std::uint8_t type;
+  std::span<const int> order;  // empty: the same order
+};
+
+VtkCell vtk_cell(fe::ElementType type) {
+  static constexpr std::array<int, 6> wedge6 = {0, 2, 1, 3, 5, 4};
+  static constexpr std::array<int, 15> wedge15 = {0, 2, 1, 3, 5, 4, 8, 7, 6, 11, 10, 9, 12, 14, 13};
+  switch (type) {
+    case fe::ElementType::tet4: return {10, {}};
+    case fe::ElementType::tet10: return {24, {}};
+    case fe::ElementType::wedge6: return {13, wedge6};
+    case fe::ElementType::wedge15: return {26, wedge15};
+    default: return {static_cast<std::uint8_t>(fe::node_count(type) == 20 ? 25 : 12), {}};
+  }
+}
+
+}  // namespace
+
 void write_vtu(const std::filesystem::path& path, const fe::Mesh& mesh, const VtkData& data,
                const VtkOptions& options) {
   const int n_nodes = mesh.num_nodes();
@@ -246,7 +276,10 @@ void write_vtu(const std::filesystem::path& path, const fe::Mesh& mesh, const Vt
   std::vector<std::int32_t> part(mesh.elements.size());
   for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
     const auto& element = mesh.elements[e];
-    for (int node : element.node_span()) {
+    const VtkCell cell = vtk_cell(element.type);
+    const auto nodes = element.node_span();
+    for (std::size_t a = 0; a < nodes.size(); ++a) {
+      const int node = nodes[cell.order.empty() ? a : static_cast<std::size_t>(cell.order[a])];
       if (node < 0 || node >= n_nodes)
         throw std::invalid_argument("write_vtu: element " + std::to_string(e) + " has node " +
                                     std::to_string(node) + ", outside 0.." +
@@ -254,7 +287,7 @@ void write_vtu(const std::filesystem::path& path, const fe::Mesh& mesh, const Vt
       grid.connectivity.push_back(node);
     }
     grid.offsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
-    grid.types.push_back(fe::node_count(element.type) == 20 ? 25 : 12);
+    grid.types.push_back(cell.type);
     part[e] = element.part;
   }
   grid.point_blocks = data_blocks(data.point_data, static_cast<std::size_t>(n_nodes), "point", "");

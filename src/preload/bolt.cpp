@@ -39,7 +39,9 @@ struct Footprint {
 
 // Faces of `surface` whose centroid lies within `radius` of the axis. Nodal weights are the
 // consistent loads of a unit pressure on a parallelogram: A/4 per corner (quad4), −A/12 per
-// corner and A/3 per mid-edge node (quad8; Zienkiewicz & Taylor, The FEM vol. 1, §8.6).
+// corner and A/3 per mid-edge node (quad8; Zienkiewicz & Taylor, The FEM vol. 1, §8.6); on a
+// flat triangle (tetrahedron and wedge faces): A/3 per corner (tri3), 0 per corner and A/3 per
+// mid-edge node (tri6; ∫ L_a (2L_a − 1) dA = 0, ∫ 4 L_a L_b dA = A/3).
 Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const char* role,
                            const std::string& surface, const Eigen::Vector3d& point,
                            const Eigen::Vector3d& axis, double radius) {
@@ -54,9 +56,14 @@ Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const 
     const Eigen::Vector3d c = fe::face_centre(mesh, face);
     const Eigen::Vector3d off = c - point;
     if ((off - off.dot(axis) * axis).norm() > radius) continue;
-    const Eigen::Vector3d d1 = mesh.coordinates.col(nodes[2]) - mesh.coordinates.col(nodes[0]);
-    const Eigen::Vector3d d2 = mesh.coordinates.col(nodes[3]) - mesh.coordinates.col(nodes[1]);
-    const Eigen::Vector3d normal2 = d1.cross(d2);  // 2 A n for a planar quad
+    const bool triangle =
+        fe::face_corner_count(mesh.elements[static_cast<std::size_t>(face.element)].type,
+                              face.face) == 3;
+    const Eigen::Vector3d d1 = mesh.coordinates.col(nodes[triangle ? 1 : 2]) -
+                               mesh.coordinates.col(nodes[0]);
+    const Eigen::Vector3d d2 = mesh.coordinates.col(nodes[triangle ? 2 : 3]) -
+                               mesh.coordinates.col(nodes[triangle ? 0 : 1]);
+    const Eigen::Vector3d normal2 = d1.cross(d2);  // 2 A n for a planar quad or a triangle
     const double area = 0.5 * normal2.norm();
     if (std::abs(normal2.normalized().dot(axis)) < 0.9) {
       throw std::invalid_argument(fmt::format(
@@ -65,7 +72,10 @@ Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const 
           bolt, role, surface, face.face + 1, mesh.element_ids[static_cast<std::size_t>(face.element)],
           std::abs(normal2.normalized().dot(axis))));
     }
-    if (nodes.size() == 4) {
+    if (triangle) {
+      for (std::size_t k = 0; k < nodes.size(); ++k)
+        fp.weights[nodes[k]] += (nodes.size() == 3 || k >= 3 ? 1.0 / 3.0 : 0.0) * area;
+    } else if (nodes.size() == 4) {
       for (int n : nodes) fp.weights[n] += 0.25 * area;
     } else {
       for (std::size_t k = 0; k < 8; ++k) fp.weights[nodes[k]] += (k < 4 ? -1.0 / 12.0 : 1.0 / 3.0) * area;

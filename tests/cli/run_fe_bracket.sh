@@ -62,8 +62,8 @@ PY
 expect_message inverted "case.yaml:[0-9]*:[0-9]*: key 'model.parts': element 17 of part BRACKET (C3D8I): inverted"
 # An element type jointhb does not have: the mesh file's line.
 bad_case tet
-sed -i 's/TYPE=C3D8I/TYPE=C3D10/' "$WORK/tet/bracket.inp"
-expect_message tet "bracket.inp:[0-9]*:[0-9]*: key 'model.parts\[1\].mesh': element type C3D10 is not supported"
+sed -i 's/TYPE=C3D8I/TYPE=C3D10M/' "$WORK/tet/bracket.inp"
+expect_message tet "bracket.inp:[0-9]*:[0-9]*: key 'model.parts\[1\].mesh': element type C3D10M is not supported"
 # An element that references a node the file does not define.
 bad_case node
 sed -i '0,/^17, [0-9]*,/s//17, 999999,/' "$WORK/node/bracket.inp"

@@ -1,11 +1,13 @@
 #pragma once
-// A structured hexahedral mesh of an axis-aligned box: one part, hex8 or hex20 elements (hex20
-// with one shared mid-edge node per edge), and its six sides as node sets and surfaces.
+// A structured mesh of an axis-aligned box: one part, hex8 or hex20 elements (hex20 with one
+// shared mid-edge node per edge), or each hexahedral cell split into 6 tetrahedra or 2 wedges
+// (tet4, tet10, wedge6, wedge15: box_mesh_split.cpp), and its six sides as node sets and surfaces.
 //
 // Names: the part, its element set, and the sides "<part>.xmin", "<part>.xmax", "<part>.ymin",
 // "<part>.ymax", "<part>.zmin", "<part>.zmax" — each a node set (every node on the side, mid-edge
 // nodes included) and a surface (the element faces on the side, outward normals).
-// Numbering: nodes x fastest, then y, then z; elements likewise; external ids are index + 1.
+// Numbering: nodes x fastest, then y, then z; elements likewise (the 6 or 2 elements of a cell
+// together); external ids are index + 1.
 // Separate boxes stay separate when appended (fe::append): interfaces are joined by contact
 // elements, never by merging nodes.
 

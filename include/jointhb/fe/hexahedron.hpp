@@ -28,7 +28,8 @@ namespace jointhb::fe {
 [[nodiscard]] Eigen::Matrix<double, 20, 1> hex20_shape_functions(const Eigen::Vector3d& xi);
 [[nodiscard]] Eigen::Matrix<double, 3, 20> hex20_shape_derivatives(const Eigen::Vector3d& xi);
 
-/// The shape functions of `type` (node_count(type) of them) at ξ.
+/// The shape functions of `type` (node_count(type) of them) at ξ; every family (tetrahedra and
+/// wedges in the natural coordinates of simplex_elements.hpp).
 [[nodiscard]] Eigen::VectorXd shape_functions(ElementType type, const Eigen::Vector3d& xi);
 /// The 3 × node_count(type) natural derivatives of `type` at ξ.
 [[nodiscard]] Eigen::Matrix3Xd shape_derivatives(ElementType type, const Eigen::Vector3d& xi);

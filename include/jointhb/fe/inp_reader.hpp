@@ -2,10 +2,12 @@
 // The mesh of an Abaqus/CalculiX input file (.inp), following the Abaqus Keywords Reference:
 //   *NODE [, NSET=n]                    id, x [, y [, z]]              (missing coordinates = 0)
 //   *ELEMENT, TYPE=t [, ELSET=e]        id, n1, ..., nk  continued on further lines until k nodes
-//                                       (t = C3D8, C3D8I, C3D20, C3D20R)
+//                                       (t = C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10, C3D6,
+//                                       C3D15; node order as Abaqus' = mesh.hpp's, kept as is)
 //   *NSET, NSET=n [, GENERATE]          ids or set names; GENERATE: first, last [, increment]
 //   *ELSET, ELSET=e [, GENERATE]        likewise
-//   *SURFACE, NAME=s [, TYPE=ELEMENT]   element id or element set, S1..S6
+//   *SURFACE, NAME=s [, TYPE=ELEMENT]   element id or element set, S1..S6 (hexahedra), S1..S4
+//                                       (tetrahedra), S1..S5 (wedges)
 //   *PART / *END PART, *ASSEMBLY / *END ASSEMBLY, *INSTANCE, NAME=i, PART=p / *END INSTANCE with
 //                                       an optional translation line "dx, dy, dz" and rotation
 //                                       line "a1, a2, a3, b1, b2, b3, angle" (translation first,

@@ -97,7 +97,9 @@ struct Interface {
 
 /// Builds the interface between two matching surfaces of `mesh`. Throws std::invalid_argument
 /// (one line, naming the interface, surface and the element's external id) on invalid options,
-/// an unknown or empty surface, mixed quad4/quad8 faces, nodal integration of quad8 faces, a face
+/// an unknown or empty surface, a triangular face (tetrahedra, wedge faces S1/S2: the message
+/// names the interface, the face and its type), mixed quad4/quad8 faces, nodal integration of
+/// quad8 faces, a face
 /// without a coincident partner, faces that share nodes, or coincident faces whose outward normals
 /// are not opposite (surfaces that do not face each other).
 [[nodiscard]] Interface build_interface(const Mesh& mesh, const InterfaceOptions& options);

@@ -2,8 +2,10 @@
 // Checks of a Mesh before it is assembled, each problem naming the entity by its external id
 // (Mesh::element_ids, Mesh::node_ids), and the connectivity of its elements.
 //
-// Element shape: the Jacobian determinant det J(ξ) of the map from the reference cube is sampled
-// at the 8 corners and the centre (hex8) or at the 27 points of the 3×3×3 Gauss rule (hex20).
+// Element shape: the Jacobian determinant det J(ξ) of the map from the reference element is
+// sampled at the 8 corners and the centre (hex8) or at the 27 points of the 3×3×3 Gauss rule
+// (hex20); at the corners and the centre (tet4, wedge6: det J is constant on a tet4) or at the
+// points of the mass rule (tet10: 14 points, wedge15: 7×3; simplex_elements.hpp).
 //   ratio = min det J / max |det J| over the sample points
 //   inverted:    ratio < -min_jacobian_ratio (a corner folded through, or the node order mirrored)
 //   degenerate:  -min_jacobian_ratio ≤ ratio < min_jacobian_ratio (collapsed edges or faces), or
@@ -48,7 +50,9 @@ struct MeshProblem {
 /// inverted, 0 when flat). The element's nodes must be in range.
 [[nodiscard]] double jacobian_ratio(const Mesh& mesh, int element);
 
-/// ∫ det J dξ over the reference cube by the 3×3×3 Gauss rule: exact for hex8 and hex20 [m³].
+/// ∫ det J dξ over the reference element [m³]: by the 3×3×3 Gauss rule for hexahedra (exact for
+/// hex8 and hex20), by the mass rule for tetrahedra and wedges (exact for tet4, wedge6 and
+/// straight-edged tet10 and wedge15).
 [[nodiscard]] double element_volume(const Mesh& mesh, int element);
 
 /// Groups of elements connected through shared nodes: each group's element indices ascending,

@@ -1,5 +1,6 @@
 #pragma once
-// Stiffness and consistent mass of the isoparametric solid hexahedra of mesh.hpp.
+// Stiffness and consistent mass of the isoparametric solid elements of mesh.hpp (hexahedra,
+// tetrahedra, wedges).
 //
 // Local DOF 3a + d = node a, axis d; node coordinates are passed as a 3 × n matrix (column a =
 // node a, n = node_count(type)). With the gradients g_a = ∇N_a = J⁻¹ ∂N_a/∂ξ (J_kj = ∂x_j/∂ξ_k)
@@ -28,6 +29,15 @@
 //   hex20_reduced      2×2×2 (C3D20R); mass 3×3×3. A single element has 6 spurious zero-energy
 //                      modes besides the 6 rigid-body ones (they do not propagate in a mesh of
 //                      two or more elements).
+//   tet4               1 point (C3D4, constant strain, exact); mass 4 points (degree 2: exact).
+//   tet10              4 points (C3D10 as Abaqus; degree 2: exact for straight edges, whose
+//                      gradients are linear); mass 14 points (degree 5 ≥ 4: exact for straight
+//                      edges). Rules and sources in simplex_elements.hpp.
+//   wedge6             3-point triangle × 2-point Gauss (exact for a prism with parallel
+//                      triangles); mass the same rule (exact there too).
+//   wedge15            3-point triangle × 3-point Gauss (9 points, as Abaqus' C3D15); mass 7-point
+//                      (degree 5) triangle × 3-point Gauss (exact for a straight-sided prism).
+// The equations are the same for every family: only N_a, ∂N_a/∂ξ and the rule change.
 
 #include <Eigen/Core>
 
@@ -43,9 +53,12 @@ struct ElementMatrices {
   double volume = 0.0;   ///< [m³], Σ_q w_q det J_q with the mass rule
 };
 
-/// Gauss points per direction of the stiffness rule of `type` (2 or 3).
+/// Hexahedra: Gauss points per direction of the stiffness rule of `type` (2 or 3). Tetrahedra
+/// and wedges have no tensor-product rule: std::invalid_argument (see integration_rule of
+/// simplex_elements.hpp).
 [[nodiscard]] int stiffness_rule(ElementType type);
-/// Gauss points per direction of the (consistent) mass rule of `type` (2 for hex8, 3 for hex20).
+/// Hexahedra: Gauss points per direction of the (consistent) mass rule of `type` (2 for hex8, 3
+/// for hex20); std::invalid_argument for the other families.
 [[nodiscard]] int mass_rule(ElementType type);
 
 /// Stiffness, consistent mass and volume of one element. `coordinates` is 3 × node_count(type).
@@ -60,8 +73,9 @@ struct ElementMatrices {
 [[nodiscard]] Eigen::MatrixXd element_mass(ElementType type, const Eigen::Matrix3Xd& coordinates,
                                            const Material& material);
 
-/// Small strain (Voigt, engineering shears) at the element centre ξ = 0 from the element's nodal
-/// displacements (3n, DOF 3a + d). For hex8_incompatible the incompatible modes contribute nothing
+/// Small strain (Voigt, engineering shears) at the element centre (ξ = 0 for hexahedra, the
+/// centroid of the reference element for tetrahedra and wedges: centre_natural_coordinates of
+/// simplex_elements.hpp) from the element's nodal displacements (3n, DOF 3a + d). For hex8_incompatible the incompatible modes contribute nothing
 /// there (∂P_m/∂ξ = 0 at ξ = 0), so no condensed variables are needed.
 [[nodiscard]] Vector6d element_centre_strain(ElementType type, const Eigen::Matrix3Xd& coordinates,
                                              const Eigen::VectorXd& displacements);

@@ -2,8 +2,11 @@
 // VTK XML output for ParaView (VTK file format documentation, "XML File Formats",
 // https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html):
 //   * the volume mesh as an UnstructuredGrid (.vtu): hex8 → VTK_HEXAHEDRON (12), hex20 →
-//     VTK_QUADRATIC_HEXAHEDRON (25) — Abaqus' node order is VTK's (fe/mesh.hpp), so nodes are
-//     written as they are; cell data "part" (the part index) is always written;
+//     VTK_QUADRATIC_HEXAHEDRON (25), tet4 → VTK_TETRA (10), tet10 → VTK_QUADRATIC_TETRA (24) —
+//     Abaqus' node order is VTK's (fe/mesh.hpp), so nodes are written as they are; wedge6 →
+//     VTK_WEDGE (13), wedge15 → VTK_QUADRATIC_WEDGE (26) with each triangle traversed the other
+//     way (VTK's base triangle faces away from the top one: vtk_writer.cpp); cell data "part"
+//     (the part index) is always written;
 //   * a quad surface (interface facets: 4-node → VTK_QUAD (9), 8-node → VTK_QUADRATIC_QUAD (23),
 //     4 corners then the 4 mid-edge nodes, as fe::face_nodes lists them) over the same points;
 //   * a .pvd collection of such files (e.g. one per mode, "timestep" = frequency).

@@ -205,17 +205,20 @@ TEST(GmshReader, RefusesOtherFormatsByName) {
                       "partitioned meshes"));
 }
 
-TEST(GmshReader, RefusesNonHexahedralVolumesAndStrayQuadrangles) {
+TEST(GmshReader, RefusesPyramidsAndCompleteQuadraticElementsAndStrayQuadrangles) {
   // kCubeHex8: node tags 15-18 on lines 26-29; surface block header 37, its quadrangle 38;
   // volume block header 39, its hexahedron 40.
-  EXPECT_TRUE(reports(replaced(replaced(kCubeHex8, "3 1 5 1\n", "3 1 4 1\n"),
-                               "7 11 12 13 14 15 16 17 18", "7 11 12 13 15"),
-                      39, "type 4 (4-node tetrahedron) in volume 1 is not supported"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "3 1 5 1\n", "3 1 6 1\n"), 39, "6-node prism"));
+  EXPECT_TRUE(reports(replaced(replaced(kCubeHex8, "3 1 5 1\n", "3 1 7 1\n"),
+                               "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15"),
+                      39, "type 7 (5-node pyramid) in volume 1 is not supported"));
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "3 1 5 1\n", "3 1 13 1\n"), 39, "18-node prism"));
   EXPECT_TRUE(reports(replaced(kCubeHex8, "3 16 17 18 15", "3 11 12 17 18"), 38,
-                      "quadrangle 3 of physical surface 'top' is not a face of any hexahedron"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 2 1\n"), 37,
-                      "type 2 (3-node triangle) in physical surface 'top'"));
+                      "quadrangle 3 of physical surface 'top' is not a face of any volume "
+                      "element"));
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 1 1\n"), 37,
+                      "type 1 (2-node line) in physical surface 'top'"));
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 2 1\n"), 38,
+                      "element 3 (type 2 (3-node triangle)) has 4 nodes"));
   EXPECT_TRUE(reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17 99"),
                       40, "element 7: unknown node 99"));
   EXPECT_TRUE(reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17"),

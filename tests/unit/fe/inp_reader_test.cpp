@@ -226,8 +226,8 @@ TEST(InpReader, ErrorsNameFileLineAndEntity) {
 
 TEST(InpReader, UnsupportedCardsAndParametersStop) {
   const std::string element = "*ELEMENT, TYPE=C3D8, ELSET=B\n1,1,2,3,4,5,6,7,8\n";
-  EXPECT_TRUE(reports(kNodes + "*Element, type=C3D4\n1, 1, 2, 3, 5\n", 10,
-                      "element type C3D4 is not supported"));
+  EXPECT_TRUE(reports(kNodes + "*Element, type=C3D10M\n1, 1, 2, 3, 5\n", 10,
+                      "element type C3D10M is not supported"));
   EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=S4\n1, 1, 2, 3, 4\n", 10, "element type S4"));
   EXPECT_TRUE(
       reports("*NODE\n1, 0, 0, 0\n*NGEN, NSET=LINE\n1, 10, 1\n", 3, "card *NGEN is not supported"));

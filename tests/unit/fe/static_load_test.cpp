@@ -91,7 +91,10 @@ TEST(StaticLoad, PressureOnACurvedFaceHasTheResultantOfItsVectorArea) {
 }
 
 TEST(StaticLoad, LoadVectorOfABoxSumsToThePressureTimesTheAreaAndClosesOnAllSides) {
-  for (ElementType type : {ElementType::hex8, ElementType::hex20}) {
+  // Quadrilateral faces (hexahedra, wedges' sides), triangles (tetrahedra, wedges' ends), both
+  // orders.
+  for (ElementType type : {ElementType::hex8, ElementType::hex20, ElementType::tet4, ElementType::tet10,
+                           ElementType::wedge6, ElementType::wedge15}) {
     BoxOptions o;
     o.size = {0.2, 0.1, 0.05};
     o.divisions = {4, 3, 2};
@@ -100,7 +103,7 @@ TEST(StaticLoad, LoadVectorOfABoxSumsToThePressureTimesTheAreaAndClosesOnAllSide
     StaticLoads top;
     top.pressures.push_back({"top", mesh.surfaces.at("box.zmax"), 1e5});
     const LoadResultant r = load_resultant(mesh, static_load_vector(mesh, top));
-    EXPECT_LT((r.force - Eigen::Vector3d(0.0, 0.0, -1e5 * 0.02)).norm(), 1e-9 * 1e5 * 0.02);
+    EXPECT_LT((r.force - Eigen::Vector3d(0.0, 0.0, -1e5 * 0.02)).norm(), 1e-9 * 1e5 * 0.02) << abaqus_name(type);
     // The centre of pressure is the face's centre (0.1, 0.05, 0.05): M = x_c × F.
     EXPECT_LT((r.moment - Eigen::Vector3d(0.1, 0.05, 0.05).cross(r.force)).norm(), 1e-9 * 1e5 * 0.02 * 0.2);
 

@@ -246,3 +246,35 @@ TEST(PreloadSolver, StatusSaysConvergedOrTheIterationLimit) {
   EXPECT_NE(broken.message.find("line search"), std::string::npos) << broken.message;
   EXPECT_EQ(pl::PreloadResult{}.status().termination, jointhb::Termination::failed);
 }
+
+// Footprints on triangular faces (tetrahedra; the z sides of wedges): the weights are the
+// consistent loads of a uniform pressure, so the coupling averages u_z over the footprint exactly
+// for a field the faces interpolate exactly (linear on tri3, quadratic on tri6).
+TEST(PreloadBolt, TriangularFootprintsAverageExactly) {
+  for (fe::ElementType type : {fe::ElementType::tet4, fe::ElementType::tet10,
+                               fe::ElementType::wedge6, fe::ElementType::wedge15}) {
+    fe::BoxOptions o;
+    o.type = type;
+    o.divisions = {3, 3, 2};
+    const fe::Mesh mesh = fe::box_mesh(o);  // the unit cube
+    pl::BoltOptions b;
+    b.name = "b";
+    b.axis_point = {0.5, 0.5, 0.0};
+    b.head_surface = "box.zmax";
+    b.nut_surface = "box.zmin";
+    b.head_radius = b.nut_radius = 2.0;  // every face
+    b.axial_stiffness = 1e8;
+    const pl::Bolt bolt = pl::build_bolt(mesh, b);
+    EXPECT_NEAR(bolt.head_area, 1.0, 1e-14) << fe::abaqus_name(type);
+    EXPECT_NEAR(bolt.nut_area, 1.0, 1e-14);
+    // u_z = z (x + y) / 2 (linear on each face), or z x² (quadratic) for the quadratic types:
+    // head mean 1/2 resp. 1/3, nut mean 0.
+    const bool quadratic = fe::is_quadratic(type);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_dofs());
+    for (int i = 0; i < mesh.num_nodes(); ++i) {
+      const Eigen::Vector3d x = mesh.coordinates.col(i);
+      u[3 * i + 2] = quadratic ? x.z() * x.x() * x.x() : 0.5 * x.z() * (x.x() + x.y());
+    }
+    EXPECT_NEAR(bolt.coupling.dot(u), quadratic ? 1.0 / 3.0 : 0.5, 1e-14) << fe::abaqus_name(type);
+  }
+}
