@@ -293,7 +293,7 @@ class FeCaseReader {
       if (by_part.count(name)) materials.push_back(*by_part[name]);
       else if (f.has("material")) materials.push_back(material(f.find("material")->value, f.path_of("material")));
       else if (p < from_deck.size() && from_deck[p]) materials.push_back(*from_deck[p]);
-      else reader_.fail(f.find("mesh")->value, f.path_of("materials"), fmt::format("no material for part '{}' of {} (the deck has no *SOLID SECTION for it; give material: or materials: {{{}: ...}})", name, file.string(), name));
+      else reader_.fail(f.find("mesh")->value, f.path_of("materials"), fmt::format("no material for part '{}' of {} ({}; give material: or materials: {{{}: ...}})", name, file.string(), file.extension() == ".inp" ? "the deck has no *SOLID SECTION for it" : "a .msh file carries no materials", name));
     }
     return materials;
   }
