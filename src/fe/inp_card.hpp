@@ -3,6 +3,7 @@
 // shared by the mesh reader, inp_reader.cpp, and the reader of the deck's physics cards,
 // inp_physics.cpp).
 
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -38,5 +39,14 @@ inline std::vector<std::string_view> card_entries(std::string_view text) {
   while (!pieces.empty() && pieces.back().empty()) pieces.pop_back();
   return pieces;
 }
+
+/// Throws MeshFileError "FILE:LINE: parameter K of *CARD is not supported (supported: ...)" for
+/// the first parameter of `card` not in `allowed`.
+void check_card_parameters(const Card& card, std::initializer_list<const char*> allowed,
+                           const std::string& file);
+
+/// The value of parameter `key`; throws MeshFileError "FILE:LINE: *CARD needs the parameter K="
+/// when it is missing or empty.
+[[nodiscard]] std::string required_parameter(const Card& card, const char* key, const std::string& file);
 
 }  // namespace jointhb::fe::detail

@@ -90,21 +90,14 @@ class PhysicsReader {
                                     "time are not supported (the deck's loads are static loads of "
                                     "the preload)",
                                     card.keyword, value));
-      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) {
-        std::string list;
-        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-        fail(card.line, fmt::format("parameter {} of *{} is not supported (supported: {})", key,
-                                    card.keyword, list.empty() ? "none" : list));
-      }
     }
+    check_card_parameters(card, allowed, file_);
     if (const std::string* op = card.find("OP"); op && upper(*op) != "MOD" && upper(*op) != "NEW")
       fail(card.line, fmt::format("*{}, OP={}: must be MOD or NEW", card.keyword, *op));
   }
 
   std::string required(const Card& card, const char* key) const {
-    const std::string* value = card.find(key);
-    if (!value || value->empty()) fail(card.line, fmt::format("*{} needs the parameter {}=", card.keyword, key));
-    return *value;
+    return required_parameter(card, key, file_);
   }
 
   double number(int line, std::string_view text, const std::string& what) const {

@@ -263,22 +263,11 @@ class InpReader {
   }
 
   void check_parameters(const Card& card, std::initializer_list<const char*> allowed) const {
-    for (const auto& [key, value] : card.parameters) {
-      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) {
-        std::string list;
-        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-        fail(card.line, fmt::format("parameter {} of *{} is not supported (supported: {})", key,
-                                    card.keyword, list));
-      }
-    }
+    detail::check_card_parameters(card, allowed, file_);
   }
 
   std::string required(const Card& card, const char* key) const {
-    const std::string* value = card.find(key);
-    if (!value || value->empty()) {
-      fail(card.line, fmt::format("*{} needs the parameter {}=", card.keyword, key));
-    }
-    return *value;
+    return detail::required_parameter(card, key, file_);
   }
 
   // The scope whose ids a set or surface card's data use: the instance named by its INSTANCE=

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -144,6 +145,18 @@ LoadResultant load_resultant(const Mesh& mesh, const Eigen::VectorXd& load) {
     r.moment += mesh.coordinates.col(i).cross(fi);
   }
   return r;
+}
+
+std::string equilibrium_problem(const Mesh& mesh, const Eigen::VectorXd& load) {
+  const double total = load.cwiseAbs().sum();
+  if (total == 0.0) return {};
+  const Eigen::Vector3d centre = mesh.coordinates.rowwise().mean();
+  const double size = (mesh.coordinates.colwise() - centre).colwise().norm().maxCoeff();
+  const LoadResultant r = load_resultant(mesh, load);
+  const Eigen::Vector3d moment = r.moment - centre.cross(r.force);  // about the centre
+  if (r.force.norm() <= 1e-9 * total && moment.norm() <= 1e-9 * total * std::max(size, 1e-300)) return {};
+  return fmt::format("a resultant force of {:.6g} N and a moment of {:.6g} N m about the mesh centre",
+                     r.force.norm(), moment.norm());
 }
 
 }  // namespace jointhb::fe

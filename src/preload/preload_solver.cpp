@@ -164,27 +164,6 @@ void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> 
   check_connectivity_of(mesh, interfaces, bolts, constraints);
 }
 
-namespace {
-
-// A free-free model (3-2-1 support) can carry only self-equilibrated static loads: the support
-// would otherwise take the resultant and the preload would be that of a wrongly supported body.
-void check_self_equilibrated(const fe::Mesh& mesh, const Eigen::VectorXd& load) {
-  const double total = load.cwiseAbs().sum();
-  if (total == 0.0) return;
-  const Eigen::Vector3d centre = mesh.coordinates.rowwise().mean();
-  const double size = (mesh.coordinates.colwise() - centre).colwise().norm().maxCoeff();
-  const fe::LoadResultant r = fe::load_resultant(mesh, load);
-  const Eigen::Vector3d moment = r.moment - centre.cross(r.force);  // about the centre
-  if (r.force.norm() > 1e-9 * total || moment.norm() > 1e-9 * total * std::max(size, 1e-300)) {
-    throw std::invalid_argument(fmt::format(
-        "preload: the static loads have a resultant force of {:.6g} N and moment of {:.6g} N m "
-        "about the mesh centre, and the model has no constraints (a free-free body carries only "
-        "self-equilibrated loads): add constraints",
-        r.force.norm(), moment.norm()));
-  }
-}
-
-}  // namespace
 
 std::vector<int> statically_determinate_support(const fe::Mesh& mesh) {
   std::vector<bool> used(static_cast<std::size_t>(mesh.num_nodes()), false);
@@ -291,7 +270,13 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
 
   // f_bolt + f_static of eq. (P-1) at s = 1.
   const Eigen::VectorXd static_full = fe::static_load_vector(mesh, model.loads);
-  if (model.constraints.empty()) check_self_equilibrated(mesh, static_full);
+  // A free-free model (3-2-1 support) carries only self-equilibrated static loads: the support
+  // would otherwise take their resultant.
+  if (const std::string problem = fe::equilibrium_problem(mesh, static_full);
+      model.constraints.empty() && !problem.empty())
+    throw std::invalid_argument("preload: the static loads have " + problem +
+                                ", and the model has no constraints (a free-free body carries only "
+                                "self-equilibrated loads): add constraints");
   const Eigen::VectorXd bolt_full = bolt_load(model.bolts, n, 1.0) + static_full;
   const double load_norm = dofs.restrict(bolt_full).norm();
   double max_preload = static_full.size() > 0 ? static_full.cwiseAbs().maxCoeff() : 0.0;

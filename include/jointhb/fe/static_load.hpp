@@ -68,4 +68,9 @@ struct LoadResultant {
 };
 [[nodiscard]] LoadResultant load_resultant(const Mesh& mesh, const Eigen::VectorXd& load);
 
+/// Empty when `load` is self-equilibrated — resultant force below 1e-9 Σ|f_i| and moment about
+/// the mesh centre below 1e-9 Σ|f_i| times the mesh's radius —, else "a resultant force of F N and
+/// a moment of M N m about the mesh centre": what a free-free model cannot carry.
+[[nodiscard]] std::string equilibrium_problem(const Mesh& mesh, const Eigen::VectorXd& load);
+
 }  // namespace jointhb::fe

@@ -145,14 +145,14 @@ TEST(FeCaseDeck, UnbalancedLoadsOnAFreeModelAndPhysicsCardsAreInputErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("model.loads"), std::string::npos) << e.what();
     // The deck's tip load, 4 × 25 N down, less the case's 4 × 1 N up.
-    EXPECT_NE(std::string(e.what()).find("resultant of 96 N"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("resultant force of 96 N"), std::string::npos) << e.what();
   }
   // The deck's load alone on a free model is refused when the case is read, not in the preload.
   try {
     (void)d.read("model:\n  type: fe\n  parts:\n    - {mesh: beam.inp}\n");
     FAIL() << "no exception";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("resultant of 100 N"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("resultant force of 100 N"), std::string::npos) << e.what();
   }
   d.write("tied.inp", beam_deck(true) + "*TIE, NAME=T\nA, B\n");
   const std::string tied = "model:\n  type: fe\n  parts:\n    - {mesh: tied.inp}\n";
