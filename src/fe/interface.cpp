@@ -17,6 +17,15 @@ const char* to_string(InterfaceIntegration integration) {
   return integration == InterfaceIntegration::nodal ? "nodal" : "gauss";
 }
 
+const char* to_string(InterfaceMeshes meshes) {
+  switch (meshes) {
+    case InterfaceMeshes::matching: return "matching";
+    case InterfaceMeshes::non_matching: return "non-matching";
+    case InterfaceMeshes::automatic: return "automatic";
+  }
+  return "?";
+}
+
 std::string InterfaceOptions::validate() const {
   if (bottom_surface.empty()) return "bottom_surface must name a surface of the mesh";
   if (top_surface.empty()) return "top_surface must name a surface of the mesh";

@@ -43,12 +43,23 @@ enum class InterfaceIntegration {
 /// "nodal" or "gauss".
 [[nodiscard]] const char* to_string(InterfaceIntegration integration);
 
+/// How the two surfaces' meshes relate.
+enum class InterfaceMeshes {
+  matching,      ///< every bottom face has a top face with coincident nodes (else an error)
+  non_matching,  ///< meshed independently: segment-to-segment (mortar) integration of the gap
+  automatic,     ///< matching where every face has a coincident partner, else non_matching
+};
+
+/// "matching", "non-matching" or "automatic".
+[[nodiscard]] const char* to_string(InterfaceMeshes meshes);
+
 struct InterfaceOptions {
   std::string name;            ///< label for messages (may be empty)
   std::string bottom_surface;  ///< Mesh::surfaces key; its outward normals define n
   std::string top_surface;     ///< Mesh::surfaces key; faces coincide with the bottom's
   InterfaceIntegration integration = InterfaceIntegration::nodal;
   double match_tolerance = 1e-6;  ///< [-], in (0, 0.1]: node coincidence distance / face size
+  InterfaceMeshes meshes = InterfaceMeshes::matching;
 
   /// Empty when valid, otherwise a message naming the field and the violated constraint.
   [[nodiscard]] std::string validate() const;
