@@ -11,6 +11,9 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "face_shapes.hpp"
+#include "interface_build.hpp"
+
 namespace jointhb::fe {
 
 const char* to_string(InterfaceIntegration integration) {
@@ -38,84 +41,28 @@ std::string InterfaceOptions::validate() const {
   return {};
 }
 
-namespace {
-
 using Vec3 = Eigen::Vector3d;
 
-// Shape functions of a face in the natural coordinates (ξ, η) of its bottom face, with the corners
-// numbered cyclically as face_local_nodes lists them: corner k at (ξ_k, η_k) =
-// (-1,-1), (1,-1), (1,1), (-1,1), so that ∂x/∂ξ × ∂x/∂η is the face's outward normal. Quad4: the
-// bilinear functions of eq. (14) (the paper numbers the same four functions non-cyclically);
-// quad8: the serendipity functions with mid-edge node 4+k between corners k and k+1.
-struct ShapeValues {
-  std::array<double, 8> h{};
-  std::array<double, 8> dxi{};
-  std::array<double, 8> deta{};
-};
+namespace detail {
 
-constexpr std::array<double, 8> kXi = {-1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0, -1.0};
-constexpr std::array<double, 8> kEta = {-1.0, -1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0};
-
-ShapeValues shape_values(int nodes, double xi, double eta) {
-  ShapeValues s;
-  if (nodes == 4) {
-    for (std::size_t k = 0; k < 4; ++k) {  // eq. (14): h = (1 ± ξ)(1 ± η)/4
-      s.h[k] = 0.25 * (1.0 + kXi[k] * xi) * (1.0 + kEta[k] * eta);
-      s.dxi[k] = 0.25 * kXi[k] * (1.0 + kEta[k] * eta);
-      s.deta[k] = 0.25 * (1.0 + kXi[k] * xi) * kEta[k];
-    }
-    return s;
-  }
-  for (std::size_t k = 0; k < 4; ++k) {  // serendipity corners: (1+ξξk)(1+ηηk)(ξξk+ηηk-1)/4
-    const double a = 1.0 + kXi[k] * xi;
-    const double b = 1.0 + kEta[k] * eta;
-    const double c = kXi[k] * xi + kEta[k] * eta - 1.0;
-    s.h[k] = 0.25 * a * b * c;
-    s.dxi[k] = 0.25 * kXi[k] * b * (c + a);
-    s.deta[k] = 0.25 * kEta[k] * a * (c + b);
-  }
-  for (std::size_t k = 4; k < 8; ++k) {
-    if (kXi[k] == 0.0) {  // (1-ξ²)(1+ηηk)/2
-      s.h[k] = 0.5 * (1.0 - xi * xi) * (1.0 + kEta[k] * eta);
-      s.dxi[k] = -xi * (1.0 + kEta[k] * eta);
-      s.deta[k] = 0.5 * (1.0 - xi * xi) * kEta[k];
-    } else {  // (1+ξξk)(1-η²)/2
-      s.h[k] = 0.5 * (1.0 + kXi[k] * xi) * (1.0 - eta * eta);
-      s.dxi[k] = 0.5 * kXi[k] * (1.0 - eta * eta);
-      s.deta[k] = -(1.0 + kXi[k] * xi) * eta;
-    }
-  }
-  return s;
+long external_node_id(const Mesh& mesh, int node) {
+  const auto n = static_cast<std::size_t>(node);
+  return n < mesh.node_ids.size() ? mesh.node_ids[n] : static_cast<long>(node) + 1;
 }
 
-struct RulePoint {
-  double xi, eta, weight;
-};
+namespace {
+long external_id(const Mesh& mesh, int element) {
+  const auto e = static_cast<std::size_t>(element);
+  return e < mesh.element_ids.size() ? mesh.element_ids[e] : static_cast<long>(element) + 1;
+}
+}  // namespace
 
-// Nodal: 2-point Lobatto (trapezoid) in each direction, points at the corners, weights 1.
-// Gauss: 2×2 (±1/√3, weights 1) for quad4, 3×3 (0, ±√(3/5); 8/9, 5/9) for quad8.
-std::vector<RulePoint> integration_rule(InterfaceIntegration integration, int nodes) {
-  std::vector<RulePoint> rule;
-  if (integration == InterfaceIntegration::nodal) {
-    for (std::size_t k = 0; k < 4; ++k) rule.push_back({kXi[k], kEta[k], 1.0});
-    return rule;
-  }
-  if (nodes == 4) {
-    const double g = 1.0 / std::sqrt(3.0);
-    for (std::size_t k = 0; k < 4; ++k) rule.push_back({g * kXi[k], g * kEta[k], 1.0});
-    return rule;
-  }
-  const double g = std::sqrt(0.6);
-  const std::array<double, 3> x = {-g, 0.0, g};
-  const std::array<double, 3> w = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  for (std::size_t j = 0; j < 3; ++j)
-    for (std::size_t i = 0; i < 3; ++i) rule.push_back({x[i], x[j], w[i] * w[j]});
-  return rule;
+std::string describe(const Mesh& mesh, const char* side, const Face& face) {
+  return fmt::format("{} face of element {} (S{})", side, external_id(mesh, face.element),
+                     face.face + 1);
 }
 
-// Tangent vectors a1 = ∂x/∂ξ, a2 = ∂x/∂η of the face with nodes `nodes` at (ξ, η).
-std::pair<Vec3, Vec3> tangents_at(const Mesh& mesh, const std::vector<int>& nodes,
-                                  const ShapeValues& s) {
+PointFrame point_frame(const Mesh& mesh, const std::vector<int>& nodes, const face::Shape& s) {
   Vec3 a1 = Vec3::Zero();
   Vec3 a2 = Vec3::Zero();
   for (std::size_t k = 0; k < nodes.size(); ++k) {
@@ -123,24 +70,33 @@ std::pair<Vec3, Vec3> tangents_at(const Mesh& mesh, const std::vector<int>& node
     a1 += s.dxi[k] * x;
     a2 += s.deta[k] * x;
   }
-  return {a1, a2};
+  PointFrame f;
+  const Vec3 normal = a1.cross(a2);
+  f.det_j = normal.norm();  // dA = |∂x/∂ξ × ∂x/∂η| dξ dη
+  if (!(f.det_j > 0.0) || !(a1.norm() > 0.0)) {
+    f.det_j = 0.0;
+    return f;
+  }
+  const Vec3 n = normal / f.det_j;
+  const Vec3 t1 = a1.normalized();  // ⊥ n since n ∝ a1 × a2
+  f.frame.row(0) = t1.transpose();
+  f.frame.row(1) = n.cross(t1).transpose();
+  f.frame.row(2) = n.transpose();
+  return f;
 }
 
-long external_id(const Mesh& mesh, int element) {
-  const auto e = static_cast<std::size_t>(element);
-  return e < mesh.element_ids.size() ? mesh.element_ids[e] : static_cast<long>(element) + 1;
+Vec3 centre_normal(const Mesh& mesh, const std::vector<int>& nodes) {
+  const int n = static_cast<int>(nodes.size());
+  const Eigen::Vector2d c = face::centre(n);
+  return point_frame(mesh, nodes, face::shape(n, c.x(), c.y())).frame.row(2).transpose();
 }
 
-long external_node_id(const Mesh& mesh, int node) {
-  const auto n = static_cast<std::size_t>(node);
-  return n < mesh.node_ids.size() ? mesh.node_ids[n] : static_cast<long>(node) + 1;
-}
+}  // namespace detail
 
-// "bottom face of element 12 (S2)"
-std::string describe(const Mesh& mesh, const char* side, const Face& face) {
-  return fmt::format("{} face of element {} (S{})", side, external_id(mesh, face.element),
-                     face.face + 1);
-}
+namespace {
+
+using detail::describe;
+using detail::external_node_id;
 
 struct FaceGeometry {
   Face face;
@@ -155,18 +111,216 @@ FaceGeometry face_geometry(const Mesh& mesh, const Face& face) {
   g.nodes = face_nodes(mesh, face);
   for (int n : g.nodes) g.centroid += mesh.coordinates.col(n);
   g.centroid /= static_cast<double>(g.nodes.size());
-  for (std::size_t i = 0; i < 4; ++i)
-    for (std::size_t j = i + 1; j < 4; ++j)
-      g.size = std::max(
-          g.size, (mesh.coordinates.col(g.nodes[i]) - mesh.coordinates.col(g.nodes[j])).norm());
+  const int corners = face::corner_count(static_cast<int>(g.nodes.size()));
+  for (int i = 0; i < corners; ++i)
+    for (int j = i + 1; j < corners; ++j)
+      g.size = std::max(g.size, (mesh.coordinates.col(g.nodes[static_cast<std::size_t>(i)]) -
+                                 mesh.coordinates.col(g.nodes[static_cast<std::size_t>(j)]))
+                                    .norm());
   return g;
 }
 
-// Unit outward normal at the face centre.
-Vec3 centre_normal(const Mesh& mesh, const std::vector<int>& nodes) {
-  const auto [a1, a2] =
-      tangents_at(mesh, nodes, shape_values(static_cast<int>(nodes.size()), 0, 0));
-  return a1.cross(a2).normalized();
+// The faces of a surface, checked to exist.
+void check_faces(const Mesh& mesh, const std::vector<Face>& faces, const char* side,
+                 const std::string& name, const std::string& who) {
+  for (const Face& f : faces) {
+    const ElementType type = mesh.elements.at(static_cast<std::size_t>(f.element)).type;
+    if (f.face < 0 || f.face >= face_count(type)) {
+      throw std::invalid_argument(fmt::format("{}: surface '{}': {} does not exist ({} has {} faces)",
+                                              who, name, describe(mesh, side, f), abaqus_name(type),
+                                              face_count(type)));
+    }
+  }
+}
+
+int nodes_of(const Mesh& mesh, const Face& f) {
+  return face_node_count(mesh.elements.at(static_cast<std::size_t>(f.element)).type, f.face);
+}
+
+// Pairs each bottom face with the top face whose nodes coincide: candidates by centroid, sorted
+// along x, then node-by-node within the tolerance (relative to the bottom face's size). Returns
+// the message for the first face without a partner ("" when every face has one); errors that no
+// other pairing could mend (shared nodes, surfaces not facing each other) throw.
+std::string pair_coincident_faces(const Mesh& mesh, const std::vector<Face>& bottom_faces,
+                                  const std::vector<Face>& top_faces,
+                                  const InterfaceOptions& options, const std::string& who,
+                                  std::vector<InterfaceElement>& elements) {
+  std::vector<FaceGeometry> top;
+  top.reserve(top_faces.size());
+  for (const Face& f : top_faces) top.push_back(face_geometry(mesh, f));
+  std::vector<int> order(top.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return top[static_cast<std::size_t>(a)].centroid.x() <
+           top[static_cast<std::size_t>(b)].centroid.x();
+  });
+  std::vector<double> sorted_x(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    sorted_x[i] = top[static_cast<std::size_t>(order[i])].centroid.x();
+
+  std::vector<int> used_by(top.size(), -1);  // bottom face index that claimed each top face
+  for (std::size_t b = 0; b < bottom_faces.size(); ++b) {
+    const FaceGeometry bg = face_geometry(mesh, bottom_faces[b]);
+    const double tol = options.match_tolerance * bg.size;
+    std::vector<int> matched;
+    int match = -1;
+    auto first = std::lower_bound(sorted_x.begin(), sorted_x.end(), bg.centroid.x() - tol);
+    for (auto it = first; it != sorted_x.end() && *it <= bg.centroid.x() + tol; ++it) {
+      const int t = order[static_cast<std::size_t>(it - sorted_x.begin())];
+      const FaceGeometry& tg = top[static_cast<std::size_t>(t)];
+      if (tg.nodes.size() != bg.nodes.size() || (tg.centroid - bg.centroid).norm() > tol) continue;
+      std::vector<int> partner;
+      std::vector<bool> taken(tg.nodes.size(), false);
+      for (int bn : bg.nodes) {
+        for (std::size_t j = 0; j < tg.nodes.size(); ++j) {
+          if (!taken[j] &&
+              (mesh.coordinates.col(tg.nodes[j]) - mesh.coordinates.col(bn)).norm() <= tol) {
+            taken[j] = true;
+            partner.push_back(tg.nodes[j]);
+            break;
+          }
+        }
+      }
+      if (partner.size() == bg.nodes.size()) {
+        match = t;
+        matched = std::move(partner);
+        break;
+      }
+    }
+    if (match < 0) {
+      return fmt::format(
+          "{}: matching meshes are required: {} (surface '{}') at ({:.6g}, {:.6g}, {:.6g}) has no "
+          "coincident face on surface '{}' (set meshes: non-matching for independently meshed "
+          "surfaces)",
+          who, describe(mesh, "bottom", bg.face), options.bottom_surface, bg.centroid.x(),
+          bg.centroid.y(), bg.centroid.z(), options.top_surface);
+    }
+    const FaceGeometry& tg = top[static_cast<std::size_t>(match)];
+    if (used_by[static_cast<std::size_t>(match)] >= 0) {
+      throw std::invalid_argument(fmt::format(
+          "{}: {} (surface '{}') coincides with two bottom faces: {} and {}", who,
+          describe(mesh, "top", tg.face), options.top_surface,
+          describe(
+              mesh, "bottom",
+              bottom_faces[static_cast<std::size_t>(used_by[static_cast<std::size_t>(match)])]),
+          describe(mesh, "bottom", bg.face)));
+    }
+    used_by[static_cast<std::size_t>(match)] = static_cast<int>(b);
+    for (std::size_t k = 0; k < matched.size(); ++k) {
+      if (matched[k] == bg.nodes[k]) {
+        throw std::invalid_argument(fmt::format(
+            "{}: {} and {} share node {}: an interface needs separate nodes on each side", who,
+            describe(mesh, "bottom", bg.face), describe(mesh, "top", tg.face),
+            external_node_id(mesh, matched[k])));
+      }
+    }
+    if (detail::centre_normal(mesh, bg.nodes).dot(detail::centre_normal(mesh, tg.nodes)) >= 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "{}: surfaces '{}' and '{}' do not face each other: {} and {} coincide but their outward "
+          "normals are not opposite",
+          who, options.bottom_surface, options.top_surface, describe(mesh, "bottom", bg.face),
+          describe(mesh, "top", tg.face)));
+    }
+    InterfaceElement element;
+    element.bottom = bg.face;
+    element.top = tg.face;
+    element.top_faces = {tg.face};
+    element.bottom_nodes = bg.nodes;
+    element.top_nodes = std::move(matched);
+    elements.push_back(std::move(element));
+  }
+  for (std::size_t t = 0; t < top.size(); ++t) {
+    if (used_by[t] < 0) {
+      const Vec3& c = top[t].centroid;
+      return fmt::format(
+          "{}: matching meshes are required: {} (surface '{}') at ({:.6g}, {:.6g}, {:.6g}) has no "
+          "coincident face on surface '{}' (set meshes: non-matching for independently meshed "
+          "surfaces)",
+          who, describe(mesh, "top", top[t].face), options.top_surface, c.x(), c.y(), c.z(),
+          options.bottom_surface);
+    }
+  }
+  return {};
+}
+
+// Node pairs of a matching interface: each bottom node has one top partner (and vice versa).
+void collect_node_pairs(const Mesh& mesh, const std::string& who, Interface& result) {
+  std::vector<int> top_of(static_cast<std::size_t>(mesh.num_nodes()), -1);
+  std::vector<int> bottom_of(static_cast<std::size_t>(mesh.num_nodes()), -1);
+  for (const InterfaceElement& e : result.elements) {
+    for (std::size_t k = 0; k < e.bottom_nodes.size(); ++k) {
+      const auto bn = static_cast<std::size_t>(e.bottom_nodes[k]);
+      const auto tn = static_cast<std::size_t>(e.top_nodes[k]);
+      if ((top_of[bn] >= 0 && top_of[bn] != e.top_nodes[k]) ||
+          (bottom_of[tn] >= 0 && bottom_of[tn] != e.bottom_nodes[k])) {
+        throw std::invalid_argument(fmt::format(
+            "{}: node {} of {} is coincident with more than one node across the interface "
+            "(duplicate nodes?)",
+            who, external_node_id(mesh, e.bottom_nodes[k]), describe(mesh, "bottom", e.bottom)));
+      }
+      top_of[bn] = e.top_nodes[k];
+      bottom_of[tn] = e.bottom_nodes[k];
+    }
+  }
+  for (std::size_t n = 0; n < top_of.size(); ++n)
+    if (top_of[n] >= 0) result.node_pairs.push_back({static_cast<int>(n), top_of[n]});
+}
+
+// Integration points of a matching interface: frame and area weight from the bottom face,
+// eq. (13)-(14); the top face's weights equal the bottom's (coincident nodes).
+void add_matching_points(const Mesh& mesh, InterfaceIntegration integration,
+                         const std::string& who, Interface& result) {
+  for (std::size_t e = 0; e < result.elements.size(); ++e) {
+    InterfaceElement& element = result.elements[e];
+    const int nodes = static_cast<int>(element.bottom_nodes.size());
+    const std::vector<face::RulePoint> rule = face::rule(integration, nodes);
+    element.first_point = result.num_points();
+    element.num_points = static_cast<int>(rule.size());
+    for (const face::RulePoint& q : rule) {
+      const face::Shape s = face::shape(nodes, q.xi, q.eta);
+      const detail::PointFrame f = detail::point_frame(mesh, element.bottom_nodes, s);
+      if (!(f.det_j > 0.0)) {
+        throw std::invalid_argument(
+            fmt::format("{}: {} is degenerate (zero area at ξ = {}, η = {})", who,
+                        describe(mesh, "bottom", element.bottom), q.xi, q.eta));
+      }
+      InterfacePoint p;
+      p.element = static_cast<int>(e);
+      p.natural = {q.xi, q.eta};
+      p.shape = s.h;
+      p.top_shape.assign(s.h.begin(), s.h.begin() + nodes);
+      p.area = q.weight * f.det_j;
+      p.frame = f.frame;
+      for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
+        p.position += s.h[k] * mesh.coordinates.col(element.bottom_nodes[k]);
+      element.area += p.area;
+      result.points.push_back(p);
+    }
+    result.total_area += element.area;
+  }
+}
+
+// Gap operator G, eq. (19): rows 3p+r = frame row r · (Σ_k top_shape_k u_top_k − Σ_i h_i u_i).
+void build_gap_operator(const Mesh& mesh, Interface& result) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(result.points.size() * 8 * 18);
+  for (int p = 0; p < result.num_points(); ++p) {
+    const InterfacePoint& point = result.points[static_cast<std::size_t>(p)];
+    const InterfaceElement& element = result.elements[static_cast<std::size_t>(point.element)];
+    const auto add = [&](int node, double h) {
+      if (h == 0.0) return;  // nodal integration: only the point's own nodes
+      for (int r = 0; r < 3; ++r)
+        for (int d = 0; d < 3; ++d)
+          if (const double v = h * point.frame(r, d); v != 0.0)
+            triplets.emplace_back(3 * p + r, 3 * node + d, v);
+    };
+    for (std::size_t k = 0; k < element.top_nodes.size(); ++k)
+      add(element.top_nodes[k], point.top_shape[k]);
+    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
+      add(element.bottom_nodes[k], -point.shape[k]);
+  }
+  result.gap_operator.resize(3 * result.num_points(), mesh.num_dofs());
+  result.gap_operator.setFromTriplets(triplets.begin(), triplets.end());
 }
 
 }  // namespace
@@ -188,231 +342,67 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
   };
   const std::vector<Face>& bottom_faces = surface(options.bottom_surface, "bottom_surface");
   const std::vector<Face>& top_faces = surface(options.top_surface, "top_surface");
-
-  // Quadrilateral faces only (zero-thickness elements on triangles are not implemented), and one
-  // face type (quad4 or quad8) on both surfaces.
-  auto nodes_of = [&](const Face& f) {
-    return face_node_count(mesh.elements.at(static_cast<std::size_t>(f.element)).type, f.face);
-  };
-  auto check_quadrilateral = [&](const std::vector<Face>& faces, const char* side,
-                                 const std::string& name) {
-    for (const Face& f : faces) {
-      const ElementType type = mesh.elements.at(static_cast<std::size_t>(f.element)).type;
-      if (f.face < 0 || f.face >= face_count(type)) {
-        throw std::invalid_argument(fmt::format("{}: surface '{}': {} does not exist ({} has {} "
-                                                "faces)",
-                                                who, name, describe(mesh, side, f),
-                                                abaqus_name(type), face_count(type)));
-      }
-      if (face_corner_count(type, f.face) != 4) {
+  check_faces(mesh, bottom_faces, "bottom", options.bottom_surface, who);
+  check_faces(mesh, top_faces, "top", options.top_surface, who);
+  if (options.integration == InterfaceIntegration::nodal) {
+    for (const Face& f : bottom_faces) {
+      if (const int n = nodes_of(mesh, f); n == 6 || n == 8) {
         throw std::invalid_argument(fmt::format(
-            "{}: surface '{}' has a triangular face ({}, tri{} of a {}): interface elements "
-            "need quadrilateral faces (hexahedra, or the side faces S3..S5 of wedges)",
-            who, name, describe(mesh, side, f), face_node_count(type, f.face), abaqus_name(type)));
+            "{}: integration 'nodal' needs linear faces (tri3, quad4), surface '{}' has {} faces "
+            "({}): use 'gauss'",
+            who, options.bottom_surface, n == 8 ? "quad8" : "tri6",
+            describe(mesh, "bottom", f)));
       }
     }
-  };
-  check_quadrilateral(bottom_faces, "bottom", options.bottom_surface);
-  check_quadrilateral(top_faces, "top", options.top_surface);
-  const int face_nodes_per_face = nodes_of(bottom_faces.front());
-  auto check_type = [&](const std::vector<Face>& faces, const char* side, const std::string& name) {
-    for (const Face& f : faces) {
-      const int n = nodes_of(f);
-      if (n != face_nodes_per_face) {
-        throw std::invalid_argument(fmt::format(
-            "{}: mixed quad4/quad8 faces: {} (surface '{}') has {} nodes, the first bottom face "
-            "(surface '{}') has {}",
-            who, describe(mesh, side, f), name, n, options.bottom_surface, face_nodes_per_face));
-      }
-    }
-  };
-  check_type(bottom_faces, "bottom", options.bottom_surface);
-  check_type(top_faces, "top", options.top_surface);
-  if (face_nodes_per_face == 8 && options.integration == InterfaceIntegration::nodal) {
-    throw std::invalid_argument(fmt::format(
-        "{}: integration 'nodal' needs quad4 faces, surface '{}' has quad8 faces (hex20): use "
-        "'gauss' (3×3)",
-        who, options.bottom_surface));
   }
-
-  // Pair each bottom face with the top face whose nodes coincide: candidates by centroid, sorted
-  // along x, then node-by-node within the tolerance (relative to the bottom face's size).
-  std::vector<FaceGeometry> top;
-  top.reserve(top_faces.size());
-  for (const Face& f : top_faces) top.push_back(face_geometry(mesh, f));
-  std::vector<int> order(top.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return top[static_cast<std::size_t>(a)].centroid.x() <
-           top[static_cast<std::size_t>(b)].centroid.x();
-  });
-  std::vector<double> sorted_x(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    sorted_x[i] = top[static_cast<std::size_t>(order[i])].centroid.x();
 
   Interface result;
   result.name = options.name;
   result.integration = options.integration;
   result.num_mesh_nodes = mesh.num_nodes();
-  std::vector<int> used_by(top.size(), -1);  // bottom face index that claimed each top face
-
-  for (std::size_t b = 0; b < bottom_faces.size(); ++b) {
-    const FaceGeometry bg = face_geometry(mesh, bottom_faces[b]);
-    const double tol = options.match_tolerance * bg.size;
-    std::vector<int> matched;
-    int match = -1;
-    auto first = std::lower_bound(sorted_x.begin(), sorted_x.end(), bg.centroid.x() - tol);
-    for (auto it = first; it != sorted_x.end() && *it <= bg.centroid.x() + tol; ++it) {
-      const int t = order[static_cast<std::size_t>(it - sorted_x.begin())];
-      const FaceGeometry& tg = top[static_cast<std::size_t>(t)];
-      if ((tg.centroid - bg.centroid).norm() > tol) continue;
-      std::vector<int> partner;
-      std::vector<bool> taken(tg.nodes.size(), false);
-      for (int bn : bg.nodes) {
-        for (std::size_t j = 0; j < tg.nodes.size(); ++j) {
-          if (!taken[j] &&
-              (mesh.coordinates.col(tg.nodes[j]) - mesh.coordinates.col(bn)).norm() <= tol) {
-            taken[j] = true;
-            partner.push_back(tg.nodes[j]);
-            break;
-          }
+  bool matching = options.meshes != InterfaceMeshes::non_matching;
+  if (matching) {
+    // One face type on both surfaces of a matching interface.
+    const int per_face = nodes_of(mesh, bottom_faces.front());
+    auto check_type = [&](const std::vector<Face>& faces, const char* side, const std::string& name) {
+      for (const Face& f : faces) {
+        if (const int n = nodes_of(mesh, f); n != per_face) {
+          throw std::invalid_argument(fmt::format(
+              "{}: mixed face types on a matching interface: {} (surface '{}') has {} nodes, the "
+              "first bottom face (surface '{}') has {}",
+              who, describe(mesh, side, f), name, n, options.bottom_surface, per_face));
         }
       }
-      if (partner.size() == bg.nodes.size()) {
-        match = t;
-        matched = std::move(partner);
-        break;
-      }
+    };
+    if (options.meshes == InterfaceMeshes::matching) {
+      check_type(bottom_faces, "bottom", options.bottom_surface);
+      check_type(top_faces, "top", options.top_surface);
     }
-    if (match < 0) {
-      throw std::invalid_argument(fmt::format(
-          "{}: matching meshes are required: {} (surface '{}') at ({:.6g}, {:.6g}, {:.6g}) has no "
-          "coincident face on surface '{}'",
-          who, describe(mesh, "bottom", bg.face), options.bottom_surface, bg.centroid.x(),
-          bg.centroid.y(), bg.centroid.z(), options.top_surface));
+    const std::string unmatched =
+        pair_coincident_faces(mesh, bottom_faces, top_faces, options, who, result.elements);
+    if (!unmatched.empty() && options.meshes == InterfaceMeshes::matching) {
+      throw std::invalid_argument(unmatched);
     }
-    const FaceGeometry& tg = top[static_cast<std::size_t>(match)];
-    if (used_by[static_cast<std::size_t>(match)] >= 0) {
-      throw std::invalid_argument(fmt::format(
-          "{}: {} (surface '{}') coincides with two bottom faces: {} and {}", who,
-          describe(mesh, "top", tg.face), options.top_surface,
-          describe(
-              mesh, "bottom",
-              bottom_faces[static_cast<std::size_t>(used_by[static_cast<std::size_t>(match)])]),
-          describe(mesh, "bottom", bg.face)));
-    }
-    used_by[static_cast<std::size_t>(match)] = static_cast<int>(b);
-    for (std::size_t k = 0; k < matched.size(); ++k) {
-      if (matched[k] == bg.nodes[k]) {
-        throw std::invalid_argument(fmt::format(
-            "{}: {} and {} share node {}: an interface needs separate nodes on each side", who,
-            describe(mesh, "bottom", bg.face), describe(mesh, "top", tg.face),
-            external_node_id(mesh, matched[k])));
-      }
-    }
-    if (centre_normal(mesh, bg.nodes).dot(centre_normal(mesh, tg.nodes)) >= 0.0) {
-      throw std::invalid_argument(fmt::format(
-          "{}: surfaces '{}' and '{}' do not face each other: {} and {} coincide but their outward "
-          "normals are not opposite",
-          who, options.bottom_surface, options.top_surface, describe(mesh, "bottom", bg.face),
-          describe(mesh, "top", tg.face)));
-    }
-    InterfaceElement element;
-    element.bottom = bg.face;
-    element.top = tg.face;
-    element.bottom_nodes = bg.nodes;
-    element.top_nodes = std::move(matched);
-    result.elements.push_back(std::move(element));
-  }
-  for (std::size_t t = 0; t < top.size(); ++t) {
-    if (used_by[t] < 0) {
-      const Vec3& c = top[t].centroid;
-      throw std::invalid_argument(fmt::format(
-          "{}: matching meshes are required: {} (surface '{}') at ({:.6g}, {:.6g}, {:.6g}) has no "
-          "coincident face on surface '{}'",
-          who, describe(mesh, "top", top[t].face), options.top_surface, c.x(), c.y(), c.z(),
-          options.bottom_surface));
+    matching = unmatched.empty();
+    if (matching) {
+      check_type(bottom_faces, "bottom", options.bottom_surface);
+      check_type(top_faces, "top", options.top_surface);
+    } else {
+      result.elements.clear();
     }
   }
-
-  // Node pairs: each bottom node has one top partner (and vice versa).
-  std::vector<int> top_of(static_cast<std::size_t>(mesh.num_nodes()), -1);
-  std::vector<int> bottom_of(static_cast<std::size_t>(mesh.num_nodes()), -1);
-  for (const InterfaceElement& e : result.elements) {
-    for (std::size_t k = 0; k < e.bottom_nodes.size(); ++k) {
-      const auto bn = static_cast<std::size_t>(e.bottom_nodes[k]);
-      const auto tn = static_cast<std::size_t>(e.top_nodes[k]);
-      if ((top_of[bn] >= 0 && top_of[bn] != e.top_nodes[k]) ||
-          (bottom_of[tn] >= 0 && bottom_of[tn] != e.bottom_nodes[k])) {
-        throw std::invalid_argument(fmt::format(
-            "{}: node {} of {} is coincident with more than one node across the interface "
-            "(duplicate nodes?)",
-            who, external_node_id(mesh, e.bottom_nodes[k]), describe(mesh, "bottom", e.bottom)));
-      }
-      top_of[bn] = e.top_nodes[k];
-      bottom_of[tn] = e.bottom_nodes[k];
-    }
+  if (matching) {
+    result.meshes = InterfaceMeshes::matching;
+    collect_node_pairs(mesh, who, result);
+    add_matching_points(mesh, options.integration, who, result);
+  } else {
+    result.meshes = InterfaceMeshes::non_matching;
+    detail::build_mortar(mesh, bottom_faces, top_faces, options, who, result);
   }
-  for (std::size_t n = 0; n < top_of.size(); ++n)
-    if (top_of[n] >= 0) result.node_pairs.push_back({static_cast<int>(n), top_of[n]});
-
-  // Integration points: frame and area weight from the bottom face, eq. (13)-(14).
-  const std::vector<RulePoint> rule = integration_rule(options.integration, face_nodes_per_face);
-  for (std::size_t e = 0; e < result.elements.size(); ++e) {
-    InterfaceElement& element = result.elements[e];
-    element.first_point = result.num_points();
-    element.num_points = static_cast<int>(rule.size());
-    for (const RulePoint& q : rule) {
-      const ShapeValues s = shape_values(face_nodes_per_face, q.xi, q.eta);
-      const auto [a1, a2] = tangents_at(mesh, element.bottom_nodes, s);
-      const Vec3 normal = a1.cross(a2);
-      const double det_j = normal.norm();  // dA = |∂x/∂ξ × ∂x/∂η| dξ dη
-      if (!(det_j > 0.0) || !(a1.norm() > 0.0)) {
-        throw std::invalid_argument(
-            fmt::format("{}: {} is degenerate (zero area at ξ = {}, η = {})", who,
-                        describe(mesh, "bottom", element.bottom), q.xi, q.eta));
-      }
-      InterfacePoint p;
-      p.element = static_cast<int>(e);
-      p.natural = {q.xi, q.eta};
-      p.shape = s.h;
-      p.area = q.weight * det_j;
-      const Vec3 n = normal / det_j;
-      const Vec3 t1 = a1.normalized();  // ⊥ n since n ∝ a1 × a2
-      p.frame.row(0) = t1.transpose();
-      p.frame.row(1) = n.cross(t1).transpose();
-      p.frame.row(2) = n.transpose();
-      for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
-        p.position += s.h[k] * mesh.coordinates.col(element.bottom_nodes[k]);
-      element.area += p.area;
-      result.points.push_back(p);
-    }
-    result.total_area += element.area;
-  }
-
-  // Gap operator G, eq. (19): rows 3p+r = frame row r · Σ_i h_i (u_i^top - u_i^bottom).
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(result.points.size() * static_cast<std::size_t>(face_nodes_per_face) * 18);
-  for (int p = 0; p < result.num_points(); ++p) {
-    const InterfacePoint& point = result.points[static_cast<std::size_t>(p)];
-    const InterfaceElement& element = result.elements[static_cast<std::size_t>(point.element)];
-    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k) {
-      const double h = point.shape[k];
-      if (h == 0.0) continue;  // nodal integration: only the point's own node pair
-      for (int r = 0; r < 3; ++r) {
-        for (int d = 0; d < 3; ++d) {
-          const double v = h * point.frame(r, d);
-          if (v == 0.0) continue;
-          triplets.emplace_back(3 * p + r, 3 * element.top_nodes[k] + d, v);
-          triplets.emplace_back(3 * p + r, 3 * element.bottom_nodes[k] + d, -v);
-        }
-      }
-    }
-  }
-  result.gap_operator.resize(3 * result.num_points(), mesh.num_dofs());
-  result.gap_operator.setFromTriplets(triplets.begin(), triplets.end());
+  build_gap_operator(mesh, result);
   return result;
 }
+
 
 Eigen::VectorXd gaps(const Interface& interface, const Eigen::VectorXd& u) {
   if (u.size() != interface.num_mesh_dofs()) {
@@ -427,11 +417,24 @@ Eigen::VectorXd gaps(const Interface& interface, const Eigen::VectorXd& u) {
     const InterfacePoint& point = interface.points[static_cast<std::size_t>(p)];
     const InterfaceElement& element = interface.elements[static_cast<std::size_t>(point.element)];
     Vec3 relative = Vec3::Zero();
-    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k) {
-      const double h = point.shape[k];
-      if (h == 0.0) continue;
-      relative +=
-          h * (u.segment<3>(3 * element.top_nodes[k]) - u.segment<3>(3 * element.bottom_nodes[k]));
+    if (interface.meshes == InterfaceMeshes::matching) {
+      for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k) {
+        const double h = point.shape[k];
+        if (h == 0.0) continue;
+        relative += h * (u.segment<3>(3 * element.top_nodes[k]) -
+                         u.segment<3>(3 * element.bottom_nodes[k]));
+      }
+    } else {
+      // Non-matching: both sides' weights sum to 1 (partition of unity), so the displacement of
+      // one bottom node is subtracted from every term first (same cancellation-free property
+      // for a common translation).
+      const Vec3 reference = u.segment<3>(3 * element.bottom_nodes.front());
+      for (std::size_t k = 0; k < element.top_nodes.size(); ++k)
+        if (const double w = point.top_shape[k]; w != 0.0)
+          relative += w * (u.segment<3>(3 * element.top_nodes[k]) - reference);
+      for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
+        if (const double h = point.shape[k]; h != 0.0)
+          relative -= h * (u.segment<3>(3 * element.bottom_nodes[k]) - reference);
     }
     g.segment<3>(3 * p) = point.frame * relative;
   }
@@ -450,21 +453,68 @@ Eigen::VectorXd interface_force(const Interface& interface, const Eigen::VectorX
     const InterfacePoint& point = interface.points[static_cast<std::size_t>(p)];
     const InterfaceElement& element = interface.elements[static_cast<std::size_t>(point.element)];
     const Vec3 tau = point.area * (point.frame.transpose() * tractions.segment<3>(3 * p));
-    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k) {
-      const double h = point.shape[k];
-      if (h == 0.0) continue;
-      f.segment<3>(3 * element.top_nodes[k]) += h * tau;
-      f.segment<3>(3 * element.bottom_nodes[k]) -= h * tau;
-    }
+    for (std::size_t k = 0; k < element.top_nodes.size(); ++k)
+      if (const double w = point.top_shape[k]; w != 0.0) f.segment<3>(3 * element.top_nodes[k]) += w * tau;
+    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
+      if (const double h = point.shape[k]; h != 0.0) f.segment<3>(3 * element.bottom_nodes[k]) -= h * tau;
   }
   return f;
 }
+
+namespace {
+
+// K = Gᵀ A C G element by element for any top weights: the element's nodes are its bottom nodes
+// (weights -h_i) followed by its top nodes (weights +top_shape_k), and
+// K(a, b) = Σ_p w_a w_b a_p R_pᵀ C_p R_p, eq. (23)/(24).
+void add_general_interface_stiffness(const Interface& interface,
+                                     std::span<const Eigen::Matrix3d> tangents,
+                                     std::vector<Eigen::Triplet<double>>& triplets, int dof_offset) {
+  std::vector<int> nodes;
+  std::vector<double> w;
+  std::vector<Eigen::Matrix3d> block;
+  for (const InterfaceElement& element : interface.elements) {
+    nodes = element.bottom_nodes;
+    nodes.insert(nodes.end(), element.top_nodes.begin(), element.top_nodes.end());
+    const std::size_t n = nodes.size();
+    const std::size_t nb = element.bottom_nodes.size();
+    block.assign(n * n, Eigen::Matrix3d::Zero());
+    for (int p = element.first_point; p < element.first_point + element.num_points; ++p) {
+      const InterfacePoint& point = interface.points[static_cast<std::size_t>(p)];
+      w.assign(n, 0.0);
+      for (std::size_t i = 0; i < nb; ++i) w[i] = -point.shape[i];
+      for (std::size_t k = 0; k < element.top_nodes.size(); ++k) w[nb + k] = point.top_shape[k];
+      const Eigen::Matrix3d d = point.area * (point.frame.transpose() *
+                                              tangents[static_cast<std::size_t>(p)] * point.frame);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (w[i] == 0.0) continue;
+        for (std::size_t j = 0; j < n; ++j)
+          if (w[j] != 0.0) block[i * n + j] += (w[i] * w[j]) * d;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) {
+        const Eigen::Matrix3d& k = block[i * n + j];
+        if (k.isZero(0.0)) continue;
+        const int r0 = dof_offset + 3 * nodes[i];
+        const int c0 = dof_offset + 3 * nodes[j];
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) triplets.emplace_back(r0 + a, c0 + b, k(a, b));
+      }
+    }
+  }
+}
+
+}  // namespace
 
 void add_interface_stiffness(const Interface& interface, std::span<const Eigen::Matrix3d> tangents,
                              std::vector<Eigen::Triplet<double>>& triplets, int dof_offset) {
   if (static_cast<int>(tangents.size()) != interface.num_points()) {
     throw std::invalid_argument(fmt::format("add_interface_stiffness: {} tangents for {} points",
                                             tangents.size(), interface.num_points()));
+  }
+  if (interface.meshes != InterfaceMeshes::matching) {
+    add_general_interface_stiffness(interface, tangents, triplets, dof_offset);
+    return;
   }
   // Per element, eq. (23): K_T(i,j) = Σ_p h_i h_j a_p R_pᵀ C_p R_p (3×3 blocks in global axes),
   // then eq. (24): +K_T on the bottom-bottom and top-top blocks, -K_T on the mixed ones.

@@ -305,9 +305,9 @@ void write_quad_surface_vtu(const std::filesystem::path& path, const Eigen::Matr
   grid.points = &coordinates;
   for (std::size_t q = 0; q < quads.size(); ++q) {
     const auto& quad = quads[q];
-    if (quad.size() != 4 && quad.size() != 8)
-      throw std::invalid_argument("write_quad_surface_vtu: quad " + std::to_string(q) + " has " +
-                                  std::to_string(quad.size()) + " nodes, expected 4 or 8");
+    if (quad.size() != 3 && quad.size() != 4 && quad.size() != 6 && quad.size() != 8)
+      throw std::invalid_argument("write_quad_surface_vtu: face " + std::to_string(q) + " has " +
+                                  std::to_string(quad.size()) + " nodes, expected 3, 4, 6 or 8");
     for (int node : quad) {
       if (node < 0 || node >= n_nodes)
         throw std::invalid_argument("write_quad_surface_vtu: quad " + std::to_string(q) +
@@ -316,7 +316,9 @@ void write_quad_surface_vtu(const std::filesystem::path& path, const Eigen::Matr
       grid.connectivity.push_back(node);
     }
     grid.offsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
-    grid.types.push_back(quad.size() == 8 ? 23 : 9);
+    // VTK_TRIANGLE 5, VTK_QUAD 9, VTK_QUADRATIC_TRIANGLE 22, VTK_QUADRATIC_QUAD 23 (same node order
+    // as the faces: corners, then the mid-edge nodes)
+    grid.types.push_back(quad.size() == 3 ? 5 : quad.size() == 4 ? 9 : quad.size() == 6 ? 22 : 23);
   }
   grid.point_blocks = data_blocks(data.point_data, static_cast<std::size_t>(n_nodes), "point", "");
   grid.cell_blocks = data_blocks(data.cell_data, quads.size(), "cell", "");

@@ -52,7 +52,8 @@ void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterfac
     return mesh.elements[static_cast<std::size_t>(f.element)].part;
   };
   for (const ContactInterface& ci : interfaces)
-    for (const fe::InterfaceElement& e : ci.geometry.elements) join(part_of(e.bottom), part_of(e.top));
+    for (const fe::InterfaceElement& e : ci.geometry.elements)
+      for (const fe::Face& top : e.top_faces) join(part_of(e.bottom), part_of(top));
   for (const Bolt& b : bolts)
     for (int p : b.parts) join(p, b.parts.front());
   std::vector<bool> constrained(static_cast<std::size_t>(parts), false);

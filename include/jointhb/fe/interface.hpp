@@ -72,15 +72,22 @@ struct InterfacePoint {
   double area = 0.0;                                    ///< a_p = w_p det J_p [m²]
   int element = 0;                                      ///< index into Interface::elements
   Eigen::Vector2d natural = Eigen::Vector2d::Zero();    ///< (ξ, η) on the bottom face
-  std::array<double, 8> shape{};  ///< h_i(ξ, η), eq. (14) (first 4 or 8 used)
+  std::array<double, 8> shape{};  ///< h_i(ξ, η) of the bottom face's nodes, eq. (14) (3..8 used)
+  /// Weights of the element's top_nodes: the top displacement at the point is
+  /// Σ_k top_shape[k] u_{top_nodes[k]} (matching: equal to shape; non-matching: the top face's
+  /// shape functions at the projected point, or the dual-mortar weights M_ij / D_i, eq. M-4).
+  std::vector<double> top_shape;
 };
 
-/// One zero-thickness element: a bottom face and the top face that coincides with it.
+/// One zero-thickness element: a bottom face and the top surface over it.
 struct InterfaceElement {
   Face bottom;                    ///< the bottom face (its element's external id in messages)
-  Face top;                       ///< the coincident top face
-  std::vector<int> bottom_nodes;  ///< the bottom face's node indices (face_nodes order: 4 or 8)
-  std::vector<int> top_nodes;     ///< top_nodes[k] coincides with bottom_nodes[k]
+  Face top;                       ///< the coincident top face (non-matching: the one overlapping most)
+  std::vector<Face> top_faces;    ///< every top face over it ({top} when matching)
+  std::vector<int> bottom_nodes;  ///< the bottom face's node indices (face_nodes order: 3, 4, 6, 8)
+  /// Matching: top_nodes[k] coincides with bottom_nodes[k]. Non-matching: the nodes of top_faces
+  /// (each once), in the order of InterfacePoint::top_shape.
+  std::vector<int> top_nodes;
   int first_point = 0;            ///< its points are first_point .. first_point + num_points - 1
   int num_points = 0;
   double area = 0.0;  ///< Σ a_p of its points [m²]
@@ -95,24 +102,27 @@ struct NodePair {
 struct Interface {
   std::string name;
   InterfaceIntegration integration = InterfaceIntegration::nodal;
+  InterfaceMeshes meshes = InterfaceMeshes::matching;  ///< as built: matching or non_matching
   int num_mesh_nodes = 0;                    ///< N: G has 3N columns (Mesh DOF 3i+d)
   std::vector<InterfacePoint> points;        ///< P points, grouped by element
   std::vector<InterfaceElement> elements;    ///< the facets (bottom face node lists for output)
-  std::vector<NodePair> node_pairs;          ///< unique, sorted by bottom node
+  std::vector<NodePair> node_pairs;          ///< unique, sorted by bottom node (empty when non-matching)
   Eigen::SparseMatrix<double> gap_operator;  ///< G, 3P × 3N: g = G u, eq. (19)
   double total_area = 0.0;                   ///< Σ a_p [m²]
+  double uncovered_area = 0.0;  ///< non-matching: bottom area with no top face over it [m²]
 
   [[nodiscard]] int num_points() const { return static_cast<int>(points.size()); }
   [[nodiscard]] int num_mesh_dofs() const { return 3 * num_mesh_nodes; }
 };
 
-/// Builds the interface between two matching surfaces of `mesh`. Throws std::invalid_argument
-/// (one line, naming the interface, surface and the element's external id) on invalid options,
-/// an unknown or empty surface, a triangular face (tetrahedra, wedge faces S1/S2: the message
-/// names the interface, the face and its type), mixed quad4/quad8 faces, nodal integration of
-/// quad8 faces, a face
-/// without a coincident partner, faces that share nodes, or coincident faces whose outward normals
-/// are not opposite (surfaces that do not face each other).
+/// Builds the interface between two surfaces of `mesh` (faces tri3, tri6, quad4, quad8). Matching
+/// meshes: each bottom face with its coincident top face. Non-matching meshes (options.meshes):
+/// the segment-to-segment (mortar) integration of interface_mortar.cpp. Throws
+/// std::invalid_argument (one line, naming the interface, surface and the element's external id)
+/// on invalid options, an unknown or empty surface, mixed face types on a matching interface,
+/// nodal integration of quadratic faces, a face without a coincident partner (matching), faces
+/// that share nodes, coincident faces whose outward normals are not opposite (surfaces that do not
+/// face each other), or non-matching surfaces that do not overlap.
 [[nodiscard]] Interface build_interface(const Mesh& mesh, const InterfaceOptions& options);
 
 /// g = G u (3P, point p at rows 3p..3p+2 = (g_Tx, g_Ty, g_N) in its frame), eq. (19), evaluated

@@ -63,7 +63,8 @@ struct VtkOptions {
 void write_vtu(const std::filesystem::path& path, const fe::Mesh& mesh, const VtkData& data = {},
                const VtkOptions& options = {});
 
-/// Writes a surface of quads (each 4 or 8 node indices into `coordinates`; mixed is allowed) to
+/// Writes a surface of faces (each 3, 4, 6 or 8 node indices into `coordinates`: tri3, quad4,
+/// tri6, quad8; mixed is allowed) to
 /// `path` (.vtu). All points are written, so point data has coordinates.cols() entries and a
 /// field of the volume mesh can be shown on the interface unchanged; cell arrays have one entry
 /// per quad. Same errors as write_vtu.

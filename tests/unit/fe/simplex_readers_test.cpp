@@ -260,26 +260,7 @@ Mesh stacked(ElementType type, int axis) {
   return mesh;
 }
 
-TEST(SimplexInterfaces, TriangularFacesAreRefusedNamingTheInterface) {
-  for (ElementType type : kTypes) {
-    const Mesh mesh = stacked(type, 2);  // z sides: triangles for tetrahedra and wedges
-    InterfaceOptions o;
-    o.name = "joint";
-    o.bottom_surface = "lower.zmax";
-    o.top_surface = "upper.zmin";
-    o.integration = InterfaceIntegration::gauss;
-    try {
-      (void)build_interface(mesh, o);
-      ADD_FAILURE() << abaqus_name(type) << ": no error";
-    } catch (const std::invalid_argument& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("interface 'joint'"), std::string::npos) << what;
-      EXPECT_NE(what.find("triangular face"), std::string::npos) << what;
-      EXPECT_NE(what.find(is_quadratic(type) ? "tri6" : "tri3"), std::string::npos) << what;
-      EXPECT_NE(what.find(abaqus_name(type)), std::string::npos) << what;
-    }
-  }
-}
+// Interfaces on the triangular faces: tests/unit/fe/test_interface_mortar.cpp.
 
 TEST(SimplexInterfaces, WedgeQuadrilateralFacesMakeAnInterface) {
   for (ElementType type : {ElementType::wedge6, ElementType::wedge15}) {
