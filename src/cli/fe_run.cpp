@@ -44,7 +44,8 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
   for (Eigen::Index p = 0; p < points; ++p)
     gap[p] = s.gap[3 * p + 2], t1[p] = s.traction[3 * p], t2[p] = s.traction[3 * p + 1];
   io::VtkData data;
-  data.add_point_scalars("pressure", node_average(ci.geometry, s.pressure, mesh.num_nodes()));
+  const Eigen::VectorXd node_pressure = node_average(ci.geometry, s.pressure, mesh.num_nodes());
+  data.add_point_scalars("pressure", node_pressure);
   data.add_point_scalars("gap", node_average(ci.geometry, gap, mesh.num_nodes()));
   data.add_point_scalars("traction_1", node_average(ci.geometry, t1, mesh.num_nodes()));
   data.add_point_scalars("traction_2", node_average(ci.geometry, t2, mesh.num_nodes()));
@@ -52,9 +53,15 @@ void write_interface(const std::filesystem::path& dir, const fe::Mesh& mesh,
   for (std::size_t e = 0; e < ci.geometry.elements.size(); ++e) {
     const auto& el = ci.geometry.elements[e];
     double f = 0.0;
-    for (int p = el.first_point; p < el.first_point + el.num_points; ++p)
-      f += ci.geometry.points[static_cast<std::size_t>(p)].area * s.pressure[p];
-    cell_pressure[static_cast<Eigen::Index>(e)] = f / el.area;
+    if (ci.geometry.meshes == fe::InterfaceMeshes::matching || ci.geometry.integration == fe::InterfaceIntegration::gauss) {
+      for (int p = el.first_point; p < el.first_point + el.num_points; ++p)
+        f += ci.geometry.points[static_cast<std::size_t>(p)].area * s.pressure[p];
+      f /= el.area;
+    } else {  // dual mortar: a node's point is shared by the faces around it
+      for (int n : el.bottom_nodes) f += node_pressure[n];
+      f /= static_cast<double>(el.bottom_nodes.size());
+    }
+    cell_pressure[static_cast<Eigen::Index>(e)] = f;
   }
   data.add_cell_scalars("mean_pressure", cell_pressure);
   io::write_quad_surface_vtu(dir / ("contact_" + label + ".vtu"), mesh.coordinates, quads, data);
@@ -90,9 +97,12 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
   pj["interfaces"] = ordered_json::array();
   for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
     const auto& r = p.interfaces[i];
+    const fe::Interface& g = c.interfaces[i].geometry;
     pj["interfaces"].push_back({{"name", r.name},
-                                {"points", c.interfaces[i].geometry.num_points()},
-                                {"area", c.interfaces[i].geometry.total_area},
+                                {"meshes", fe::to_string(g.meshes)},
+                                {"points", g.num_points()},
+                                {"area", g.total_area},
+                                {"uncovered_area", g.uncovered_area},
                                 {"clamping_force", r.clamping_force},
                                 {"closed_area_fraction", r.closed_area_fraction},
                                 {"mean_pressure", r.mean_pressure},

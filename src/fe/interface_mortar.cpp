@@ -152,6 +152,61 @@ DualBasis dual_basis(const Mesh& mesh, const std::vector<int>& nodes) {
   return {d.asDiagonal() * m.inverse(), d};
 }
 
+// The dual-mortar share of one bottom node, summed over the bottom faces around it.
+struct NodeShare {
+  double d = 0.0;        // D_i = Σ_e D̃_e,i: the node's contact area (eq. M-3)
+  double full = 0.0;     // Σ_e ∫_e N_i dA: its area if every face around it were covered
+  std::map<int, double> m;  // top node j → M_ij = Σ_e M̃_e,ij (eq. M-4)
+  Vec3 normal = Vec3::Zero();  // Σ_e D̃_e,i n_e(node): the averaged normal (exact on flat faces)
+  Vec3 t1 = Vec3::Zero();      // the owner face's t1 at the node
+  int owner = -1, corner = -1;  // the first element with the node, and the node's corner in it
+};
+
+// One point per bottom node with D_i > D_full,i / 4 (a node on the rim of a partial overlap
+// carries none: its weights M_ij / D_i would be ill-conditioned; its share counts as uncovered),
+// grouped under the node's first element: g_i = R_i (Σ_j (M_ij / D_i) u_j^top − u_i^bottom).
+void add_node_points(const Mesh& mesh, const std::map<int, NodeShare>& shares, Interface& result) {
+  std::vector<std::vector<int>> owned(result.elements.size());
+  for (const auto& [node, share] : shares)
+    if (share.owner >= 0) owned[static_cast<std::size_t>(share.owner)].push_back(node);
+  for (std::size_t e = 0; e < result.elements.size(); ++e) {
+    InterfaceElement& element = result.elements[e];
+    element.first_point = result.num_points();
+    element.top_nodes.clear();
+    std::map<int, int> local;
+    for (int node : owned[e])
+      for (const auto& [j, mij] : shares.at(node).m)
+        if (local.emplace(j, 0).second) element.top_nodes.push_back(j);
+    std::sort(element.top_nodes.begin(), element.top_nodes.end());
+    for (std::size_t k = 0; k < element.top_nodes.size(); ++k) local[element.top_nodes[k]] = static_cast<int>(k);
+    const int nb = static_cast<int>(element.bottom_nodes.size());
+    for (int node : owned[e]) {
+      const NodeShare& share = shares.at(node);
+      if (!(share.d > 0.25 * share.full)) {
+        result.uncovered_area += std::max(0.0, share.d);
+        continue;
+      }
+      const Vec2 xi = face::corner(nb, share.corner);
+      InterfacePoint p;
+      p.element = static_cast<int>(e);
+      p.natural = xi;
+      p.shape = face::shape(nb, xi.x(), xi.y()).h;
+      p.top_shape.assign(element.top_nodes.size(), 0.0);
+      for (const auto& [j, mij] : share.m) p.top_shape[static_cast<std::size_t>(local.at(j))] = mij / share.d;
+      const Vec3 n = share.normal.normalized();
+      const Vec3 t1 = (share.t1 - share.t1.dot(n) * n).normalized();
+      p.frame.row(0) = t1.transpose();
+      p.frame.row(1) = n.cross(t1).transpose();
+      p.frame.row(2) = n.transpose();
+      p.area = share.d;
+      p.position = mesh.coordinates.col(node);
+      result.total_area += p.area;
+      result.points.push_back(std::move(p));
+    }
+    element.num_points = result.num_points() - element.first_point;
+  }
+}
+
 }  // namespace
 
 void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
@@ -173,6 +228,7 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
   for (std::size_t i = 0; i < order.size(); ++i) sorted_x[i] = top[static_cast<std::size_t>(order[i])].centroid.x();
 
   const bool nodal = options.integration == InterfaceIntegration::nodal;
+  std::map<int, NodeShare> shares;  // dual mortar: bottom node → its summed share
   for (const Face& bf : bottom_faces) {
     const FaceData b = face_data(mesh, bf);
     const int nb = static_cast<int>(b.nodes.size());
@@ -239,6 +295,10 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
     double covered = 0.0;
     for (const Segment& s : segments) covered += s.area;
     result.uncovered_area += std::max(0.0, b_area - covered);
+    if (nodal) {  // every bottom face's ∫N_i dA, covered or not: the nodes' full shares
+      const DualBasis full = dual_basis(mesh, b.nodes);
+      for (int i = 0; i < nb; ++i) shares[b.nodes[static_cast<std::size_t>(i)]].full += full.d(i);
+    }
     if (segments.empty()) continue;
 
     // The element: b with the union of the overlapping top faces' nodes.
@@ -282,7 +342,10 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
         }
       }
     } else {
-      // Dual mortar, eq. (M-2)-(M-4): one point per bottom corner.
+      // Dual mortar, eq. (M-2)-(M-4): the element's shares of its corners' D̃_i and M̃_ij, summed
+      // per bottom node below (one point per node: one constraint per node, as Lagrange
+      // multipliers on the bottom nodes would impose — per-element points would over-constrain
+      // a stiff non-matching interface).
       const DualBasis dual = dual_basis(mesh, b.nodes);
       Eigen::VectorXd d_tilde = Eigen::VectorXd::Zero(nb);
       Eigen::MatrixXd m_tilde = Eigen::MatrixXd::Zero(nb, static_cast<Eigen::Index>(nt));
@@ -296,32 +359,22 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
         }
       }
       for (int i = 0; i < nb; ++i) {
-        // A node whose dual area is mostly uncovered (the rim of a partial overlap) carries no
-        // point: its weights M̃_ij / D̃_i would be ill-conditioned.
-        if (!(d_tilde(i) > 0.25 * dual.d(i))) {
-          result.uncovered_area += std::max(0.0, dual.d(i) - std::max(0.0, d_tilde(i)));
-          continue;
-        }
+        NodeShare& share = shares[b.nodes[static_cast<std::size_t>(i)]];
+        share.d += d_tilde(i);
+        for (std::size_t k = 0; k < nt; ++k) share.m[element.top_nodes[k]] += m_tilde(i, static_cast<Eigen::Index>(k));
         const Vec2 xi = face::corner(nb, i);
-        const face::Shape sb = face::shape(nb, xi.x(), xi.y());
-        InterfacePoint p;
-        p.element = element_index;
-        p.natural = xi;
-        p.shape = sb.h;
-        p.top_shape.resize(nt);
-        for (std::size_t k = 0; k < nt; ++k) p.top_shape[k] = m_tilde(i, static_cast<Eigen::Index>(k)) / d_tilde(i);
-        p.frame = point_frame(mesh, b.nodes, sb).frame;
-        p.area = d_tilde(i);
-        p.position = mesh.coordinates.col(b.nodes[static_cast<std::size_t>(i)]);
-        element.area += p.area;
-        result.points.push_back(std::move(p));
+        const PointFrame f = point_frame(mesh, b.nodes, face::shape(nb, xi.x(), xi.y()));
+        share.normal += std::max(0.0, d_tilde(i)) * f.frame.row(2).transpose();
+        if (share.owner < 0) share.owner = element_index, share.corner = i, share.t1 = f.frame.row(0).transpose();
+        element.area += d_tilde(i);
       }
     }
     element.num_points = result.num_points() - element.first_point;
-    if (element.num_points == 0) continue;
-    result.total_area += element.area;
+    if (!nodal && element.num_points == 0) continue;
+    result.total_area += nodal ? 0.0 : element.area;
     result.elements.push_back(std::move(element));
   }
+  if (nodal) add_node_points(mesh, shares, result);
   if (result.elements.empty()) {
     throw std::invalid_argument(fmt::format(
         "{}: surfaces '{}' and '{}' do not overlap: no top face lies over a bottom face (facing "

@@ -339,7 +339,7 @@ class FeCaseReader {
     if (!node.IsSequence()) reader_.fail(node, "model.interfaces", "must be a list, got " + yaml::Reader::describe(node));
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string path = item_path("model.interfaces", i);
-      const Fields f = reader_.fields(node[i], path, {"name", "bottom", "top", "region", "integration", "contact"});
+      const Fields f = reader_.fields(node[i], path, {"name", "bottom", "top", "region", "integration", "meshes", "contact"});
       require(node[i], f, {"bottom", "top", "contact"});
       FeInterfaceSpec spec;
       spec.name = f.has("name") ? text(f, "name") : fmt::format("interface{}", i + 1);
@@ -359,6 +359,14 @@ class FeCaseReader {
         spec.integration = reader_.text(in->value, f.path_of("integration"));
         reader_.check(in->value, f.path_of("integration"), check_one_of(spec.integration, {"nodal", "gauss"}));
         o.integration = spec.integration == "gauss" ? fe::InterfaceIntegration::gauss : fe::InterfaceIntegration::nodal;
+      }
+      spec.meshes = "matching";
+      if (const auto* in = f.find("meshes")) {
+        spec.meshes = reader_.text(in->value, f.path_of("meshes"));
+        reader_.check(in->value, f.path_of("meshes"), check_one_of(spec.meshes, {"matching", "non-matching", "automatic"}));
+        o.meshes = spec.meshes == "non-matching" ? fe::InterfaceMeshes::non_matching
+                   : spec.meshes == "automatic"  ? fe::InterfaceMeshes::automatic
+                                                 : fe::InterfaceMeshes::matching;
       }
       if (const auto* region = f.find("region")) {
         // Only the faces whose centres lie in the box [min, max] take part (e.g. the overlap of

@@ -44,6 +44,7 @@ namespace jointhb::io {
 /// An interface as read: what the case file says (echoed in summary.json) and what was built.
 struct FeInterfaceSpec {
   std::string name, bottom, top, integration, law;
+  std::string meshes;  ///< "matching", "non-matching" or "automatic" (as written in the case)
   double pressure = 0.0, decay = 0.0, mu = 0.0, exponent = 0.0, stiffness_ratio = 0.0,
          tangential_stiffness = 0.0;
   double cutoff_gap = 0.0;        ///< g_c of the exponential law (0: none)
