@@ -2,9 +2,12 @@
 // Zero-thickness interface elements of Gaul & Mayer, eq. (13)-(24)
 // (docs/zero-thickness-elements.md).
 //
-// An interface joins two matching surfaces of a Mesh: every bottom face is paired with the top
-// face whose nodes coincide with its own. Each pair is one 8-node (quad4 faces) or 16-node (quad8
-// faces) zero-thickness element. The interface is represented by its integration points p = 0..P-1:
+// An interface joins two surfaces of a Mesh (faces tri3, tri6, quad4, quad8). Matching meshes:
+// every bottom face is paired with the top face whose nodes coincide with its own, one
+// zero-thickness element per pair. Non-matching meshes: each bottom face with the top faces over
+// it, by segment-to-segment (mortar) integration (docs/zero-thickness-elements.md §4a, eq. M-1 to
+// M-4; there the top displacement at a point is Σ_k top_shape_k u_k instead of the coincident
+// node's). The interface is represented by its integration points p = 0..P-1:
 //
 //   relative displacement, eq. (19), in the local frame R_p (rows t1, t2, n) of point p:
 //     g_p = R_p Σ_i h_i(ξ_p, η_p) (u_i^top - u_i^bottom),   g = G u   (G: 3P × 3N, "gap operator")
@@ -90,7 +93,8 @@ struct InterfaceElement {
   std::vector<int> top_nodes;
   int first_point = 0;            ///< its points are first_point .. first_point + num_points - 1
   int num_points = 0;
-  double area = 0.0;  ///< Σ a_p of its points [m²]
+  double area = 0.0;  ///< its share of the interface area: Σ a_p of its points (dual mortar:
+                      ///< Σ_i D̃_i of its corners; a node's point sits in the node's first element)
 };
 
 struct NodePair {
