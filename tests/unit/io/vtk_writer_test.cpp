@@ -233,7 +233,7 @@ TEST(VtkWriter, RejectsInconsistentDataNamingTheArray) {
   twice.add_cell_scalars("s", Eigen::Vector3d::Zero());
   twice.add_cell_scalars("s", Eigen::Vector3d::Zero());
   EXPECT_THROW(jointhb::io::write_vtu(file.path(), mesh, twice), std::invalid_argument);
-  EXPECT_THROW(jointhb::io::write_quad_surface_vtu(file.path(), mesh.coordinates, {{0, 1, 2}}),
+  EXPECT_THROW(jointhb::io::write_quad_surface_vtu(file.path(), mesh.coordinates, {{0, 1, 2, 3, 4}}),
                std::invalid_argument);
   EXPECT_THROW(jointhb::io::write_quad_surface_vtu(file.path(), mesh.coordinates, {{0, 1, 2, 99}}),
                std::invalid_argument);
