@@ -8,6 +8,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 
@@ -300,6 +301,27 @@ void add_matching_points(const Mesh& mesh, InterfaceIntegration integration,
   }
 }
 
+// Nodal integration: the points of one node pair (one per element around it) take the in-plane
+// axes of the first of them when their normals agree (a flat neighbourhood). The laws are
+// isotropic in the tangent plane, so the response is unchanged, and the points become identical
+// — merged exactly into one by the reduction (contact_patches) — also on meshes whose elements
+// have different ξ directions (O-grids around holes, free meshes).
+void share_node_frames(Interface& result) {
+  std::map<int, int> first_at;  // bottom node → its first point
+  for (std::size_t p = 0; p < result.points.size(); ++p) {
+    InterfacePoint& point = result.points[p];
+    const InterfaceElement& element = result.elements[static_cast<std::size_t>(point.element)];
+    int node = -1;
+    for (std::size_t k = 0; k < element.bottom_nodes.size(); ++k)
+      if (point.shape[k] == 1.0) node = element.bottom_nodes[k];
+    if (node < 0) continue;
+    const auto [it, inserted] = first_at.emplace(node, static_cast<int>(p));
+    if (inserted) continue;
+    const Eigen::Matrix3d& reference = result.points[static_cast<std::size_t>(it->second)].frame;
+    if ((point.frame.row(2) - reference.row(2)).norm() <= 1e-12) point.frame = reference;
+  }
+}
+
 // Gap operator G, eq. (19): rows 3p+r = frame row r · (Σ_k top_shape_k u_top_k − Σ_i h_i u_i).
 void build_gap_operator(const Mesh& mesh, Interface& result) {
   std::vector<Eigen::Triplet<double>> triplets;
@@ -395,6 +417,7 @@ Interface build_interface(const Mesh& mesh, const InterfaceOptions& options) {
     result.meshes = InterfaceMeshes::matching;
     collect_node_pairs(mesh, who, result);
     add_matching_points(mesh, options.integration, who, result);
+    if (options.integration == InterfaceIntegration::nodal) share_node_frames(result);
   } else {
     result.meshes = InterfaceMeshes::non_matching;
     detail::build_mortar(mesh, bottom_faces, top_faces, options, who, result);

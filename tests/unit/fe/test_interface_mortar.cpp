@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 
 #include "jointhb/fe/box_mesh.hpp"
@@ -287,4 +288,22 @@ TEST(InterfaceMortar, DisjointSurfacesAreAnError) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(InterfaceFaces, NodalPointsOfOneNodePairShareTheirFrameOnAFlatInterface) {
+  // Tetrahedra: the faces around a node have different ξ directions (t1); the points of one node
+  // pair get the first one's, so they are identical (one contact point after merging).
+  const fe::Mesh mesh = stacked(fe::ElementType::tet4, {3, 2, 1}, fe::ElementType::tet4, {3, 2, 1});
+  const fe::Interface itf =
+      fe::build_interface(mesh, joint(fe::InterfaceIntegration::nodal, fe::InterfaceMeshes::matching));
+  std::map<std::pair<double, double>, Matrix3d> frame_at;
+  std::set<std::pair<double, double>> t1_directions;
+  for (const fe::InterfacePoint& p : itf.points) {
+    const auto key = std::make_pair(p.position.x(), p.position.y());
+    const auto [it, inserted] = frame_at.emplace(key, p.frame);
+    if (!inserted) EXPECT_EQ((it->second - p.frame).norm(), 0.0) << "point at " << key.first << ", " << key.second;
+    t1_directions.insert({std::round(p.frame(0, 0) * 1e6), std::round(p.frame(0, 1) * 1e6)});
+  }
+  EXPECT_EQ(frame_at.size(), itf.node_pairs.size());
+  EXPECT_GT(t1_directions.size(), 1u);  // the elements' own t1 do differ from node to node
 }
