@@ -22,7 +22,8 @@ std::string bolted_case(const std::string& head) {
   interfaces:
     - {name: lap, bottom: lower.zmax, top: upper.zmin, contact: {pressure: 1.0e6, decay: 1.0e6, mu: 0.3, law: jenkins}}
   bolts:
-    - {name: b1, point: [0.01, 0.01, 0.0], head: )" + head + R"(, nut: {surface: lower.zmin, radius: 0.008},
+    - {name: b1, point: [0.01, 0.01, 0.0], head: )" +
+         head + R"(, nut: {surface: lower.zmin, radius: 0.008},
        stiffness: 3.5e8, preload: 1000.0}
 )";
 }
@@ -37,8 +38,10 @@ std::string error_of(const std::string& head) {
 }
 
 TEST(FeCaseBolts, InnerRadiusSelectsAnAnnulus) {
-  const FeCase disc = parse_fe_case(bolted_case("{surface: upper.zmax, radius: 0.008}"), "bolts.yaml");
-  const FeCase ring = parse_fe_case(bolted_case("{surface: upper.zmax, radius: 0.008, inner_radius: 0.004}"), "bolts.yaml");
+  const FeCase disc =
+      parse_fe_case(bolted_case("{surface: upper.zmax, radius: 0.008}"), "bolts.yaml");
+  const FeCase ring = parse_fe_case(
+      bolted_case("{surface: upper.zmax, radius: 0.008, inner_radius: 0.004}"), "bolts.yaml");
   ASSERT_EQ(disc.bolts.size(), 1u);
   ASSERT_EQ(ring.bolts.size(), 1u);
   EXPECT_DOUBLE_EQ(disc.bolts[0].head_inner_radius, 0.0);
@@ -51,19 +54,25 @@ TEST(FeCaseBolts, InnerRadiusSelectsAnAnnulus) {
 }
 
 TEST(FeCaseBolts, InnerRadiusOutsideItsRangeIsOneLineNamingTheKey) {
-  const std::string at_radius = error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.008}");
-  EXPECT_NE(at_radius.find("key 'model.bolts[0].head.inner_radius': must be < radius = 0.008, got 0.008"), std::string::npos)
+  const std::string at_radius =
+      error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.008}");
+  EXPECT_NE(
+      at_radius.find("key 'model.bolts[0].head.inner_radius': must be < radius = 0.008, got 0.008"),
+      std::string::npos)
       << at_radius;
   EXPECT_EQ(at_radius.find('\n'), std::string::npos) << at_radius;
   EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: -0.001}")
                 .find("key 'model.bolts[0].head.inner_radius': must be >= 0"),
             std::string::npos);
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.01}").find("must be < radius = 0.008, got 0.01"),
+  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.01}")
+                .find("must be < radius = 0.008, got 0.01"),
             std::string::npos);
   EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.0079}")
-                .find("no face has its centre between head_inner_radius = 0.0079 m and head_radius = 0.008 m"),
+                .find("no face has its centre between head_inner_radius = 0.0079 m and head_radius "
+                      "= 0.008 m"),
             std::string::npos);
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner: 0.004}").find("key 'model.bolts[0].head.inner': unknown key"),
+  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner: 0.004}")
+                .find("key 'model.bolts[0].head.inner': unknown key"),
             std::string::npos);
 }
 
