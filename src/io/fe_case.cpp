@@ -423,12 +423,20 @@ class FeCaseReader {
       }
       for (const char* role : {"head", "nut"}) {
         const YAML::Node side = f.find(role)->value;
-        const Fields s = reader_.fields(side, f.path_of(role), {"surface", "radius"});
+        const Fields s = reader_.fields(side, f.path_of(role), {"surface", "radius", "inner_radius"});
         require(side, s, {"surface", "radius"});
         const std::string surface = surface_name(s.find("surface")->value, s.path_of("surface"), c);
         const double radius = positive(s, "radius");
-        if (std::string(role) == "head") o.head_surface = surface, o.head_radius = radius;
-        else o.nut_surface = surface, o.nut_radius = radius;
+        double inner_radius = 0.0;  // a washer's annulus around a hole (eq. B-4 of preload/bolt.hpp)
+        if (const auto* in = s.find("inner_radius")) {
+          inner_radius = reader_.number(in->value, s.path_of("inner_radius"));
+          reader_.check(in->value, s.path_of("inner_radius"), check_non_negative(inner_radius));
+          if (!(inner_radius < radius))
+            reader_.fail(in->value, s.path_of("inner_radius"),
+                         fmt::format("must be < radius = {}, got {}", format_number(radius), format_number(inner_radius)));
+        }
+        if (std::string(role) == "head") o.head_surface = surface, o.head_radius = radius, o.head_inner_radius = inner_radius;
+        else o.nut_surface = surface, o.nut_radius = radius, o.nut_inner_radius = inner_radius;
       }
       o.axial_stiffness = positive(f, "stiffness");
       const YAML::Node p = f.find("preload")->value;

@@ -68,6 +68,8 @@ void add_bolt(Fingerprint& f, const preload::Bolt& b) {
   add_ints(f, b.head_nodes);
   add_ints(f, b.nut_nodes);
   f.add(b.head_area).add(b.nut_area).add(b.axial_stiffness).add(b.preload);
+  if (b.head_inner_radius != 0.0 || b.nut_inner_radius != 0.0)  // absent from the keys of disc footprints
+    f.add("annulus").add(b.head_inner_radius).add(b.nut_inner_radius);
   const Eigen::SparseVector<double>& c = b.coupling;
   f.add(static_cast<std::int64_t>(c.size())).add(static_cast<std::int64_t>(c.nonZeros()));
   f.add_bytes(c.innerIndexPtr(), static_cast<std::size_t>(c.nonZeros()) * sizeof(int));

@@ -22,6 +22,13 @@ std::string BoltOptions::validate() const {
   if (nut_surface.empty()) return "nut_surface: must name a surface";
   if (!(head_radius > 0.0) || !std::isfinite(head_radius)) return bad("head_radius", "must be > 0", head_radius);
   if (!(nut_radius > 0.0) || !std::isfinite(nut_radius)) return bad("nut_radius", "must be > 0", nut_radius);
+  // An annulus r_i ≤ r ≤ r_o (eq. B-4) needs 0 ≤ r_i < r_o.
+  const auto annulus = [](const char* field, const char* outer, double inner, double radius) -> std::string {
+    if (inner >= 0.0 && inner < radius) return {};
+    return fmt::format("{}: must be >= 0 and < {} = {}, got {}", field, outer, radius, inner);
+  };
+  if (auto msg = annulus("head_inner_radius", "head_radius", head_inner_radius, head_radius); !msg.empty()) return msg;
+  if (auto msg = annulus("nut_inner_radius", "nut_radius", nut_inner_radius, nut_radius); !msg.empty()) return msg;
   if (!(axial_stiffness > 0.0) || !std::isfinite(axial_stiffness))
     return bad("axial_stiffness", "must be > 0", axial_stiffness);
   if (!(preload >= 0.0) || !std::isfinite(preload)) return bad("preload", "must be >= 0", preload);
@@ -37,14 +44,15 @@ struct Footprint {
   std::vector<int> parts;
 };
 
-// Faces of `surface` whose centroid lies within `radius` of the axis. Nodal weights are the
+// Faces of `surface` whose centroid lies at a distance in [inner_radius, radius] from the axis
+// (eq. B-4): a disc, or a washer's annulus around a hole. Nodal weights are the
 // consistent loads of a unit pressure on a parallelogram: A/4 per corner (quad4), −A/12 per
 // corner and A/3 per mid-edge node (quad8; Zienkiewicz & Taylor, The FEM vol. 1, §8.6); on a
 // flat triangle (tetrahedron and wedge faces): A/3 per corner (tri3), 0 per corner and A/3 per
 // mid-edge node (tri6; ∫ L_a (2L_a − 1) dA = 0, ∫ 4 L_a L_b dA = A/3).
 Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const char* role,
                            const std::string& surface, const Eigen::Vector3d& point,
-                           const Eigen::Vector3d& axis, double radius) {
+                           const Eigen::Vector3d& axis, double inner_radius, double radius) {
   const auto it = mesh.surfaces.find(surface);
   if (it == mesh.surfaces.end()) {
     throw std::invalid_argument(
@@ -55,7 +63,8 @@ Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const 
     const std::vector<int> nodes = fe::face_nodes(mesh, face);
     const Eigen::Vector3d c = fe::face_centre(mesh, face);
     const Eigen::Vector3d off = c - point;
-    if ((off - off.dot(axis) * axis).norm() > radius) continue;
+    const double distance = (off - off.dot(axis) * axis).norm();
+    if (distance > radius || distance < inner_radius) continue;
     const bool triangle =
         fe::face_corner_count(mesh.elements[static_cast<std::size_t>(face.element)].type,
                               face.face) == 3;
@@ -85,6 +94,12 @@ Footprint select_footprint(const fe::Mesh& mesh, const std::string& bolt, const 
     fp.parts.push_back(mesh.elements[static_cast<std::size_t>(face.element)].part);
   }
   if (fp.weights.empty()) {
+    if (inner_radius > 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "bolt '{}': {}_surface '{}': no face has its centre between {}_inner_radius = {} m and "
+          "{}_radius = {} m of the axis",
+          bolt, role, surface, role, inner_radius, role, radius));
+    }
     throw std::invalid_argument(fmt::format(
         "bolt '{}': {}_surface '{}': no face has its centre within {}_radius = {} m of the axis",
         bolt, role, surface, role, radius));
@@ -106,10 +121,10 @@ Bolt build_bolt(const fe::Mesh& mesh, const BoltOptions& options) {
   bolt.axis = options.axis_direction.normalized();
   bolt.axial_stiffness = options.axial_stiffness;
   bolt.preload = options.preload;
-  const Footprint head = select_footprint(mesh, options.name, "head", options.head_surface,
-                                          options.axis_point, bolt.axis, options.head_radius);
-  const Footprint nut = select_footprint(mesh, options.name, "nut", options.nut_surface,
-                                         options.axis_point, bolt.axis, options.nut_radius);
+  const Footprint head = select_footprint(mesh, options.name, "head", options.head_surface, options.axis_point,
+                                          bolt.axis, options.head_inner_radius, options.head_radius);
+  const Footprint nut = select_footprint(mesh, options.name, "nut", options.nut_surface, options.axis_point,
+                                         bolt.axis, options.nut_inner_radius, options.nut_radius);
   // The head must lie on the +a side of the nut: the preload then compresses the clamped parts.
   if (!((head.centroid - nut.centroid).dot(bolt.axis) > 0.0)) {
     throw std::invalid_argument(fmt::format(
@@ -120,6 +135,8 @@ Bolt build_bolt(const fe::Mesh& mesh, const BoltOptions& options) {
   }
   bolt.head_area = head.area;
   bolt.nut_area = nut.area;
+  bolt.head_inner_radius = options.head_inner_radius;
+  bolt.nut_inner_radius = options.nut_inner_radius;
   bolt.coupling.resize(mesh.num_dofs());
   std::map<int, double> entries;  // sorted DOF → value (a node may be in both footprints)
   for (const auto& [node, w] : head.weights) {

@@ -18,7 +18,7 @@
 //     bolts:
 //       - {name: b1, point: [x, y, z], direction: [0, 0, 1], head: {surface: upper.zmax,
 //          radius: 0.005}, nut: {surface: lower.zmin, radius: 0.005}, stiffness: 3e8,
-//          preload: 10e3}
+//          preload: 10e3}                  # head/nut: optional inner_radius (a washer's annulus)
 //     constraints: [{node_set: lower.xmin, fix: [x, y, z]}]
 //   analysis:
 //     preload: {load_steps: 4, tolerance: 1e-9}

@@ -33,7 +33,8 @@ inline constexpr int fe_stage_version = 2;
 ///   model   = fe_stage_version + the program version + the mesh (coordinates; per element its
 ///             type, part and nodes) + the materials + per interface its points (position, frame,
 ///             area), node pairs, gap operator and contact law (every option, the law's name and
-///             exponent) + per bolt everything but its name + the constraints + the static
+///             exponent) + per bolt everything but its name (the footprints' inner radii
+///             only when one is > 0, eq. B-4) + the constraints + the static
 ///             load vector (only when there are static loads);
 ///   preload = model + the preload options that can change the result (not `progress`);
 ///   modes   = preload + the modal options.

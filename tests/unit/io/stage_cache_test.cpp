@@ -871,6 +871,24 @@ TEST(FeCaseFingerprints, ChangeOnlyWithTheirInputs) {
   same(replaced(base, "tolerance: 1.0e-9", "tolerance: 0.000000001"), "the same number written differently");
 }
 
+// A bolt footprint's inner radius (a washer's annulus, eq. B-4) enters the model key even where
+// it selects the same faces; an explicit 0 is the disc of a bolt without it.
+TEST(FeCaseFingerprints, BoltInnerRadiusEntersTheModelKey) {
+  const std::string base = lap_yaml(kAnalysis);
+  const auto k = keys_of(base);
+  const auto with_inner = [&](const char* inner) {
+    return keys_of(replaced(base, "head: {surface: upper.zmax, radius: 0.006}",
+                            std::string("head: {surface: upper.zmax, radius: 0.006, inner_radius: ") + inner + "}"));
+  };
+  EXPECT_EQ(with_inner("0.0").model, k.model);
+  // 1 mm: no face centre of the 10 mm mesh lies that close to the axis, the footprint is the same.
+  const auto small = with_inner("0.001");
+  EXPECT_NE(small.model, k.model);
+  EXPECT_NE(small.preload, k.preload);
+  EXPECT_NE(small.modes, k.modes);
+  EXPECT_NE(with_inner("0.002").model, small.model);
+}
+
 TEST(FeCaseFingerprints, ImportedMeshBytesEnterTheModelKey) {
   TempDir dir;
   const std::string brick = R"(*HEADING

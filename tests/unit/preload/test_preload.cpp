@@ -4,6 +4,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 
 #include "jointhb/contact/harmonic_loop.hpp"
 #include "jointhb/fe/box_mesh.hpp"
@@ -109,6 +111,87 @@ TEST(PreloadBolt, ErrorsNameTheBoltAndTheField) {
   b.head_surface = "lower.zmin";  // head below the nut
   b.nut_surface = "upper.zmax";
   EXPECT_THROW((void)pl::build_bolt(mesh, b), std::invalid_argument);
+}
+
+// A washer's annulus (eq. B-4): on a plate of square faces of side h, the footprint is the faces
+// whose centroid lies in [r_i, r_o]; it differs from the exact annulus only by faces straddling one
+// of the two circles, which lie within h/√2 of it, so |A − π(r_o² − r_i²)| ≤ 2√2 π (r_o + r_i) h.
+// The washer of a 5/16-in bolt (cases/14-brake-reuss-beam): r_o = 8.73 mm, r_i = 4.37 mm.
+TEST(PreloadBolt, AnnularFootprintHasTheWasherArea) {
+  const double r_o = 8.73e-3, r_i = 4.37e-3, exact = std::numbers::pi * (r_o * r_o - r_i * r_i);
+  for (const int n : {80, 160}) {
+    fe::BoxOptions plate;
+    plate.part = "plate";
+    plate.size = {0.02, 0.02, 0.002};
+    plate.divisions = {n, n, 1};
+    plate.type = fe::ElementType::hex8;
+    const fe::Mesh mesh = fe::box_mesh(plate);
+    const double h = 0.02 / n;
+    pl::BoltOptions b;
+    b.name = "washer";
+    b.axis_point = {0.01, 0.01, 0.0};
+    b.head_surface = "plate.zmax";
+    b.nut_surface = "plate.zmin";
+    b.head_radius = b.nut_radius = r_o;
+    b.head_inner_radius = b.nut_inner_radius = r_i;
+    b.axial_stiffness = 3.5e8;
+    b.preload = 12e3;
+    const pl::Bolt bolt = pl::build_bolt(mesh, b);
+    const double bound = 2.0 * std::sqrt(2.0) * std::numbers::pi * (r_o + r_i) * h;
+    std::printf("h = %.4g mm: footprint %.6g mm^2, pi (r_o^2 - r_i^2) = %.6g mm^2, error %.2e (bound %.2e)\n",
+                h * 1e3, bolt.head_area * 1e6, exact * 1e6, bolt.head_area / exact - 1.0, bound / exact);
+    EXPECT_LE(std::abs(bolt.head_area - exact), bound) << "n = " << n;
+    EXPECT_NEAR(bolt.nut_area, bolt.head_area, 1e-12 * exact);
+    EXPECT_DOUBLE_EQ(bolt.head_inner_radius, r_i);
+    // No node of the hole: every footprint node lies within a face diagonal of the annulus.
+    for (const int i : bolt.head_nodes) {
+      const double r = std::hypot(mesh.coordinates(0, i) - 0.01, mesh.coordinates(1, i) - 0.01);
+      EXPECT_GE(r, r_i - h / std::sqrt(2.0) - 1e-12) << "node " << i;
+      EXPECT_LE(r, r_o + h / std::sqrt(2.0) + 1e-12) << "node " << i;
+    }
+    // The annulus still measures the elongation: head up by δ, nut fixed gives bᵀu = δ.
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_dofs());
+    for (const int i : bolt.head_nodes) u[3 * i + 2] = 1e-4;
+    EXPECT_NEAR(bolt.coupling.dot(u), 1e-4, 1e-16);
+  }
+}
+
+TEST(PreloadBolt, InnerRadiusMustLieBelowTheRadius) {
+  const fe::Mesh mesh = two_blocks();
+  pl::BoltOptions b;
+  b.name = "b7";
+  b.axis_point = {0.01, 0.01, 0.0};
+  b.head_surface = "upper.zmax";
+  b.nut_surface = "lower.zmin";
+  b.head_radius = b.nut_radius = 0.004;
+  b.axial_stiffness = 1e8;
+  b.preload = 1e3;
+  b.head_inner_radius = 0.004;
+  EXPECT_EQ(b.validate(), "head_inner_radius: must be >= 0 and < head_radius = 0.004, got 0.004");
+  try {
+    (void)pl::build_bolt(mesh, b);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what, "bolt 'b7': head_inner_radius: must be >= 0 and < head_radius = 0.004, got 0.004");
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+  b.head_inner_radius = 0.0;
+  b.nut_inner_radius = -1e-3;
+  EXPECT_EQ(b.validate(), "nut_inner_radius: must be >= 0 and < nut_radius = 0.004, got -0.001");
+  // An annulus with no face centre inside it (the 5 mm faces of two_blocks have centres at
+  // 2.5√2 mm and farther from the axis) is named.
+  b.nut_inner_radius = 0.0;
+  b.head_inner_radius = 0.001;
+  b.head_radius = 0.002;
+  try {
+    (void)pl::build_bolt(mesh, b);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no face has its centre between head_inner_radius = 0.001 m and head_radius = 0.002 m"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A footprint covering the whole top and bottom faces loads the blocks by a uniform pressure
