@@ -143,7 +143,7 @@ void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> 
                         std::span<const fe::Tie> ties = {});
 
 /// Solves eq. (P-1). Throws std::invalid_argument on invalid options or a model whose parts are
-/// not all connected (by interfaces and bolts) or constrained (naming the part). Numerical
+/// not all connected (by interfaces, ties and bolts) or constrained (naming the part). Numerical
 /// failures (no convergence, a singular tangent) end with a termination other than converged, a
 /// message, and the last converged step kept.
 [[nodiscard]] PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& options);
