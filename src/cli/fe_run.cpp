@@ -79,6 +79,25 @@ ordered_json static_loads_json(const io::FeCase& c) {
   return loads;
 }
 
+// The bonded surfaces (fe/tie.hpp): what each ties and its penalty k = α E_max / h (TIE-2).
+ordered_json ties_json(const io::FeCase& c) {
+  ordered_json ties = ordered_json::array();
+  for (std::size_t k = 0; k < c.ties.size(); ++k) {
+    const fe::Tie& t = c.ties[k];
+    ties.push_back({{"name", t.name},
+                    {"slave", t.slave_surface},
+                    {"master", t.master_surface},
+                    {"where", c.tie_sources[k]},
+                    {"points", t.num_tied_points()},
+                    {"area", t.area},
+                    {"penalty", t.penalty},
+                    {"penalty_factor", t.penalty_factor},
+                    {"youngs_modulus", t.youngs_modulus},
+                    {"element_size", t.element_size}});
+  }
+  return ties;
+}
+
 ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   ordered_json pj;
   put_status(pj, p.status());
@@ -177,6 +196,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                       {"elements", c.mesh.num_elements()},
                       {"dofs", c.mesh.num_dofs()},
                       {"parts", c.mesh.parts}};
+  if (!c.ties.empty()) summary["model"]["ties"] = ties_json(c);
   std::vector<NamedStatus> parts;  // the stages and curves run, for the run's status
   const auto all_ok = [&parts] { return worst(parts).ok(); };
   auto cache = std::make_shared<io::StageCache>(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
@@ -198,6 +218,9 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   std::fprintf(stderr, "model: %d nodes, %d elements, %d DOFs, mass %.4g kg (assembly %.2f s)\n",
                c.mesh.num_nodes(), c.mesh.num_elements(), c.mesh.num_dofs(), structure.total_mass,
                structure.seconds);
+  for (const fe::Tie& t : c.ties)
+    std::fprintf(stderr, "  tie %s: slave %s, master %s, %d points, area %.6g m^2, penalty %.4g Pa/m\n", t.name.c_str(),
+                 t.slave_surface.c_str(), t.master_surface.c_str(), t.num_tied_points(), t.area, t.penalty);
 
   // ---- preload ---------------------------------------------------------------------------
   if (pipe.needs_preload()) {

@@ -20,7 +20,8 @@ const std::set<std::string> kMeshCards = {
     "NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "PART", "END PART", "ASSEMBLY", "END ASSEMBLY",
     "INSTANCE", "END INSTANCE"};
 const std::set<std::string> kPhysicsCards = {
-    "MATERIAL", "ELASTIC", "DENSITY", "SOLID SECTION", "BOUNDARY", "CLOAD", "DLOAD", "DSLOAD"};
+    "MATERIAL", "ELASTIC", "DENSITY", "SOLID SECTION", "BOUNDARY", "CLOAD", "DLOAD", "DSLOAD",
+    "TIE"};
 // Output, print, heading and procedure cards, and thermal data without a temperature field (a
 // *TEMPERATURE or *INITIAL CONDITIONS card, which would use it, is unsupported).
 const std::set<std::string> kNoEffectCards = {
@@ -37,7 +38,7 @@ const std::set<std::string> kUnsupportedCards = {
     "COHESIVE SECTION", "GAP", "SPRING", "DASHPOT", "MASS", "ROTARY INERTIA",
     "TEMPERATURE", "INITIAL CONDITIONS", "DFLUX", "CFLUX", "FILM", "RADIATE",
     "SURFACE INTERACTION", "SURFACE BEHAVIOR", "FRICTION", "CONTACT PAIR", "CONTACT",
-    "CLEARANCE", "TIE", "EQUATION", "MPC", "COUPLING", "KINEMATIC", "DISTRIBUTING", "RIGID BODY",
+    "CLEARANCE", "EQUATION", "MPC", "COUPLING", "KINEMATIC", "DISTRIBUTING", "RIGID BODY",
     "PRE-TENSION SECTION", "NODAL THICKNESS"};
 // clang-format on
 
@@ -57,7 +58,10 @@ class PhysicsReader {
       : file_(file), index_(index), result_(result), mesh_(result.mesh) {
     for (const auto& [name, members] : mesh_.node_sets) node_sets_[upper(name)] = &members;
     for (const auto& [name, members] : mesh_.element_sets) element_sets_[upper(name)] = &members;
-    for (const auto& [name, faces] : mesh_.surfaces) surfaces_[upper(name)] = &faces;
+    for (const auto& [name, faces] : mesh_.surfaces) {
+      surfaces_[upper(name)] = &faces;
+      surface_names_[upper(name)] = &name;
+    }
   }
 
   void read(const std::vector<Card>& cards) {
@@ -73,6 +77,7 @@ class PhysicsReader {
       else if (k == "CLOAD") read_cload(card);
       else if (k == "DSLOAD") read_dsload(card);
       else if (k == "DLOAD") read_dload(card);
+      else if (k == "TIE") read_tie(card);
     }
     assign_part_materials();
   }
@@ -360,6 +365,52 @@ class PhysicsReader {
     }
   }
 
+  // ---- ties --------------------------------------------------------------------------------
+
+  // *TIE (Abaqus Keywords Reference; CalculiX §7): one data line "slave, master". The tie is
+  // linear and small-displacement (fe/tie.hpp), so ADJUST (moving slave nodes onto the master)
+  // and POSITION TOLERANCE (which slave nodes to tie) change nothing jointhb computes: they are
+  // checked and accepted (docs/ties.md §"Decks" says why).
+  void read_tie(const Card& card) {
+    check_parameters(card, {"NAME", "POSITION TOLERANCE", "ADJUST", "TIED NSET", "TYPE"});
+    InpTie tie;
+    tie.name = required(card, "NAME");
+    tie.line = card.line;
+    for (const InpTie& other : result_.ties)
+      if (upper(other.name) == upper(tie.name))
+        fail(card.line, fmt::format("*TIE '{}' defined twice (first at line {})", tie.name, other.line));
+    if (const std::string* adjust = card.find("ADJUST"); adjust && upper(*adjust) != "YES" && upper(*adjust) != "NO")
+      fail(card.line, fmt::format("*TIE, ADJUST={}: must be YES or NO", *adjust));
+    if (const std::string* tolerance = card.find("POSITION TOLERANCE")) {
+      const auto value = to_number(*tolerance);
+      if (!value || *value < 0.0)
+        fail(card.line, fmt::format("*TIE, POSITION TOLERANCE={}: must be a number >= 0", *tolerance));
+    }
+    if (const std::string* type = card.find("TYPE"); type && upper(*type) != "SURFACE TO SURFACE" && upper(*type) != "NODE TO SURFACE")
+      fail(card.line, fmt::format("*TIE, TYPE={}: must be SURFACE TO SURFACE or NODE TO SURFACE", *type));
+    if (const std::string* nset = card.find("TIED NSET")) {
+      if (nset->empty()) fail(card.line, "*TIE, TIED NSET=: needs a node set name");
+      tie.tied_nodes = nodes(card.line, *nset, "*TIE, TIED NSET");
+    }
+    if (card.data.size() != 1)
+      fail(card.data.empty() ? card.line : card.data[1].line,
+           fmt::format("*TIE '{}': one data line 'slave surface, master surface' expected, got {}", tie.name, card.data.size()));
+    const DataLine& data = card.data[0];
+    const std::vector<std::string_view> e = card_entries(data.text);
+    if (e.size() != 2 || e[0].empty() || e[1].empty())
+      fail(data.line, fmt::format("*TIE '{}' data must be 'slave surface, master surface', got '{}'", tie.name, data.text));
+    const auto surface = [&](std::string_view name, const char* role) {
+      const std::string* found = lookup(surface_names_, name);
+      if (found == nullptr) fail(data.line, fmt::format("*TIE '{}': unknown {} surface '{}'", tie.name, role, name));
+      return *found;
+    };
+    tie.slave_surface = surface(e[0], "slave");
+    tie.master_surface = surface(e[1], "master");
+    if (tie.slave_surface == tie.master_surface)
+      fail(data.line, fmt::format("*TIE '{}': the slave and master surfaces are the same ('{}')", tie.name, tie.slave_surface));
+    result_.ties.push_back(std::move(tie));
+  }
+
   struct Section {
     int line = 0;
     std::vector<int> elements;
@@ -373,6 +424,7 @@ class PhysicsReader {
   const Mesh& mesh_;
   std::map<std::string, const std::vector<int>*> node_sets_, element_sets_;  // upper-case keys
   std::map<std::string, const std::vector<Face>*> surfaces_;
+  std::map<std::string, const std::string*> surface_names_;  // upper case → Mesh::surfaces key
   std::map<std::string, DeckMaterial> materials_;  // upper-case name
   std::string material_;  // the open *MATERIAL (upper case), or empty
   std::vector<Section> sections_;

@@ -15,7 +15,7 @@ namespace jointhb::fe::detail {
 
 enum class CardClass {
   mesh,         ///< read by the mesh reader (*NODE, *ELEMENT, sets, surfaces, parts)
-  physics,      ///< read by read_physics_cards (materials, sections, *BOUNDARY, loads)
+  physics,      ///< read by read_physics_cards (materials, sections, *BOUNDARY, loads, *TIE)
   no_effect,    ///< output, procedure and thermal cards: listed, no effect on the results
   unsupported,  ///< changes the physics and is not supported: an error unless ignored
   unknown,      ///< not a card jointhb knows: an error unless ignored
@@ -32,7 +32,7 @@ struct DeckIndex {
 /// The class of an upper-case keyword without its star ("SOLID SECTION").
 [[nodiscard]] CardClass classify_card(const std::string& keyword);
 
-/// Reads the physics cards (in file order) into result.part_materials, constraints and loads, on
+/// Reads the physics cards (in file order) into result.part_materials, constraints, loads and ties, on
 /// result.mesh. A card's ids and names resolve in its scope (Card::scope: the instance whose part
 /// holds it, e.g. a *SOLID SECTION), then globally; "instance.id" names a node or element of an
 /// instance. Throws MeshFileError "FILE:LINE: ..." on any error.

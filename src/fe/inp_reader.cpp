@@ -28,7 +28,7 @@ using detail::upper;
 
 constexpr const char* kSupportedCards =
     "*NODE, *ELEMENT, *NSET, *ELSET, *SURFACE, *PART, *ASSEMBLY, *INSTANCE, *MATERIAL, *ELASTIC, "
-    "*DENSITY, *SOLID SECTION, *BOUNDARY, *CLOAD, *DSLOAD, *DLOAD";
+    "*DENSITY, *SOLID SECTION, *BOUNDARY, *CLOAD, *DSLOAD, *DLOAD, *TIE";
 
 using detail::Card;
 using detail::DataLine;
@@ -176,6 +176,8 @@ class InpReader {
     const detail::CardClass kind = detail::classify_card(k);
     if (kind == detail::CardClass::mesh) {
       read_mesh_card(card);
+    } else if (kind == detail::CardClass::physics && ignore_.count(k)) {
+      result.skipped_cards.push_back({"*" + k, card.line});  // read by jointhb, skipped on request
     } else if (kind == detail::CardClass::physics) {
       card.scope = scope_ == &global_ ? std::string() : upper(scope_->name);
       physics_.push_back(std::move(card));

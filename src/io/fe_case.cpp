@@ -22,6 +22,7 @@
 #include "jointhb/fe/inp_reader.hpp"
 #include "jointhb/fe/mesh_checks.hpp"
 #include "jointhb/fe/mesh_file_error.hpp"
+#include "jointhb/fe/tie.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/value_checks.hpp"
 #include "fe_dynamics_keys.hpp"
@@ -92,6 +93,12 @@ class FeCaseReader {
   yaml::Reader reader_;
   std::filesystem::path directory_;
   std::map<std::string, fe::Material> materials_;
+  // A deck's *TIE, built once every part has its material (the penalty reads them).
+  struct DeckTie {
+    fe::InpTie tie;  // node indices of the combined mesh
+    std::string file, key;
+  };
+  std::vector<DeckTie> deck_ties_;
 
   double positive(const Fields& f, const char* name) const {
     const YAML::Node v = f.find(name)->value;
@@ -121,21 +128,23 @@ class FeCaseReader {
 
   void read_model(const YAML::Node& node, FeCase& c) {
     const Fields f = reader_.fields(node, "model",
-                                    {"type", "materials", "parts", "interfaces", "bolts", "constraints", "loads"});
+                                    {"type", "materials", "parts", "interfaces", "bolts", "constraints", "loads", "ties"});
     require(node, f, {"type", "parts"});
     const std::string type = text(f, "type");
     if (type != "fe") reader_.fail(f.find("type")->value, "model.type", "must be fe here, got '" + type + "'");
     if (const auto* materials = f.find("materials")) read_materials(materials->value);
     read_parts(f.find("parts")->value, c);
     check_mesh(f.find("parts")->value, c);
+    build_deck_ties(c);
     if (const auto* interfaces = f.find("interfaces")) read_interfaces(interfaces->value, c);
+    if (const auto* ties = f.find("ties")) read_ties(ties->value, c);
     if (const auto* bolts = f.find("bolts")) read_bolts(bolts->value, c);
     if (const auto* constraints = f.find("constraints")) read_constraints(constraints->value, c);
     if (const auto* loads = f.find("loads")) read_loads(loads->value, c);
     if (f.has("loads")) check_free_loads(f.find("loads")->value, "model.loads", c);
     else check_free_loads(f.find("parts")->value, "model.parts", c);  // loads of the decks
     try {
-      preload::check_connectivity(c.mesh, c.interfaces, c.bolts, c.constraints);
+      preload::check_connectivity(c.mesh, c.interfaces, c.bolts, c.constraints, c.ties);
     } catch (const std::invalid_argument& error) {
       reader_.fail(f.find("parts")->value, "model.parts", error.what());
     }
@@ -236,6 +245,10 @@ class FeCaseReader {
         }
         part_materials = file_part_materials(part_mesh, deck.inp.part_materials, f, file);
         add_deck_physics(deck.inp, c.mesh.num_nodes(), c.mesh.num_elements(), c);
+        for (fe::InpTie tie : deck.inp.ties) {
+          for (int& n : tie.tied_nodes) n += c.mesh.num_nodes();
+          deck_ties_.push_back({std::move(tie), file.string(), f.path_of("mesh")});
+        }
       }
       try {
         fe::append(c.mesh, part_mesh);
@@ -400,6 +413,64 @@ class FeCaseReader {
         reader_.fail(node[i], path, error.what());
       }
       c.interface_specs.push_back(spec);
+    }
+  }
+
+  // ---- ties (fe/tie.hpp, docs/ties.md) --------------------------------------------------------
+
+  // The name of a new tie, unique among the case's ties (the summary and messages name them);
+  // empty when it is unique, else the problem.
+  static std::string tie_name_problem(const std::string& name, const FeCase& c) {
+    for (std::size_t k = 0; k < c.ties.size(); ++k)
+      if (c.ties[k].name == name)
+        return fmt::format("tie '{}' is defined twice (also at {}): tie names must be unique", name, c.tie_sources[k]);
+    return {};
+  }
+
+  void build_deck_ties(FeCase& c) {
+    for (const DeckTie& d : deck_ties_) {
+      const auto fail = [&](const std::string& problem) { throw InputError(d.file, d.tie.line, 0, d.key, problem); };
+      if (const std::string problem = tie_name_problem(d.tie.name, c); !problem.empty()) fail(problem);
+      fe::TieOptions o;
+      o.name = d.tie.name;
+      o.slave_surface = d.tie.slave_surface;
+      o.master_surface = d.tie.master_surface;
+      o.tied_nodes = d.tie.tied_nodes;
+      try {
+        c.ties.push_back(fe::build_tie(c.mesh, c.material_per_part, o));
+      } catch (const std::invalid_argument& error) {
+        fail(error.what());
+      }
+      c.tie_sources.push_back(fmt::format("{}:{}", d.file, d.tie.line));
+    }
+  }
+
+  // model.ties: [{name, slave, master, penalty_factor}] (docs/case-files.md §"Ties").
+  void read_ties(const YAML::Node& node, FeCase& c) {
+    if (!node.IsSequence()) reader_.fail(node, "model.ties", "must be a list, got " + yaml::Reader::describe(node));
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = item_path("model.ties", i);
+      const Fields f = reader_.fields(node[i], path, {"name", "slave", "master", "penalty_factor"});
+      require(node[i], f, {"slave", "master"});
+      fe::TieOptions o;
+      o.name = f.has("name") ? text(f, "name") : fmt::format("tie{}", c.ties.size() + 1);
+      if (const std::string problem = tie_name_problem(o.name, c); !problem.empty())
+        reader_.fail(f.has("name") ? f.find("name")->value : node[i], f.path_of("name"), problem);
+      o.slave_surface = surface_name(f.find("slave")->value, f.path_of("slave"), c);
+      o.master_surface = surface_name(f.find("master")->value, f.path_of("master"), c);
+      if (o.slave_surface == o.master_surface)
+        reader_.fail(f.find("master")->value, f.path_of("master"), "must differ from slave, got '" + o.master_surface + "' for both");
+      if (const auto* a = f.find("penalty_factor")) {
+        o.penalty_factor = reader_.number(a->value, f.path_of("penalty_factor"));
+        if (!(o.penalty_factor >= 1.0 && o.penalty_factor <= 1e6))
+          reader_.fail(a->value, f.path_of("penalty_factor"), fmt::format("must be in [1, 1e6], got {}", o.penalty_factor));
+      }
+      try {
+        c.ties.push_back(fe::build_tie(c.mesh, c.material_per_part, o));
+      } catch (const std::invalid_argument& error) {
+        reader_.fail(node[i], path, error.what());
+      }
+      c.tie_sources.push_back(path);
     }
   }
 

@@ -104,6 +104,14 @@ FeStageKeys fe_stage_keys(const FeModel& model, const FeAnalysis& analysis) {
     m.add("static loads");
     add_doubles(m, f.data(), f.size());
   }
+  if (!model.ties.empty()) {  // absent from the keys of models without ties
+    m.add("ties").add(static_cast<int>(model.ties.size()));
+    for (const fe::Tie& t : model.ties) {
+      add_sparse(m, t.geometry.gap_operator);
+      add_doubles(m, t.point_area.data(), t.point_area.size());
+      m.add(t.penalty);
+    }
+  }
   keys.model = m.hex();
 
   const preload::PreloadOptions& p = analysis.preload;
@@ -123,10 +131,15 @@ preload::PreloadModel preload_model(const FeModel& model) {
   preload::PreloadModel p;
   p.mesh = &model.mesh;
   p.structure = fe::assemble(model.mesh, model.material_per_part);
+  if (!model.ties.empty()) {
+    p.structure.stiffness += fe::tie_stiffness(model.ties, model.mesh.num_dofs());
+    p.structure.stiffness.makeCompressed();
+  }
   p.interfaces = model.interfaces;
   p.bolts = model.bolts;
   p.constraints = model.constraints;
   p.loads = model.loads;
+  p.ties = model.ties;
   return p;
 }
 

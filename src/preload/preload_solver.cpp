@@ -39,7 +39,8 @@ using support::seconds_since;
 // Parts joined by interfaces and bolts; every group needs a constraint unless the whole model is
 // one free-free group (then the 3-2-1 support holds it).
 void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
-                           std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints) {
+                           std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints,
+                           std::span<const fe::Tie> ties) {
   const int parts = static_cast<int>(mesh.parts.size());
   std::vector<int> root(static_cast<std::size_t>(parts));
   std::iota(root.begin(), root.end(), 0);
@@ -56,6 +57,9 @@ void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterfac
       for (const fe::Face& top : e.top_faces) join(part_of(e.bottom), part_of(top));
   for (const Bolt& b : bolts)
     for (int p : b.parts) join(p, b.parts.front());
+  for (const fe::Tie& tie : ties)  // an element joins its two parts when one of its points is tied
+    for (const fe::InterfaceElement& e : tie.geometry.elements)
+      if (tie.point_area.segment(e.first_point, e.num_points).maxCoeff() > 0.0) join(part_of(e.bottom), part_of(e.top));
   std::vector<bool> constrained(static_cast<std::size_t>(parts), false);
   if (!constraints.empty()) {
     std::vector<bool> fixed_node(static_cast<std::size_t>(mesh.num_nodes()), false);
@@ -74,7 +78,7 @@ void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterfac
       for (int p = 0; p < parts; ++p)
         if (find(p) != find(0))
           throw std::invalid_argument(fmt::format(
-              "part '{}' is neither connected to part '{}' (by an interface or a bolt) nor "
+              "part '{}' is neither connected to part '{}' (by an interface, a tie or a bolt) nor "
               "constrained: the model has no constraints and {} separate groups of parts",
               mesh.parts[static_cast<std::size_t>(p)], mesh.parts[0], groups.size()));
     }
@@ -83,7 +87,7 @@ void check_connectivity_of(const fe::Mesh& mesh, std::span<const ContactInterfac
   for (int p = 0; p < parts; ++p)
     if (!constrained[static_cast<std::size_t>(find(p))])
       throw std::invalid_argument(fmt::format(
-          "part '{}' is neither constrained nor connected (by an interface or a bolt) to a "
+          "part '{}' is neither constrained nor connected (by an interface, a tie or a bolt) to a "
           "constrained part",
           mesh.parts[static_cast<std::size_t>(p)]));
 }
@@ -161,8 +165,9 @@ InterfaceResult summarise(const ContactInterface& ci, fe::InterfaceContactState 
 }  // namespace
 
 void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
-                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints) {
-  check_connectivity_of(mesh, interfaces, bolts, constraints);
+                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints,
+                        std::span<const fe::Tie> ties) {
+  check_connectivity_of(mesh, interfaces, bolts, constraints, ties);
 }
 
 
@@ -252,7 +257,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   const int n = mesh.num_dofs();
   if (model.structure.stiffness.rows() != n)
     throw std::invalid_argument("preload: the structural matrices do not match the mesh");
-  check_connectivity(*model.mesh, model.interfaces, model.bolts, model.constraints);
+  check_connectivity(*model.mesh, model.interfaces, model.bolts, model.constraints, model.ties);
 
   PreloadResult result;
   std::vector<fe::FixedNodes> fixed = model.constraints;

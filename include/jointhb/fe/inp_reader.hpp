@@ -31,11 +31,14 @@
 //   *BOUNDARY (zero displacements: node or node set, first DOF [, last DOF [, 0]], or ENCASTRE,
 //   PINNED, XSYMM, YSYMM, ZSYMM, XASYMM, YASYMM, ZASYMM) → InpResult::constraints;
 //   *CLOAD (node or node set, DOF 1..3, force), *DSLOAD (surface, P, pressure), *DLOAD (element or
-//   element set, P1..P6, pressure) → InpResult::loads, applied in the preload.
+//   element set, P1..P6, pressure) → InpResult::loads, applied in the preload;
+//   *TIE, NAME=t [, POSITION TOLERANCE=d, ADJUST=YES|NO, TIED NSET=n, TYPE=SURFACE TO SURFACE|
+//   NODE TO SURFACE] with one data line "slave surface, master surface" → InpResult::ties (built
+//   by the case reader as fe/tie.hpp ties, docs/ties.md §"Decks").
 // Cards with no effect on a linear-elastic vibration analysis about the preload (output, print,
 // heading, step and procedure cards such as *STEP, *STATIC, *FREQUENCY, unused *AMPLITUDE, thermal
 // material data) are listed in InpResult::ignored_cards so that the caller can say so once. Every
-// other card — one that changes the physics and is not supported (*TIE, *EQUATION, *COUPLING,
+// other card — one that changes the physics and is not supported (*EQUATION, *COUPLING,
 // *CONTACT PAIR, *DAMPING, *TEMPERATURE, ...) or one not known at all — stops with a
 // MeshFileError "FILE:LINE: ..." naming it, unless InpOptions::ignore_cards names it (then it is
 // listed in InpResult::skipped_cards). So are unsupported parameters of the cards read (other
@@ -62,8 +65,19 @@ struct IgnoredCard {
   int line = 0;         ///< 1-based line of the keyword
 };
 
+/// A *TIE of the deck, its names resolved in the mesh (the tie itself needs the materials, which
+/// the case may override: the case reader builds it, fe/tie.hpp).
+struct InpTie {
+  std::string name;            ///< NAME=
+  std::string slave_surface;   ///< Mesh::surfaces key of the first surface of the data line
+  std::string master_surface;  ///< Mesh::surfaces key of the second
+  std::vector<int> tied_nodes;  ///< TIED NSET= (node indices); empty: every slave node
+  int line = 0;                 ///< the card's line
+};
+
 struct InpOptions {
-  /// Cards to skip although they change the physics or are unknown ("*TIE", "TIE" or "*tie"):
+  /// Cards to skip although they change the physics or are unknown ("*EQUATION", "EQUATION" or
+  /// "*equation"; a physics card read by jointhb, such as "*TIE", can be skipped too):
   /// the caller's explicit decision, reported in InpResult::skipped_cards.
   std::vector<std::string> ignore_cards;
 };
@@ -75,6 +89,7 @@ struct InpResult {
   std::vector<FixedNodes> constraints;   ///< *BOUNDARY, one entry per data line
   std::vector<std::string> constraint_labels;  ///< "FILE:LINE" of each constraint
   StaticLoads loads;                     ///< *CLOAD, *DSLOAD, *DLOAD (labels "FILE:LINE")
+  std::vector<InpTie> ties;              ///< *TIE, in file order
   std::vector<IgnoredCard> ignored_cards;  ///< cards without effect, in file order
   std::vector<IgnoredCard> skipped_cards;  ///< cards skipped on request (InpOptions::ignore_cards)
 };

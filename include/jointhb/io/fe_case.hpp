@@ -20,6 +20,7 @@
 //          radius: 0.005}, nut: {surface: lower.zmin, radius: 0.005}, stiffness: 3e8,
 //          preload: 10e3}                  # head/nut: optional inner_radius (a washer's annulus)
 //     constraints: [{node_set: lower.xmin, fix: [x, y, z]}]
+//     ties: [{name: glue, slave: upper.zmin, master: lower.zmax, penalty_factor: 1e3}]
 //   analysis:
 //     preload: {load_steps: 4, tolerance: 1e-9}
 //     modes: {count: 10, shift_hz: -1}
@@ -58,6 +59,7 @@ struct FeInterfaceSpec {
 struct FeCase : pipeline::FeModel, pipeline::FeAnalysis {
   std::vector<FeInterfaceSpec> interface_specs;  ///< same order as interfaces
   std::vector<std::string> constraint_sets;      ///< node set names of the constraints (echo)
+  std::vector<std::string> tie_sources;          ///< per tie: "model.ties[i]" or the deck's "FILE:LINE"
   /// fit: the identification (jointhb fit; the parameters are the pipeline's). Not part of any
   /// stage key.
   std::optional<FitSection> fit;

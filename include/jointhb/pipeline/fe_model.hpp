@@ -10,6 +10,7 @@
 #include "jointhb/fe/material.hpp"
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/fe/static_load.hpp"
+#include "jointhb/fe/tie.hpp"
 #include "jointhb/pipeline/fe_analysis.hpp"
 #include "jointhb/preload/bolt.hpp"
 #include "jointhb/preload/preload_solver.hpp"
@@ -23,6 +24,7 @@ struct FeModel {
   std::vector<preload::Bolt> bolts;
   std::vector<fe::FixedNodes> constraints;            ///< empty: free-free (the preload adds 3-2-1)
   fe::StaticLoads loads;  ///< nodal forces and pressures of the preload, besides the bolts
+  std::vector<fe::Tie> ties;  ///< bonded surfaces: K_tie joins the structure's stiffness (fe/tie.hpp)
 };
 
 /// Part of every stage key: bump when a stage computes something different for the same typed
@@ -35,7 +37,8 @@ inline constexpr int fe_stage_version = 2;
 ///             area), node pairs, gap operator and contact law (every option, the law's name and
 ///             exponent) + per bolt everything but its name (the footprints' inner radii
 ///             only when one is > 0, eq. B-4) + the constraints + the static
-///             load vector (only when there are static loads);
+///             load vector (only when there are static loads) + per tie its gap operator, point
+///             areas and penalty (only when there are ties: other models keep their keys);
 ///   preload = model + the preload options that can change the result (not `progress`);
 ///   modes   = preload + the modal options.
 /// Names, node/element sets and surfaces do not enter (they change no result); a damping or a
@@ -46,7 +49,8 @@ struct FeStageKeys {
 [[nodiscard]] FeStageKeys fe_stage_keys(const FeModel& model, const FeAnalysis& analysis);
 
 /// The preload model: the mesh (by pointer: `model` must outlive it), the assembled structure
-/// (fe::assemble), interfaces, bolts and constraints.
+/// (fe::assemble) with the ties' stiffness added to K_s (so that the preload, the modes, the
+/// condensation and the time integration all see it), interfaces, bolts, constraints and ties.
 [[nodiscard]] preload::PreloadModel preload_model(const FeModel& model);
 
 /// The exponent n of a Gaul–Mayer law, 0 for a law without one (Jenkins).

@@ -169,7 +169,8 @@ class FePipeline {
   [[nodiscard]] std::optional<modal::ModalOptions> modal_options() const;
 
   // ---- stages (each computed on first use, then kept while its key is unchanged) -------------
-  /// The assembled structure with the model's interfaces, bolts and constraints.
+  /// The assembled structure (K_s with the ties' stiffness) with the model's interfaces, bolts,
+  /// constraints and ties.
   const preload::PreloadModel& structure();
   /// The preloaded static state (computed even when needs_preload() is false, if asked for).
   const preload::PreloadResult& preload();

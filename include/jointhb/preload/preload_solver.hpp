@@ -34,6 +34,7 @@
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 #include "jointhb/fe/static_load.hpp"
+#include "jointhb/fe/tie.hpp"
 #include "jointhb/preload/bolt.hpp"
 
 namespace jointhb::preload {
@@ -52,6 +53,10 @@ struct PreloadModel {
   std::vector<Bolt> bolts;
   std::vector<fe::FixedNodes> constraints;  ///< user supports; empty = free-free (3-2-1 added)
   fe::StaticLoads loads;                    ///< f_static of eq. (P-1): forces and pressures
+  /// Bonded surfaces (fe/tie.hpp). Their stiffness K_tie is part of `structure.stiffness`
+  /// (pipeline::preload_model adds it; the solver does not): listed here for the connectivity
+  /// check, which counts the parts they join as connected.
+  std::vector<fe::Tie> ties;
 };
 
 struct PreloadOptions {
@@ -130,14 +135,15 @@ struct PreloadResult {
 };
 
 /// Throws std::invalid_argument naming a part that is neither constrained nor joined (through
-/// interfaces and bolts) to a constrained part; without constraints, naming a part outside the
-/// group of the first part (a free-free model must be one group). solve_preload calls it; the
+/// interfaces, ties and bolts) to a constrained part; without constraints, naming a part outside
+/// the group of the first part (a free-free model must be one group). solve_preload calls it; the
 /// case reader calls it to report the problem against the case file.
 void check_connectivity(const fe::Mesh& mesh, std::span<const ContactInterface> interfaces,
-                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints);
+                        std::span<const Bolt> bolts, std::span<const fe::FixedNodes> constraints,
+                        std::span<const fe::Tie> ties = {});
 
 /// Solves eq. (P-1). Throws std::invalid_argument on invalid options or a model whose parts are
-/// not all connected (by interfaces and bolts) or constrained (naming the part). Numerical
+/// not all connected (by interfaces, ties and bolts) or constrained (naming the part). Numerical
 /// failures (no convergence, a singular tangent) end with a termination other than converged, a
 /// message, and the last converged step kept.
 [[nodiscard]] PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& options);

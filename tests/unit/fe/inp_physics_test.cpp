@@ -192,19 +192,59 @@ B, P1, 2.0e5
 }
 
 TEST(InpPhysics, CardsThatChangeThePhysicsStopUnlessIgnored) {
-  const std::string deck = kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n*TIE, NAME=T1\nTOP, BOT\n*DAMPING, ALPHA=2.0\n";
-  EXPECT_TRUE(reports(deck, 42, "card *TIE changes the physics and is not supported; to run without it, list it in the case under ignore_cards"));
+  const std::string deck = kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n*EQUATION\n2\n2, 1, 1., 9, 1, -1.\n*DAMPING, ALPHA=2.0\n";
+  EXPECT_TRUE(reports(deck, 42, "card *EQUATION changes the physics and is not supported; to run without it, list it in the case under ignore_cards"));
   InpOptions options;
-  options.ignore_cards = {"*Tie", "DAMPING"};
+  options.ignore_cards = {"*Equation", "DAMPING"};
   const InpResult r = read(deck, options);
   ASSERT_EQ(r.skipped_cards.size(), 2u);
-  EXPECT_EQ(r.skipped_cards[0].keyword, "*TIE");
+  EXPECT_EQ(r.skipped_cards[0].keyword, "*EQUATION");
   EXPECT_EQ(r.skipped_cards[0].line, 42);
   EXPECT_EQ(r.skipped_cards[1].keyword, "*DAMPING");
+  // A physics card that jointhb reads is skipped too when the case lists it.
+  options.ignore_cards = {"*TIE"};
+  const InpResult untied = read(kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n*TIE, NAME=T1\nBOT, TOP\n", options);
+  EXPECT_TRUE(untied.ties.empty());
+  ASSERT_EQ(untied.skipped_cards.size(), 1u);
+  EXPECT_EQ(untied.skipped_cards[0].keyword, "*TIE");
   // A card jointhb does not know at all stops too, and can be ignored the same way.
   EXPECT_TRUE(reports(kDeck + "*FANCY CARD, X=1\n", 25, "card *FANCY CARD is not supported"));
   options.ignore_cards = {"*fancy  card"};
   EXPECT_EQ(read(kDeck + "*FANCY CARD, X=1\n", options).skipped_cards.size(), 1u);
+}
+
+// *TIE: one data line "slave, master" (Abaqus' order), the surfaces resolved to the mesh's names;
+// ADJUST, POSITION TOLERANCE and TYPE are checked and accepted (no effect on a linear tie), TIED
+// NSET restricts the slave nodes.
+TEST(InpPhysics, TiesNameTheirSlaveAndMasterSurfaces) {
+  const std::string base = kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n";  // 41 lines
+  const InpResult r = read(base + "*TIE, NAME=T1, ADJUST=YES, POSITION TOLERANCE=0.001, TYPE=SURFACE TO SURFACE\n"
+                                  "bot, top\n*Tie, name=T2, tied nset=LEFT, adjust=no\nTOP, BOT\n");
+  ASSERT_EQ(r.ties.size(), 2u);
+  EXPECT_EQ(r.ties[0].name, "T1");
+  EXPECT_EQ(r.ties[0].slave_surface, "BOT");
+  EXPECT_EQ(r.ties[0].master_surface, "TOP");
+  EXPECT_EQ(r.ties[0].line, 42);
+  EXPECT_TRUE(r.ties[0].tied_nodes.empty());
+  EXPECT_EQ(r.ties[1].slave_surface, "TOP");
+  EXPECT_EQ(r.ties[1].tied_nodes, (std::vector<int>{0, 3, 4, 7}));
+  EXPECT_TRUE(r.ignored_cards.size() == 1u && r.skipped_cards.empty());  // *EXPANSION only
+
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nNOPE, TOP\n", 43, "*TIE 'T': unknown slave surface 'NOPE'"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, NOPE\n", 43, "*TIE 'T': unknown master surface 'NOPE'"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT\n", 43, "*TIE 'T' data must be 'slave surface, master surface', got 'BOT'"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT,\n", 43, "*TIE 'T' data must be 'slave surface, master surface'"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\n", 42, "one data line 'slave surface, master surface' expected, got 0"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, TOP\nTOP, BOT\n", 44, "one data line 'slave surface, master surface' expected, got 2"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, bot\n", 43, "the slave and master surfaces are the same ('BOT')"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T, CONSTRAINT RATIO=0.1\nBOT, TOP\n", 42,
+                      "parameter CONSTRAINT RATIO of *TIE is not supported (supported: NAME, POSITION TOLERANCE, ADJUST, TIED NSET, TYPE)"));
+  EXPECT_TRUE(reports(base + "*TIE\nBOT, TOP\n", 42, "*TIE needs the parameter NAME="));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T, ADJUST=MAYBE\nBOT, TOP\n", 42, "*TIE, ADJUST=MAYBE: must be YES or NO"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T, POSITION TOLERANCE=-1\nBOT, TOP\n", 42, "POSITION TOLERANCE=-1: must be a number >= 0"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T, TYPE=CYCLIC\nBOT, TOP\n", 42, "*TIE, TYPE=CYCLIC: must be SURFACE TO SURFACE or NODE TO SURFACE"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T, TIED NSET=NOPE\nBOT, TOP\n", 42, "unknown node set 'NOPE'"));
+  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, TOP\n*TIE, NAME=t\nTOP, BOT\n", 44, "*TIE 't' defined twice (first at line 42)"));
 }
 
 }  // namespace

@@ -154,18 +154,18 @@ TEST(FeCaseDeck, UnbalancedLoadsOnAFreeModelAndPhysicsCardsAreInputErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("resultant force of 100 N"), std::string::npos) << e.what();
   }
-  d.write("tied.inp", beam_deck(true) + "*TIE, NAME=T\nA, B\n");
-  const std::string tied = "model:\n  type: fe\n  parts:\n    - {mesh: tied.inp}\n";
+  d.write("coupled.inp", beam_deck(true) + "*EQUATION\n2\n1, 1, 1., 2, 1, -1.\n");
+  const std::string coupled = "model:\n  type: fe\n  parts:\n    - {mesh: coupled.inp}\n";
   try {
-    (void)d.read(tied);
+    (void)d.read(coupled);
     FAIL() << "no exception";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("tied.inp:"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("*TIE changes the physics"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("coupled.inp:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("*EQUATION changes the physics"), std::string::npos) << e.what();
   }
-  const FeCase ignored = d.read("model:\n  type: fe\n  parts:\n    - {mesh: tied.inp, ignore_cards: ['*TIE']}\n");
+  const FeCase ignored = d.read("model:\n  type: fe\n  parts:\n    - {mesh: coupled.inp, ignore_cards: ['*EQUATION']}\n");
   ASSERT_EQ(ignored.warnings.size(), 2u);
-  EXPECT_NE(ignored.warnings[1].find("*TIE skipped as the case asks"), std::string::npos) << ignored.warnings[1];
+  EXPECT_NE(ignored.warnings[1].find("*EQUATION skipped as the case asks"), std::string::npos) << ignored.warnings[1];
 }
 
 }  // namespace
