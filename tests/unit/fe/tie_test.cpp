@@ -215,3 +215,57 @@ TEST(Tie, ErrorsNameTheTie) {
 
 }  // namespace
 }  // namespace jointhb::fe
+
+namespace jointhb::fe {
+namespace {
+
+// A tie between independently meshed halves (automatic → non-matching, dual mortar): box a with
+// 5 × 2 × 1 cells, box b with 7 × 3 × 2. Its frequencies lie between those of the uncut bar meshed
+// like a (10 × 2 × 1) and like b (14 × 3 × 2) — the tie adds nothing beyond the discretisation
+// error (and the O(1/α) penalty error) — and K_tie still annihilates the rigid-body motions.
+TEST(Tie, NonMatchingHalvesLieBetweenTheirTwoMeshes) {
+  pipeline::FeModel model;
+  BoxOptions o;
+  o.part = "a";
+  o.size = {0.05, 0.02, 0.01};
+  o.divisions = {5, 2, 1};
+  model.mesh = box_mesh(o);
+  o.part = "b";
+  o.origin = {0.05, 0.0, 0.0};
+  o.divisions = {7, 3, 2};
+  append(model.mesh, box_mesh(o));
+  model.material_per_part = {kSteel, kSteel};
+  model.ties.push_back(build_tie(model.mesh, model.material_per_part, cut_tie(1e5)));
+  EXPECT_EQ(model.ties[0].geometry.meshes, InterfaceMeshes::non_matching);
+  const preload::PreloadModel p = pipeline::preload_model(model);
+  const Eigen::VectorXd tied = frequencies(p.structure.stiffness, p.structure.mass, model.mesh.node_sets.at("a.xmin"),
+                                           model.mesh.num_nodes(), 6);
+  const auto whole = [&](std::array<int, 3> divisions) {
+    BoxOptions w;
+    w.size = {0.1, 0.02, 0.01};
+    w.divisions = divisions;
+    const Mesh m = box_mesh(w);
+    const StructuralMatrices s = assemble(m, {kSteel});
+    return frequencies(s.stiffness, s.mass, m.node_sets.at("box.xmin"), m.num_nodes(), 6);
+  };
+  const Eigen::VectorXd coarse = whole({10, 2, 1}), fine = whole({14, 3, 2});
+  for (int j = 0; j < 6; ++j) {
+    const double lo = std::min(coarse(j), fine(j)), hi = std::max(coarse(j), fine(j));
+    EXPECT_GE(tied(j), lo * (1.0 - 1e-4)) << "mode " << j + 1;
+    EXPECT_LE(tied(j), hi * (1.0 + 1e-4)) << "mode " << j + 1;
+  }
+  const Tie& tie = model.ties[0];
+  const Eigen::SparseMatrix<double> k = tie_stiffness(std::span<const Tie>(&tie, 1), model.mesh.num_dofs());
+  Eigen::MatrixXd rigid(model.mesh.num_dofs(), 6);
+  for (int n = 0; n < model.mesh.num_nodes(); ++n) {
+    const Eigen::Vector3d x = model.mesh.coordinates.col(n) - Eigen::Vector3d(0.05, 0.01, 0.005);
+    for (int r = 0; r < 3; ++r) {
+      rigid.block<3, 1>(3 * n, r) = Eigen::Vector3d::Unit(r);
+      rigid.block<3, 1>(3 * n, 3 + r) = Eigen::Vector3d::Unit(r).cross(x) / 0.05;
+    }
+  }
+  EXPECT_LE((k * rigid).norm(), 1e-13 * Eigen::MatrixXd(k).norm() * rigid.norm());
+}
+
+}  // namespace
+}  // namespace jointhb::fe
