@@ -92,26 +92,13 @@ Vec3 centre_normal(const Mesh& mesh, const std::vector<int>& nodes) {
   return point_frame(mesh, nodes, face::shape(n, c.x(), c.y())).frame.row(2).transpose();
 }
 
-}  // namespace detail
-
-namespace {
-
-using detail::describe;
-using detail::external_node_id;
-
-struct FaceGeometry {
-  Face face;
-  std::vector<int> nodes;
-  Vec3 centroid = Vec3::Zero();
-  double size = 0.0;  // longest distance between two corners
-};
-
 FaceGeometry face_geometry(const Mesh& mesh, const Face& face) {
   FaceGeometry g;
   g.face = face;
   g.nodes = face_nodes(mesh, face);
   for (int n : g.nodes) g.centroid += mesh.coordinates.col(n);
   g.centroid /= static_cast<double>(g.nodes.size());
+  for (int n : g.nodes) g.radius = std::max(g.radius, (mesh.coordinates.col(n) - g.centroid).norm());
   const int corners = face::corner_count(static_cast<int>(g.nodes.size()));
   for (int i = 0; i < corners; ++i)
     for (int j = i + 1; j < corners; ++j)
@@ -120,6 +107,15 @@ FaceGeometry face_geometry(const Mesh& mesh, const Face& face) {
                                     .norm());
   return g;
 }
+
+}  // namespace detail
+
+namespace {
+
+using detail::describe;
+using detail::FaceGeometry;
+using detail::face_geometry;
+using detail::external_node_id;
 
 // The faces of a surface, checked to exist.
 void check_faces(const Mesh& mesh, const std::vector<Face>& faces, const char* side,
@@ -149,15 +145,7 @@ std::string pair_coincident_faces(const Mesh& mesh, const std::vector<Face>& bot
   std::vector<FaceGeometry> top;
   top.reserve(top_faces.size());
   for (const Face& f : top_faces) top.push_back(face_geometry(mesh, f));
-  std::vector<int> order(top.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return top[static_cast<std::size_t>(a)].centroid.x() <
-           top[static_cast<std::size_t>(b)].centroid.x();
-  });
-  std::vector<double> sorted_x(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    sorted_x[i] = top[static_cast<std::size_t>(order[i])].centroid.x();
+  const detail::FacesAlongX along_x(top);
 
   std::vector<int> used_by(top.size(), -1);  // bottom face index that claimed each top face
   for (std::size_t b = 0; b < bottom_faces.size(); ++b) {
@@ -165,11 +153,9 @@ std::string pair_coincident_faces(const Mesh& mesh, const std::vector<Face>& bot
     const double tol = options.match_tolerance * bg.size;
     std::vector<int> matched;
     int match = -1;
-    auto first = std::lower_bound(sorted_x.begin(), sorted_x.end(), bg.centroid.x() - tol);
-    for (auto it = first; it != sorted_x.end() && *it <= bg.centroid.x() + tol; ++it) {
-      const int t = order[static_cast<std::size_t>(it - sorted_x.begin())];
+    along_x.for_each_in(bg.centroid.x() - tol, bg.centroid.x() + tol, [&](int t) {
       const FaceGeometry& tg = top[static_cast<std::size_t>(t)];
-      if (tg.nodes.size() != bg.nodes.size() || (tg.centroid - bg.centroid).norm() > tol) continue;
+      if (tg.nodes.size() != bg.nodes.size() || (tg.centroid - bg.centroid).norm() > tol) return false;
       std::vector<int> partner;
       std::vector<bool> taken(tg.nodes.size(), false);
       for (int bn : bg.nodes) {
@@ -182,12 +168,11 @@ std::string pair_coincident_faces(const Mesh& mesh, const std::vector<Face>& bot
           }
         }
       }
-      if (partner.size() == bg.nodes.size()) {
-        match = t;
-        matched = std::move(partner);
-        break;
-      }
-    }
+      if (partner.size() != bg.nodes.size()) return false;
+      match = t;
+      matched = std::move(partner);
+      return true;
+    });
     if (match < 0) {
       return fmt::format(
           "{}: matching meshes are required: {} (surface '{}') at ({:.6g}, {:.6g}, {:.6g}) has no "

@@ -3,6 +3,7 @@
 // zero-thickness interfaces.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,40 @@ struct PointFrame {
 };
 [[nodiscard]] PointFrame point_frame(const Mesh& mesh, const std::vector<int>& nodes,
                                      const face::Shape& s);
+
+/// A face with the geometry both constructions search by.
+struct FaceGeometry {
+  Face face;
+  std::vector<int> nodes;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< mean of the nodes
+  double size = 0.0;    ///< longest distance between two corners
+  double radius = 0.0;  ///< largest centroid-node distance
+};
+[[nodiscard]] FaceGeometry face_geometry(const Mesh& mesh, const Face& face);
+
+/// Faces ordered by centroid x, for the candidates near a point: for_each_in(lo, hi, f) calls
+/// f(index into the list given) for every face whose centroid x lies in [lo, hi]; f returns true
+/// to stop.
+class FacesAlongX {
+ public:
+  template <class FaceList>  // a vector of FaceGeometry or of types derived from it
+  explicit FacesAlongX(const FaceList& faces) : order_(faces.size()), x_(faces.size()) {
+    for (std::size_t i = 0; i < faces.size(); ++i) order_[i] = static_cast<int>(i);
+    std::sort(order_.begin(), order_.end(), [&](int a, int b) {
+      return faces[static_cast<std::size_t>(a)].centroid.x() < faces[static_cast<std::size_t>(b)].centroid.x();
+    });
+    for (std::size_t i = 0; i < order_.size(); ++i) x_[i] = faces[static_cast<std::size_t>(order_[i])].centroid.x();
+  }
+  template <class F>
+  void for_each_in(double lo, double hi, F&& f) const {
+    for (auto it = std::lower_bound(x_.begin(), x_.end(), lo); it != x_.end() && *it <= hi; ++it)
+      if (f(order_[static_cast<std::size_t>(it - x_.begin())])) return;
+  }
+
+ private:
+  std::vector<int> order_;
+  std::vector<double> x_;
+};
 
 /// Unit outward normal at the face centre.
 [[nodiscard]] Eigen::Vector3d centre_normal(const Mesh& mesh, const std::vector<int>& nodes);

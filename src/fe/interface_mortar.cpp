@@ -69,21 +69,13 @@ struct Plane {
   [[nodiscard]] Vec2 project(const Vec3& x) const { return {e1.dot(x - origin), e2.dot(x - origin)}; }
 };
 
-struct FaceData {
-  Face face;
-  std::vector<int> nodes;
-  Vec3 centroid = Vec3::Zero();
+// A face with its outward normal at the centre.
+struct FaceData : FaceGeometry {
   Vec3 normal = Vec3::Zero();
-  double radius = 0.0;  // largest centroid-node distance
 };
 
 FaceData face_data(const Mesh& mesh, const Face& f) {
-  FaceData d;
-  d.face = f;
-  d.nodes = face_nodes(mesh, f);
-  for (int n : d.nodes) d.centroid += mesh.coordinates.col(n);
-  d.centroid /= static_cast<double>(d.nodes.size());
-  for (int n : d.nodes) d.radius = std::max(d.radius, (mesh.coordinates.col(n) - d.centroid).norm());
+  FaceData d{face_geometry(mesh, f)};
   d.normal = centre_normal(mesh, d.nodes);
   return d;
 }
@@ -219,13 +211,7 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
     top.push_back(face_data(mesh, f));
     top_radius = std::max(top_radius, top.back().radius);
   }
-  std::vector<int> order(top.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return top[static_cast<std::size_t>(a)].centroid.x() < top[static_cast<std::size_t>(b)].centroid.x();
-  });
-  std::vector<double> sorted_x(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) sorted_x[i] = top[static_cast<std::size_t>(order[i])].centroid.x();
+  const FacesAlongX along_x(top);
 
   const bool nodal = options.integration == InterfaceIntegration::nodal;
   std::map<int, NodeShare> shares;  // dual mortar: bottom node → its summed share
@@ -250,18 +236,16 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
     // Segments with every top face that overlaps b in b's plane.
     std::vector<Segment> segments;
     const double reach = b.radius + top_radius;
-    auto first = std::lower_bound(sorted_x.begin(), sorted_x.end(), b.centroid.x() - reach);
-    for (auto it = first; it != sorted_x.end() && *it <= b.centroid.x() + reach; ++it) {
-      const int t = order[static_cast<std::size_t>(it - sorted_x.begin())];
+    along_x.for_each_in(b.centroid.x() - reach, b.centroid.x() + reach, [&](int t) {
       const FaceData& m = top[static_cast<std::size_t>(t)];
-      if ((m.centroid - b.centroid).norm() > b.radius + m.radius) continue;
-      if (!(m.normal.dot(b.normal) < -0.5)) continue;  // not facing b (within 60°)
-      if (std::abs(b.normal.dot(m.centroid - b.centroid)) > b.radius) continue;  // far off the plane
+      if ((m.centroid - b.centroid).norm() > b.radius + m.radius) return false;
+      if (!(m.normal.dot(b.normal) < -0.5)) return false;  // not facing b (within 60°)
+      if (std::abs(b.normal.dot(m.centroid - b.centroid)) > b.radius) return false;  // far off the plane
       const Eigen::Matrix2Xd m2d = nodes_in_plane(mesh, m.nodes, plane);
       const Polygon overlap = clip_polygon(corners_of(m2d, true), b_poly);
-      if (overlap.size() < 3) continue;
+      if (overlap.size() < 3) return false;
       const double area = signed_area(overlap);
-      if (!(area > 1e-10 * b_area)) continue;
+      if (!(area > 1e-10 * b_area)) return false;
       Segment seg;
       seg.top = t;
       seg.area = area;
@@ -291,7 +275,8 @@ void build_mortar(const Mesh& mesh, const std::vector<Face>& bottom_faces,
         }
       }
       segments.push_back(std::move(seg));
-    }
+      return false;
+    });
     double covered = 0.0;
     for (const Segment& s : segments) covered += s.area;
     result.uncovered_area += std::max(0.0, b_area - covered);
