@@ -67,6 +67,24 @@ double NormalLaw::pressure(double gap) const {
   return std::max(p - exponential(reference_pressure, decay, reference_gap, cutoff_gap), 0.0);  // (N-1)
 }
 
+double NormalLaw::pressure_change(double gap, double delta) const {
+  const double moved = gap + delta;
+  const double direct = pressure(moved) - pressure(gap);
+  if (kind == NormalLawKind::linear) {
+    return gap <= reference_gap && moved <= reference_gap ? -penalty_stiffness * delta : direct;
+  }
+  // Both pressures on the uncapped exponential (and, with a cutoff, both above zero): the cutoff
+  // offset cancels exactly, p(g + δ) − p(g) = p_exp(g) (e^{−λδ} − 1).
+  const bool capped = -decay * (gap - reference_gap) >= kExponentCap ||
+                      -decay * (moved - reference_gap) >= kExponentCap;
+  const double at_gap = exponential(reference_pressure, decay, reference_gap, gap);
+  if (capped || at_gap >= kPressureCeiling / std::max(1.0, decay) || moved >= cutoff_gap ||
+      gap >= cutoff_gap || (std::isfinite(cutoff_gap) && (pressure(moved) == 0.0 || pressure(gap) == 0.0))) {
+    return direct;
+  }
+  return at_gap * std::expm1(-decay * delta);
+}
+
 double NormalLaw::stiffness(double gap) const {
   if (kind == NormalLawKind::linear) return gap <= reference_gap ? penalty_stiffness : 0.0;  // closed at g_N0
   if (gap >= cutoff_gap) return 0.0;

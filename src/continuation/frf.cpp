@@ -43,22 +43,38 @@ ResidualFunction residual_of(const hb::HarmonicBalance& b) {
   };
 }
 
-// The scale of the unknowns in the arclength, so that a step weighs the response against Ω evenly:
-// the largest |coefficient| along a cheap probe of the same curve at one harmonic (a friction-
-// limited peak can be far below the stuck system's), else along the stuck linear response.
-double response_scale(const DiscreteSystem& system, const Excitation& excitation,
-                      const FrfOptions& options, const hb::HarmonicBalance& balance) {
-  // The stuck linear response over the range: an upper estimate (a friction-limited peak can be
-  // orders of magnitude lower), used to scale the probe itself so that it finishes in few points.
-  double stuck = 0.0;
-  constexpr int kSweep = 64;
-  for (int i = 0; i <= kSweep; ++i) {
-    const double omega =
-        options.omega_start + (options.omega_end - options.omega_start) * i / kSweep;
-    stuck = std::max(stuck, balance.stuck_solution(omega).lpNorm<Eigen::Infinity>());
+// The largest |coefficient| of a linear response over the range (65 frequencies): all contacts
+// stuck (k_T0 springs), or with `free`, all contacts removed (what gross slip tends to when the
+// force exceeds the friction limit by far). Infinite values (an undamped resonance met exactly)
+// are skipped; 0 when nothing finite remains.
+double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
+                   const FrfOptions& options, bool free) {
+  DiscreteSystem linear = system;
+  if (free) linear.contacts.clear();
+  hb::HarmonicBalanceOptions ho;
+  ho.harmonics = 1;
+  ho.time_samples = 8;
+  double peak = 0.0;
+  try {
+    const hb::HarmonicBalance balance(linear, excitation, ho);
+    constexpr int kSweep = 64;
+    for (int i = 0; i <= kSweep; ++i) {
+      const double omega =
+          options.omega_start + (options.omega_end - options.omega_start) * i / kSweep;
+      const double a = balance.stuck_solution(omega).lpNorm<Eigen::Infinity>();
+      if (std::isfinite(a)) peak = std::max(peak, a);
+    }
+  } catch (const std::exception&) {
+    return 0.0;  // e.g. a system that needs its contacts to be well posed
   }
-  if (!std::isfinite(stuck) || !(stuck > 0.0)) stuck = 1.0;
-  double scale = 0.0;
+  return peak;
+}
+
+// The largest |coefficient| along a cheap probe of the curve at one harmonic, traced with the
+// unknowns scaled by `scale`; 0 when the probe does not cover the range.
+double probe_peak(const DiscreteSystem& system, const Excitation& excitation,
+                  const FrfOptions& options, double scale) {
+  double peak = 0.0;
   try {
     hb::HarmonicBalanceOptions ho;
     ho.harmonics = 1;
@@ -73,16 +89,33 @@ double response_scale(const DiscreteSystem& system, const Excitation& excitation
     c.max_step = std::max(c.max_step, 0.1);
     c.max_points = std::max(c.max_points, 5000);
     const Eigen::VectorXd x0 = probe.stuck_solution(options.omega_start);
-    c.state_scale = Eigen::VectorXd::Constant(x0.size(), stuck);
+    c.state_scale = Eigen::VectorXd::Constant(x0.size(), scale);
     const Result r = trace(residual_of(probe), x0, c);
-    // Only a probe that covered the range knows the peak.
     if (r.completed()) {
-      for (const auto& p : r.points) scale = std::max(scale, p.x.lpNorm<Eigen::Infinity>());
+      for (const auto& p : r.points) peak = std::max(peak, p.x.lpNorm<Eigen::Infinity>());
     }
   } catch (const std::exception&) {
-    scale = 0.0;  // the probe is a heuristic: fall back below
+    return 0.0;  // the probe is a heuristic: the caller falls back
   }
-  return std::isfinite(scale) && scale > 0.0 ? scale : stuck;
+  return std::isfinite(peak) ? peak : 0.0;
+}
+
+// The scale of the unknowns in the arclength, so that a step weighs the response against Ω evenly:
+// the peak of a cheap one-harmonic probe of the same curve (a friction-limited peak can be far
+// below the linear bounds), traced first with the stuck system's peak as its scale and, when that
+// probe does not finish, with the larger of the stuck and contact-free peaks (in gross slip the
+// response approaches the contact-free one: with only the stuck bound, a probe and then the curve
+// crawled, 1000 points over 0.01 % of the range). Else that larger linear peak, else 1.
+double response_scale(const DiscreteSystem& system, const Excitation& excitation,
+                      const FrfOptions& options) {
+  const double stuck = linear_peak(system, excitation, options, false);
+  const double bound = std::max(stuck, linear_peak(system, excitation, options, true));
+  for (const double scale : {stuck, bound}) {
+    if (!(scale > 0.0)) continue;
+    if (const double peak = probe_peak(system, excitation, options, scale); peak > 0.0) return peak;
+    if (bound == stuck) break;
+  }
+  return bound > 0.0 ? bound : 1.0;
 }
 
 // The coefficients of `x` (DOF-major over basis `from`) in basis `to`: shared orders copied,
@@ -214,7 +247,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   c.direction = options.omega_end > options.omega_start ? 1 : -1;
   const Eigen::VectorXd x0 = balance.stuck_solution(options.omega_start);
   c.state_scale =
-      Eigen::VectorXd::Constant(x0.size(), response_scale(system, excitation, options, balance));
+      Eigen::VectorXd::Constant(x0.size(), response_scale(system, excitation, options));
   c.parameter_scale = std::abs(options.omega_end - options.omega_start);
   double force_scale = 0.0;
   for (const auto& f : excitation.forces)

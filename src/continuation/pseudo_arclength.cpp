@@ -52,6 +52,12 @@ constexpr int kMaxHalvings = 20;
 // max_step) below which a larger turn is taken as a corner of the branch and accepted.
 constexpr double kMaxTurnCosine = 0.5;
 constexpr double kCornerStepFactor = 0.05;
+// At a corner the corrector on the hyperplane τ_kᵀ(y − y_k) = s lands s·tan θ from the predictor
+// (θ: the turn of the branch), however short the step: a lightly damped friction FRF turns by
+// 80°–89° where the stuck response reaches slip and the amplitude is held at the slip limit while
+// the phase turns. Steps at or below kCornerStepFactor · max_step accept a corrector that moved up
+// to this many steps (turns up to atan 10 = 84°; the tangent test above still guards longer steps).
+constexpr double kCornerMoveFactor = 10.0;
 // Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
@@ -672,9 +678,11 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // A corrector that lands farther from the predictor than the step itself has left the
     // neighbourhood of the predicted point (step too long for the curvature, or a jump to another
     // part of the branch).
-    if (failure.empty() && (c.sample.y - predicted).norm() > s) {
-      failure = fmt::format("the corrector moved {:.3g} from the predictor, more than the step",
-                            (c.sample.y - predicted).norm());
+    const bool corner_step = s <= kCornerStepFactor * options.max_step;
+    const double max_move = corner_step ? kCornerMoveFactor * s : s;
+    if (failure.empty() && (c.sample.y - predicted).norm() > max_move) {
+      failure = fmt::format("the corrector moved {:.3g} from the predictor, more than {}the step",
+                            (c.sample.y - predicted).norm(), corner_step ? "10 times " : "");
     }
 
     // A point beyond λ_end (or behind λ_start) is replaced by the corrector at fixed λ on that

@@ -263,10 +263,13 @@ ContactPointAftResult evaluate_contact_point(const contact::ContactPoint& point,
   ContactPointAftResult r;
   r.open_fraction = static_cast<double>(s.open) / static_cast<double>(n);
   r.traction_samples.resize(n, 3);
-  // Δt_N,i = −p_N(g_N,i) − t_ref,N (T-17, normal row), identical on every branch.
+  // Δt_N,i = −p_N(g_N,i) − t_ref,N (T-17, normal row), identical on every branch, formed as
+  // −[p_N(g_ref + δg_N,i) − p_N(g_ref)] − [t_ref,N + p_N(g_ref)] so that a tiny δg keeps its
+  // relative accuracy (the second bracket is zero for a reference taken from the law).
+  const contact::NormalLaw& normal = point.options().normal;
+  const double reference_mismatch = reference.traction.z() + normal.pressure(reference.gap.z());
   for (Eigen::Index i = 0; i < n; ++i) {
-    r.traction_samples(i, 2) =
-        -s.states[static_cast<std::size_t>(i)].pressure - reference.traction.z();
+    r.traction_samples(i, 2) = -normal.pressure_change(reference.gap.z(), dg(i, 2)) - reference_mismatch;
   }
 
   const bool shortcut =

@@ -45,6 +45,11 @@ struct NormalLaw {
   /// p_N(g_N), eq. (6), (N-1) or (N-2). The exponent is capped so that the result stays finite for
   /// any closure.
   [[nodiscard]] double pressure(double gap) const;
+  /// p_N(g_N + δ) − p_N(g_N) without cancellation, so that a tiny δ (the linear limit of a
+  /// vibration about a preloaded state) keeps its relative accuracy: p_N(g_N) expm1(−λδ) for
+  /// eq. (6) and (N-1) while both gaps carry pressure, −k_N δ for (N-2) while both are closed;
+  /// the plain difference elsewhere (across a cutoff or a cap, where nothing cancels).
+  [[nodiscard]] double pressure_change(double gap, double delta) const;
   /// k_N = -dp_N/dg_N (normal stiffness per area): λ p_N for eq. (6).
   [[nodiscard]] double stiffness(double gap) const;
   /// dk_N/dg_N: -λ k_N (exponential laws), 0 (linear law).

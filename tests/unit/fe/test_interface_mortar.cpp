@@ -301,7 +301,9 @@ TEST(InterfaceFaces, NodalPointsOfOneNodePairShareTheirFrameOnAFlatInterface) {
   for (const fe::InterfacePoint& p : itf.points) {
     const auto key = std::make_pair(p.position.x(), p.position.y());
     const auto [it, inserted] = frame_at.emplace(key, p.frame);
-    if (!inserted) EXPECT_EQ((it->second - p.frame).norm(), 0.0) << "point at " << key.first << ", " << key.second;
+    if (!inserted) {
+      EXPECT_EQ((it->second - p.frame).norm(), 0.0) << "point at " << key.first << ", " << key.second;
+    }
     t1_directions.insert({std::round(p.frame(0, 0) * 1e6), std::round(p.frame(0, 1) * 1e6)});
   }
   EXPECT_EQ(frame_at.size(), itf.node_pairs.size());
