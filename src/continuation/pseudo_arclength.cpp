@@ -45,6 +45,9 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 // lets a run whose residual is floored by round-off (ε ‖R_x‖ ‖x‖ > tolerance · r_s) converge
 // without ever accepting a point far from the branch.
 constexpr double kSmallStepResidualFactor = 1.0e3;
+// Newton steps after which a stagnating residual within kSmallStepResidualFactor of the tolerance
+// is taken as the round-off floor of the evaluation (Tracer::correct).
+constexpr int kStagnationIterations = 3;
 
 // Halvings of the damped Newton step at the start point before giving up (α ≥ 2⁻¹⁰).
 constexpr int kMaxHalvings = 20;
@@ -153,7 +156,14 @@ class Tracer {
     int growths = 0;
     for (int it = 0;; ++it) {
       const double tol = options_.residual_tolerance;
-      if (sample.norm <= tol ||
+      // At the round-off floor of R (e.g. R/q of a damping curve at q ~ 1e-14, where the contact
+      // forces are differences of preload-sized tractions) Newton stops making progress and its
+      // residual wanders: after kStagnationIterations steps, a residual within three decades of
+      // the tolerance that no longer halves is converged as far as the evaluation allows.
+      const bool floor_reached = it >= kStagnationIterations &&
+                                 sample.norm <= kSmallStepResidualFactor * tol &&
+                                 sample.norm > 0.5 * previous;
+      if (sample.norm <= tol || floor_reached ||
           (last_step <= options_.step_tolerance && sample.norm <= kSmallStepResidualFactor * tol)) {
         out.converged = true;
         out.iterations = it;
@@ -168,7 +178,9 @@ class Tracer {
         return out;
       }
       if (safeguard == Safeguard::growth_test && it > 0) {
-        growths = sample.norm > previous ? growths + 1 : 0;
+        growths = sample.norm > previous && sample.norm > kSmallStepResidualFactor * options_.residual_tolerance
+                      ? growths + 1
+                      : 0;
         if (growths >= 2) {
           out.failure =
               fmt::format("residual grew in two consecutive iterations (to {:.3g} at iteration {})",
