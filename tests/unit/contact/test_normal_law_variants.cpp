@@ -124,5 +124,29 @@ TEST(NormalLawVariants, FrictionlessPointCarriesOnlyPressure) {
   EXPECT_EQ(beyond.tangent.norm(), 0.0);
 }
 
+// p_N(g + δ) − p_N(g) for a tiny δ keeps its relative accuracy (pressure_change), where the plain
+// difference of two preload-sized pressures loses it; reference: the Taylor series
+// p (−λδ + (λδ)²/2 − (λδ)³/6), exact to far below round-off at λδ ≤ 1e-4. Across the cutoff
+// and on the linear law it equals the plain difference.
+TEST(NormalLawVariants, PressureChangeOfATinyMotionKeepsItsRelativeAccuracy) {
+  for (const NormalLaw& law : {NormalLaw{3.0e6, 2.0e5, 1.0e-6}, cutoff_law()}) {
+    const double gap = -4.0e-6;
+    const double p = law.pressure(gap) + (std::isinf(law.cutoff_gap) ? 0.0 : 3.0e6 * std::exp(-2.0e5 * (law.cutoff_gap - 1.0e-6)));
+    double worst_plain = 0.0;
+    for (double delta : {1e-24, -3e-22, 1e-18, -2e-15, 5e-13, 1e-10}) {
+      const double x = 2.0e5 * delta;
+      const double series = p * (-x + x * x / 2.0 - x * x * x / 6.0);
+      EXPECT_NEAR(law.pressure_change(gap, delta) / series, 1.0, 1e-14) << delta;
+      worst_plain = std::max(worst_plain, std::abs((law.pressure(gap + delta) - law.pressure(gap)) / series - 1.0));
+    }
+    EXPECT_GT(worst_plain, 1e-3);  // what the plain difference loses (the test can tell them apart)
+  }
+  const NormalLaw cut = cutoff_law();  // one side beyond the cutoff: the plain difference
+  EXPECT_EQ(cut.pressure_change(1.9e-5, 2.0e-6), cut.pressure(2.1e-5) - cut.pressure(1.9e-5));
+  const NormalLaw lin = linear_law();
+  EXPECT_DOUBLE_EQ(lin.pressure_change(-3.0e-6, 1e-20), -5.0e12 * 1e-20);
+  EXPECT_EQ(lin.pressure_change(-2.5e-6, 1.0e-6), lin.pressure(-1.5e-6) - lin.pressure(-2.5e-6));
+}
+
 }  // namespace
 }  // namespace jointhb::contact

@@ -105,6 +105,48 @@ TEST(FrfContinuation, SlippingJenkinsPointsSolveHarmonicBalanceAndPeakBetweenThe
   EXPECT_GE(curve.timings.total, curve.timings.aft);
 }
 
+// Issue 23's lightly damped oscillator (m = k = 1, k_T0 = 10, μF_N = 0.1, c = 0.004 or 0): below
+// the stuck resonance √11 the stuck response reaches the slip amplitude X_s = μF_N/k_T0 = 0.01, and
+// beyond it only slip bounds the response (the curves used to stop there, at 3.24 and 3.16 rad/s).
+// Energy bound (closed form): per period the force puts in π F X₁ ≤ 4 F X (X₁ ≤ 4X/π for a
+// signal of peak X), a Jenkins element dissipates 4 μF_N (X − X_s) on a path with one maximum and
+// one minimum, so X ≤ X_s / (1 − F/μF_N); the curve must reach X_s and stay below that.
+TEST(FrfContinuation, LightlyDampedStuckResonanceIsCrossedAtTheSlipLimit) {
+  for (const double zeta : {0.002 / std::sqrt(11.0), 0.0}) {
+    for (const double f : {0.005, 0.01}) {
+      FrfOptions o;
+      o.omega_start = 0.5;
+      o.omega_end = 4.5;
+      o.harmonics = 7;
+      o.time_samples = 256;
+      const FrfCurve curve = trace_frf(oscillator(10.0, 0.1, zeta), force(f), o);
+      ASSERT_TRUE(curve.completed()) << "zeta " << zeta << " F " << f << ": " << curve.message;
+      double peak = 0.0;
+      for (const auto& p : curve.points) peak = std::max(peak, p.amplitude_max);
+      EXPECT_GT(peak, 0.01 * (1.0 - 1e-9)) << zeta << " " << f;
+      EXPECT_LT(peak, 0.01 / (1.0 - f / 0.1)) << zeta << " " << f;
+      EXPECT_NEAR(curve.points.back().omega, 4.5, 1e-12);
+    }
+  }
+}
+
+// Gross slip far above the friction limit (F = 3 μF_N, k_T0/k = 1e6, ζ = 0.02 of the stuck
+// system): the response follows the contact-free oscillator, some 1000 times the stuck one. With
+// the stuck response as the arclength scale the curve crawled (1000 points over 0.01 % of the
+// range); the contact-free bound makes it finish in a few dozen.
+TEST(FrfContinuation, GrossSlipFarAboveTheLimitFinishesInFewPoints) {
+  FrfOptions o;
+  o.omega_start = 0.5;
+  o.omega_end = 1500.0;
+  o.harmonics = 7;
+  o.time_samples = 128;
+  const FrfCurve curve = trace_frf(oscillator(1.0e6, 1.0, 0.02), force(3.0), o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_LT(curve.points.size(), 200u);
+  // Near Ω = 0.5 the contact-free receptance (c = 0.04 √(1 + 1e6) ≈ 40) bounds the response.
+  EXPECT_GT(curve.points.front().amplitude_h1, 0.5 * receptance(1.0, 0.04 * std::sqrt(1.0 + 1.0e6), 0.5, 3.0));
+}
+
 TEST(FrfContinuation, JacobianCheckAlongAGaulMayerCurve) {
   hb::DiscreteSystem s = oscillator(3.0, 0.05, 0.01);
   s.contacts[0].law = "gaul-mayer";
