@@ -217,6 +217,57 @@ std::optional<Eigen::VectorXd> start_by_ladder(
   return x;
 }
 
+// Why a curve that did not reach its end stopped, in physical terms, or empty: the last Ω lies
+// within 2 % of a natural frequency ω_j of the stuck (k_T0 springs) or the contact-free linear
+// system whose modal damping ratio ζ_j = φ_jᵀ C φ_j / (2 ω_j) (mass-normalised φ_j) is below 1e-3.
+// There the response is bounded only by slip (stuck) or not at all when the force drives the
+// contacts into gross slip (contact-free: friction dissipates at most 4 μF_N X per period against
+// the π F X the force puts in, so it cannot bound a resonance once F > 4 μF_N / π).
+std::string stop_diagnosis(const DiscreteSystem& system, const FrfCurve& curve) {
+  if (curve.points.empty()) return {};
+  const double omega = curve.points.back().omega;
+  const Eigen::MatrixXd c = system.damping.size() > 0 ? Eigen::MatrixXd(system.damping)
+                                                       : Eigen::MatrixXd::Zero(system.dofs(), system.dofs());
+  struct Near {
+    bool stuck = true;
+    double omega = 0.0, zeta = 0.0, distance = 1.0;
+  };
+  std::optional<Near> best;
+  for (const bool stuck : {true, false}) {
+    if (!stuck && system.contacts.empty()) continue;
+    hb::LinearModes modes;
+    try {
+      modes = hb::linear_modes(system, stuck);
+    } catch (const std::exception&) {
+      continue;
+    }
+    for (Eigen::Index j = 0; j < modes.omega.size(); ++j) {
+      const double w = modes.omega[j];
+      if (!(w > 0.0)) continue;
+      const double distance = std::abs(omega - w) / w;
+      const Eigen::VectorXd phi = modes.shapes.col(j);
+      const double zeta = phi.dot(c * phi) / (2.0 * w);
+      if (distance <= 0.02 && zeta < 1e-3 && (!best || distance < best->distance)) best = Near{stuck, w, zeta, distance};
+    }
+  }
+  if (!best) return {};
+  double peak = 0.0;
+  for (const auto& p : curve.points) peak = std::max(peak, p.amplitude_max);
+  if (best->stuck) {
+    return fmt::format(
+        "Ω = {:.6g} rad/s is within {:.2g} % of the stuck system's natural frequency {:.6g} rad/s, "
+        "where it is damped only ζ = {:.2g}: the response (here up to {:.3g}) is bounded there "
+        "only by slip of the contacts; more damping or a larger force moves the curve away from it",
+        omega, 100.0 * best->distance, best->omega, best->zeta, peak);
+  }
+  return fmt::format(
+      "Ω = {:.6g} rad/s is within {:.2g} % of the natural frequency {:.6g} rad/s of the system "
+      "with every contact slipping, damped only ζ = {:.2g}: the force drives the contacts into "
+      "gross slip (for one contact: F > 4 μF_N / π), friction cannot bound that resonance and "
+      "the response (here up to {:.3g}) grows without bound; add damping or end the range before it",
+      omega, 100.0 * best->distance, best->omega, best->zeta, peak);
+}
+
 }  // namespace
 
 std::string FrfOptions::validate(int dofs) const {
@@ -324,6 +375,9 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   }
   curve.reason = r.reason;
   curve.message = r.message;
+  if (!r.completed() && r.reason != StopReason::stopped_by_user) {
+    if (const std::string why = stop_diagnosis(system, curve); !why.empty()) curve.message += ". " + why;
+  }
   curve.newton_iterations += r.corrector_iterations;
   curve.rejected_steps = r.rejected_steps;
   const hb::HarmonicBalanceTimings t = balance.timings();

@@ -147,6 +147,24 @@ TEST(FrfContinuation, GrossSlipFarAboveTheLimitFinishesInFewPoints) {
   EXPECT_GT(curve.points.front().amplitude_h1, 0.5 * receptance(1.0, 0.04 * std::sqrt(1.0 + 1.0e6), 0.5, 3.0));
 }
 
+// The same oscillator undamped and forced above the friction limit (F = 0.2 > 4 μF_N / π = 0.127):
+// gross slip leaves the contact-free resonance at 1 rad/s undamped, so the response grows without
+// bound and the curve cannot reach its end; its message says so and names the frequency.
+TEST(FrfContinuation, UnboundedGrossSlipResonanceIsNamedInTheStopMessage) {
+  FrfOptions o;
+  o.omega_start = 0.5;
+  o.omega_end = 4.5;
+  o.harmonics = 3;
+  o.time_samples = 64;
+  o.continuation.max_points = 300;
+  const FrfCurve curve = trace_frf(oscillator(10.0, 0.1, 0.0), force(0.2), o);
+  ASSERT_FALSE(curve.completed());
+  EXPECT_NEAR(curve.points.back().omega, 1.0, 0.02);
+  EXPECT_NE(curve.message.find("natural frequency 1 rad/s of the system with every contact slipping"),
+            std::string::npos) << curve.message;
+  EXPECT_NE(curve.message.find("grows without bound"), std::string::npos) << curve.message;
+}
+
 TEST(FrfContinuation, JacobianCheckAlongAGaulMayerCurve) {
   hb::DiscreteSystem s = oscillator(3.0, 0.05, 0.01);
   s.contacts[0].law = "gaul-mayer";
