@@ -46,6 +46,25 @@ TEST(InterfaceBackbone, LinearLimitEnergyBalanceAndSoftening) {
   }
 }
 
+// A damping curve started at q = 1e-14 (issue 23): there the contact forces are increments of
+// ~1e-14 relative on preload-sized tractions, the linear limit holds exactly, and the curve must
+// start and go on (it failed at its first step: residual floored by cancellation).
+TEST(InterfaceBackbone, StartsAtATinyAmplitudeOnTheLinearLimit) {
+  const Structure s = make_structure(4, 4, 9, 0.0, true);
+  const hb::InterfaceModel model = make_model(s, s.n, true);
+  InterfaceBackboneOptions o;
+  o.mode.balance = {.harmonics = 3, .time_samples = 64};
+  o.log10_amplitude_start = -14.0;
+  o.log10_amplitude_end = -6.0;
+  const InterfaceBackbone b = trace_interface_backbone(model, o);
+  ASSERT_TRUE(b.completed()) << b.message;
+  const auto& first = b.points.front().state;
+  EXPECT_NEAR(first.omega / b.linear_omega, 1.0, 1e-9);
+  EXPECT_NEAR(first.damping_ratio / b.linear_damping_ratio, 1.0, 1e-9);
+  std::printf("q = 1e-14 .. 1e-6: %zu points, first omega/linear - 1 = %.2e, zeta/linear - 1 = %.2e\n", b.points.size(),
+              first.omega / b.linear_omega - 1.0, first.damping_ratio / b.linear_damping_ratio - 1.0);
+}
+
 TEST(InterfaceFrf, PeaksLieOnTheBackbone) {
   const Structure s = make_structure(4, 4, 9, 0.0, false);
   const hb::InterfaceModel model = make_model(s, 10, false);
