@@ -268,6 +268,19 @@ std::string stop_diagnosis(const DiscreteSystem& system, const FrfCurve& curve) 
       omega, 100.0 * best->distance, best->omega, best->zeta, peak);
 }
 
+// The first guess at Ω_start: the stuck linear response, or, where the stuck system is undamped
+// and Ω_start is its natural frequency (a singular dynamic stiffness: no finite stuck response),
+// the stuck response 0.1 % above or below it. That guess is far into slip; the start corrector
+// (damped Newton at fixed Ω) brings it down to the slip-limited response.
+Eigen::VectorXd start_guess(const hb::HarmonicBalance& balance, double omega) {
+  Eigen::VectorXd x0 = balance.stuck_solution(omega);
+  for (const double shift : {1.001, 0.999}) {
+    if (x0.allFinite()) break;
+    x0 = balance.stuck_solution(shift * omega);
+  }
+  return x0.allFinite() ? x0 : Eigen::VectorXd::Zero(x0.size());
+}
+
 }  // namespace
 
 std::string FrfOptions::validate(int dofs) const {
@@ -296,7 +309,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   c.parameter_start = options.omega_start;
   c.parameter_end = options.omega_end;
   c.direction = options.omega_end > options.omega_start ? 1 : -1;
-  const Eigen::VectorXd x0 = balance.stuck_solution(options.omega_start);
+  const Eigen::VectorXd x0 = start_guess(balance, options.omega_start);
   c.state_scale =
       Eigen::VectorXd::Constant(x0.size(), response_scale(system, excitation, options));
   c.parameter_scale = std::abs(options.omega_end - options.omega_start);

@@ -130,6 +130,21 @@ TEST(FrfContinuation, LightlyDampedStuckResonanceIsCrossedAtTheSlipLimit) {
   }
 }
 
+// Started exactly at the undamped stuck resonance √11, where the stuck response is infinite (it
+// used to end with "x0 entry 0 must be finite, got inf" and no point): the first point is the
+// slip-limited response, between X_s and the energy bound, and the curve reaches its end.
+TEST(FrfContinuation, StartsAtAnUndampedStuckResonance) {
+  FrfOptions o;
+  o.omega_start = std::sqrt(11.0);
+  o.omega_end = 4.5;
+  o.harmonics = 7;
+  o.time_samples = 256;
+  const FrfCurve curve = trace_frf(oscillator(10.0, 0.1, 0.0), force(0.005), o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_GT(curve.points.front().amplitude_max, 0.01);
+  EXPECT_LT(curve.points.front().amplitude_max, 0.01 / (1.0 - 0.005 / 0.1));
+}
+
 // Gross slip far above the friction limit (F = 3 μF_N, k_T0/k = 1e6, ζ = 0.02 of the stuck
 // system): the response follows the contact-free oscillator, some 1000 times the stuck one. With
 // the stuck response as the arclength scale the curve crawled (1000 points over 0.01 % of the
