@@ -33,66 +33,6 @@ print(f"ok: zeta = {z:.6g} +- {se:.2g} (truth 0.005) in {n} evaluations, {s['sec
       f"preload, modes and condensation computed once, reused {st['condensation']['reused']} times")
 PY
 
-# friction_in_dynamics_only: mu alone from the same points; the stages keep the case's mu (0.3,
-# the truth's), so preload, modes and condensation are solved once although mu changes at every
-# evaluation, and the truth is recovered.
-sed -e 's/name: damping.ratio, lower: 1.0e-3, upper: 0.05, start: 0.015/name: interfaces.lap.mu, lower: 0.05, upper: 1.0, start: 0.6/' \
-  -e 's/  max_evaluations: 25/  max_evaluations: 25\n  friction_in_dynamics_only: true/' "$WORK/zeta.yaml" >"$WORK/mu.yaml"
-grep -q 'friction_in_dynamics_only: true' "$WORK/mu.yaml" && grep -q 'name: interfaces.lap.mu' "$WORK/mu.yaml" || fail "could not make the mu case"
-run_capture fit "$WORK/mu.yaml" -o "$WORK/out-mu" --quiet
-[ "$STATUS" -eq 0 ] || fail "mu fit exited $STATUS: $(cat "$ERR")"
-"$PYTHON" - "$WORK/out-mu" <<'PY' || fail "FE fit of mu in the dynamics only"
-import json, sys
-s = json.load(open(f"{sys.argv[1]}/fit.json"))
-p = s["parameters"][0]
-mu, se = p["value"], p["standard_error"]
-assert s["options"]["friction_in_dynamics_only"] is True
-assert se is not None and se > 0 and abs(mu - 0.3) < 3 * se, (mu, se)
-st = s["stages"]
-assert st["preload"]["solved"] == 1 and st["condensation"]["solved"] == 1, st
-print(f"ok: mu = {mu:.5g} +- {se:.2g} (truth 0.3) in {s['model_evaluations']} evaluations, "
-      f"{s['seconds']['fit']:.1f} s; preload and condensation solved once")
-PY
-
-# An FRF target on the FE case: the truth's FRF at 2 N near the resonance (every third of its
-# continuation points, exact values), the damping ratio fitted back from 0.008.
-sed -e 's/  nonlinear_modes:/  frf: {frequency_hz: [941, 949], force: [2.0], harmonics: 1}\n  nonlinear_modes:/' \
-  "$CASE_DIR/truth.yaml" >"$WORK/frf_truth.yaml"
-run_capture run "$WORK/frf_truth.yaml" -o "$WORK/frf_truth"
-[ "$STATUS" -eq 0 ] || fail "truth FRF run exited $STATUS: $(cat "$ERR")"
-"$PYTHON" - "$WORK/frf_truth/frf.csv" "$WORK/measured_frf.csv" <<'PY' || fail "FRF data"
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1])))
-with open(sys.argv[2], "w") as f:
-    f.write("frequency_hz,amplitude\n")
-    for r in rows[1:-1:3]:
-        f.write(f"{r['frequency_hz']},{r['amplitude_h1']}\n")
-PY
-{ sed -e 's/  nonlinear_modes:/  frf: {frequency_hz: [941, 949], force: [2.0], harmonics: 1}\n  nonlinear_modes:/' \
-    -e '/^fit:/,$d' "$CASE_DIR/case.yaml"
-  cat <<'YAML'
-fit:
-  parameters:
-    - {name: damping.ratio, lower: 1.0e-3, upper: 0.05, start: 0.008, log_scale: true}
-  targets:
-    - {type: frf, level: 0, file: measured_frf.csv}
-  xtol: 1.0e-3
-  max_evaluations: 15
-YAML
-} >"$WORK/frf.yaml"
-run_capture fit "$WORK/frf.yaml" -o "$WORK/out-frf" --quiet
-[ "$STATUS" -eq 0 ] || fail "FRF fit exited $STATUS: $(cat "$ERR")"
-"$PYTHON" - "$WORK/out-frf" <<'PY' || fail "FE fit of an FRF"
-import json, sys
-s = json.load(open(f"{sys.argv[1]}/fit.json"))
-z = s["parameters"][0]["value"]
-assert abs(z / 0.005 - 1) < 0.02, z
-st = s["stages"]
-assert st["preload"]["solved"] == 1 and st["condensation"]["solved"] == 1, st
-print(f"ok: FRF target: zeta = {z:.6g} (truth 0.005, data without noise) in {s['model_evaluations']} evaluations, "
-      f"{s['seconds']['fit']:.1f} s")
-PY
-
 # Bad input: an unknown parameter lists the valid ones; an frf target needs analysis.frf.
 sed 's/name: damping.ratio/name: interfaces.lap.friction/' "$WORK/zeta.yaml" >"$WORK/bad1.yaml"
 expect_bad_input fit "$WORK/bad1.yaml" -o "$WORK/bad"
