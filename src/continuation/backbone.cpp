@@ -7,9 +7,55 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace jointhb::continuation {
+namespace {
+
+// Why a damping curve that did not reach its end stopped, in physical terms, or empty: a harmonic
+// k Ω of the last point (k ≥ 2 among the kept orders) within 2 % of a natural frequency ω_j of the
+// stuck or the contact-free linear system. There the followed mode exchanges energy with mode j
+// (a k:1 internal resonance): the EPMC curve turns back in amplitude and can meet non-smooth
+// points of the friction laws it does not pass.
+std::string internal_resonance(const hb::DiscreteSystem& system, const hb::FourierBasis& basis,
+                               double omega) {
+  struct Near {
+    int k = 0, j = 0;
+    bool stuck = true;
+    double omega_j = 0.0, distance = 1.0;
+  };
+  std::optional<Near> best;
+  for (const bool stuck : {true, false}) {
+    if (!stuck && system.contacts.empty()) continue;
+    hb::LinearModes modes;
+    try {
+      modes = hb::linear_modes(system, stuck);
+    } catch (const std::exception&) {
+      continue;
+    }
+    for (const int k : basis.orders()) {
+      if (k < 2) continue;
+      for (Eigen::Index j = 0; j < modes.omega.size(); ++j) {
+        const double w = modes.omega[j];
+        if (!(w > 0.0)) continue;
+        const double distance = std::abs(k * omega - w) / w;
+        if (distance <= 0.02 && (!best || distance < best->distance))
+          best = Near{k, static_cast<int>(j) + 1, stuck, w, distance};
+      }
+    }
+  }
+  if (!best) return {};
+  return fmt::format(
+      "{} Ω = {:.6g} rad/s is within {:.2g} % of mode {} of the {} system ({:.6g} rad/s): the curve "
+      "runs through a {}:1 internal resonance, where a damping curve turns back in amplitude and "
+      "can meet non-smooth points of the friction laws; harmonics below {} leave that interaction "
+      "out, or trace the curve in pieces on either side of it",
+      best->k, best->k * omega, 100.0 * best->distance, best->j,
+      best->stuck ? "stuck" : "contact-free", best->omega_j, best->k, best->k);
+}
+
+}  // namespace
 
 std::string BackboneOptions::validate(int dofs) const {
   if (auto msg = mode.validate(dofs); !msg.empty()) return msg;
@@ -75,6 +121,10 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   const Result r = trace(residual, epmc.linear_start(), c, accept);
   curve.reason = r.reason;
   curve.message = r.message;
+  if (!r.completed() && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
+    const std::string why = internal_resonance(system, epmc.balance().basis(), curve.points.back().state.omega);
+    if (!why.empty()) curve.message += ". " + why;
+  }
   curve.newton_iterations = r.corrector_iterations;
   curve.rejected_steps = r.rejected_steps;
   curve.seconds = support::seconds_since(start_time);
