@@ -2,6 +2,7 @@
 #include "jointhb/continuation/backbone.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "linear_limits.hpp"
 
 #include <fmt/format.h>
 
@@ -9,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <vector>
 
 namespace jointhb::continuation {
 namespace {
@@ -20,39 +22,19 @@ namespace {
 // points of the friction laws it does not pass.
 std::string internal_resonance(const hb::DiscreteSystem& system, const hb::FourierBasis& basis,
                                double omega) {
-  struct Near {
-    int k = 0, j = 0;
-    bool stuck = true;
-    double omega_j = 0.0, distance = 1.0;
-  };
-  std::optional<Near> best;
-  for (const bool stuck : {true, false}) {
-    if (!stuck && system.contacts.empty()) continue;
-    hb::LinearModes modes;
-    try {
-      modes = hb::linear_modes(system, stuck);
-    } catch (const std::exception&) {
-      continue;
-    }
-    for (const int k : basis.orders()) {
-      if (k < 2) continue;
-      for (Eigen::Index j = 0; j < modes.omega.size(); ++j) {
-        const double w = modes.omega[j];
-        if (!(w > 0.0)) continue;
-        const double distance = std::abs(k * omega - w) / w;
-        if (distance <= 0.02 && (!best || distance < best->distance))
-          best = Near{k, static_cast<int>(j) + 1, stuck, w, distance};
-      }
-    }
-  }
+  std::vector<int> harmonics;
+  for (const int k : basis.orders())
+    if (k >= 2) harmonics.push_back(k);
+  const std::optional<detail::NearResonance> best =
+      detail::nearest_resonance(system, omega, harmonics, 0.02, std::numeric_limits<double>::infinity());
   if (!best) return {};
   return fmt::format(
       "{} Ω = {:.6g} rad/s is within {:.2g} % of mode {} of the {} system ({:.6g} rad/s): the curve "
       "runs through a {}:1 internal resonance, where a damping curve turns back in amplitude and "
       "can meet non-smooth points of the friction laws; harmonics below {} leave that interaction "
       "out, or trace the curve in pieces on either side of it",
-      best->k, best->k * omega, 100.0 * best->distance, best->j,
-      best->stuck ? "stuck" : "contact-free", best->omega_j, best->k, best->k);
+      best->harmonic, best->harmonic * omega, 100.0 * best->distance, best->mode,
+      best->stuck ? "stuck" : "contact-free", best->omega, best->harmonic, best->harmonic);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "jointhb/continuation/frf.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "linear_limits.hpp"
 
 #include <fmt/format.h>
 
@@ -226,30 +227,7 @@ std::optional<Eigen::VectorXd> start_by_ladder(
 std::string stop_diagnosis(const DiscreteSystem& system, const FrfCurve& curve) {
   if (curve.points.empty()) return {};
   const double omega = curve.points.back().omega;
-  const Eigen::MatrixXd c = system.damping.size() > 0 ? Eigen::MatrixXd(system.damping)
-                                                       : Eigen::MatrixXd::Zero(system.dofs(), system.dofs());
-  struct Near {
-    bool stuck = true;
-    double omega = 0.0, zeta = 0.0, distance = 1.0;
-  };
-  std::optional<Near> best;
-  for (const bool stuck : {true, false}) {
-    if (!stuck && system.contacts.empty()) continue;
-    hb::LinearModes modes;
-    try {
-      modes = hb::linear_modes(system, stuck);
-    } catch (const std::exception&) {
-      continue;
-    }
-    for (Eigen::Index j = 0; j < modes.omega.size(); ++j) {
-      const double w = modes.omega[j];
-      if (!(w > 0.0)) continue;
-      const double distance = std::abs(omega - w) / w;
-      const Eigen::VectorXd phi = modes.shapes.col(j);
-      const double zeta = phi.dot(c * phi) / (2.0 * w);
-      if (distance <= 0.02 && zeta < 1e-3 && (!best || distance < best->distance)) best = Near{stuck, w, zeta, distance};
-    }
-  }
+  const std::optional<detail::NearResonance> best = detail::nearest_resonance(system, omega, {1}, 0.02, 1e-3);
   if (!best) return {};
   double peak = 0.0;
   for (const auto& p : curve.points) peak = std::max(peak, p.amplitude_max);

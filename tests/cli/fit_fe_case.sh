@@ -4,12 +4,7 @@
 # condensation (kept by the pipeline: the counters in fit.json say so) and only a short damping
 # curve is recomputed; the truth (0.005) must lie within 3 standard errors. Then bad fit sections of an FE case: one line naming the key, exit code 2.
 source "$(dirname "$0")/common.inc" "$@"
-PYTHON=/usr/bin/python3
-CASE_DIR="$SOURCE_DIR/cases/12-fit-lap"
-head -n 10 "$CASE_DIR/measured_backbone.csv" >"$WORK/measured_backbone.csv"  # comment, header, 8 rows
-grep -v 'interfaces.lap.mu' "$CASE_DIR/case.yaml" | sed -e 's/max_evaluations: 80/max_evaluations: 25/' \
-  -e 's/xtol: 1.0e-4/xtol: 1.0e-3/' >"$WORK/zeta.yaml"
-grep -q 'damping.ratio' "$WORK/zeta.yaml" || fail "could not make the damping-only case"
+source "$(dirname "$0")/fit_fe_common.inc"
 
 run_capture fit "$WORK/zeta.yaml" -o "$WORK/out" --quiet
 [ "$STATUS" -eq 0 ] || fail "fit exited $STATUS: $(cat "$ERR")"

@@ -3,12 +3,7 @@
 # the case's mu, so preload and condensation are solved once, and the truth (0.3) is recovered.
 # (Split from fit_fe_case.sh so that the three FE fits run in parallel under ctest -j.)
 source "$(dirname "$0")/common.inc" "$@"
-PYTHON=/usr/bin/python3
-CASE_DIR="$SOURCE_DIR/cases/12-fit-lap"
-head -n 10 "$CASE_DIR/measured_backbone.csv" >"$WORK/measured_backbone.csv"  # comment, header, 8 rows
-grep -v 'interfaces.lap.mu' "$CASE_DIR/case.yaml" | sed -e 's/max_evaluations: 80/max_evaluations: 25/' \
-  -e 's/xtol: 1.0e-4/xtol: 1.0e-3/' >"$WORK/zeta.yaml"
-grep -q 'damping.ratio' "$WORK/zeta.yaml" || fail "could not make the damping-only case"
+source "$(dirname "$0")/fit_fe_common.inc"
 
 # friction_in_dynamics_only: mu alone from the same points; the stages keep the case's mu (0.3,
 # the truth's), so preload, modes and condensation are solved once although mu changes at every
