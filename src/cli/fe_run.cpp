@@ -202,6 +202,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   auto cache = std::make_shared<io::StageCache>(run_options.cache_dir.empty() ? dir / ".cache" : run_options.cache_dir,
                                                 run_options.use_cache);
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
+  write_summary(dir / "summary.json", summary);  // "status": "running" before any stage
   pipeline::FeAnalysis analysis = c;
   // Progress of the preload: every Newton iteration on a terminal, every 10 s in a log.
   auto pacer = std::make_shared<ProgressPacer>();

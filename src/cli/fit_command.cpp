@@ -166,7 +166,7 @@ int FitCommand::run() const {
       throw UsageError(case_path_ + ": fit.parameters: the start values give an invalid case: " + e.what());
     }
   }
-  create_output_directory(dir);
+  const OutputDirectory output(dir);  // created and locked for the whole fit
 
   const std::size_t m = fit::point_count(section.targets);
   const bool progress = stderr_is_terminal() && !quiet_;

@@ -327,13 +327,14 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
   if (c.frf) analyses.push_back("frf");
   if (c.nonlinear_modes) analyses.push_back("nonlinear_modes");
   Json summary = {{"jointhb_version", JOINTHB_VERSION},
-                  {"status", "ok"},  // the run's status below: "ok" or "failed", as the exit code
+                  {"status", nullptr},  // "running" until put_run_status below: "ok" or "failed"
                   {"case", c.source},
                   {"analyses", analyses},
                   {"inputs", inputs_json(c)},
                   {"outputs", Json::object()},
                   {"columns", Json::object()},
                   {"seconds", {{"read", read_seconds}}}};
+  write_summary(dir / "summary.json", summary);  // "status": "running" before any curve
   // The discrete pipeline (no preload, no reduction) traces the curves.
   pipeline::DiscretePipeline pipe(c);
   std::vector<AnalysisOutcome> outcomes;

@@ -92,8 +92,9 @@ void run_point(const io::LoopSweepCase& c, double ratio, io::CsvWriter& csv,
   ++outcome.points_done;
 }
 
+// `ended`: false for the summary written at the start ("status": "running", run_support.hpp).
 nlohmann::ordered_json summary_json(const io::LoopSweepCase& c, const SweepOutcome& outcome,
-                                    double seconds) {
+                                    double seconds, bool ended = true) {
   const bool jenkins = c.law == "jenkins";
   const bool built_in = c.source == "built-in";
   nlohmann::ordered_json summary = {
@@ -125,7 +126,7 @@ nlohmann::ordered_json summary_json(const io::LoopSweepCase& c, const SweepOutco
     summary["max_rel_err_general"] = outcome.max_rel_err_general;
     summary["max_rel_err_paper"] = outcome.max_rel_err_paper;
   }
-  put_run_status(summary, outcome.run);
+  if (ended) put_run_status(summary, outcome.run);
   return summary;
 }
 
@@ -137,6 +138,7 @@ int run_loop_sweep(const io::LoopSweepCase& c, const fs::path& dir, Clock::time_
   std::optional<io::CsvWriter> csv;
   const bool progress = stderr_is_terminal();
   const std::vector<double> ratios = c.amplitude_ratios();
+  write_summary(dir / "summary.json", summary_json(c, outcome, seconds_since(start), false));
   try {
     csv.emplace(dir / "wd_sweep.csv", sweep_columns(c.law == "jenkins"));
     for (std::size_t i = 0; i < ratios.size(); ++i) {

@@ -51,7 +51,9 @@ RunCommand::RunCommand(CLI::App& parent) {
                  "neither read nor write the stage cache: every stage is computed");
   app_->footer(
       "Exit codes: 0 ok, 1 a point or curve failed (rows so far kept, summary.json status\n"
-      "\"failed\"), 2 invalid case file or options.\n"
+      "\"failed\"), 2 invalid case file or options, or DIR in use by another run, 130/143\n"
+      "interrupted by SIGINT/SIGTERM (summary.json status \"interrupted\"; \"running\" while the\n"
+      "run goes on).\n"
       "Example: jointhb run cases/01-contact-loop/case.yaml -o out");
 }
 
@@ -59,26 +61,33 @@ bool RunCommand::selected() const { return app_->parsed(); }
 
 int RunCommand::run() const {
   const auto start = Clock::now();
+  // Before any thread exists: SIGINT/SIGTERM then mark summary.json "interrupted" (exit 130/143).
+  install_interrupt_handler("jointhb run");
   // The case is read before anything is created, so bad input leaves no output behind.
   const bool built_in = case_path_.empty();
   const io::CaseFile c = built_in ? io::parse_case_file(io::default_case_text(), "built-in default case")
                                   : io::read_case_file(case_path_);
-  const fs::path dir(output_dir_);
-  create_output_directory(dir);
-  if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
-    return run_loop_sweep(*sweep, dir, start);
-  }
-  if (const auto* fe_case = std::get_if<io::FeCase>(&c)) {
-    FeRunOptions options;
-    options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
-    options.use_cache = !no_cache_;
-    const int code = run_fe_case(*fe_case, dir, start, options);
-    if (plot_ || built_in) plot_results(dir);
+  const OutputDirectory output(output_dir_);  // created and locked until the run returns
+  const fs::path& dir = output.path();
+  try {
+    if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
+      return run_loop_sweep(*sweep, dir, start);
+    }
+    if (const auto* fe_case = std::get_if<io::FeCase>(&c)) {
+      FeRunOptions options;
+      options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
+      options.use_cache = !no_cache_;
+      const int code = run_fe_case(*fe_case, dir, start, options);
+      if (plot_ || built_in) plot_results(dir);
+      return code;
+    }
+    const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
+    if (plot_) plot_results(dir);
     return code;
+  } catch (const std::exception& e) {
+    mark_summary_failed(e.what());  // a summary.json left "running" says how the run ended
+    throw;
   }
-  const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
-  if (plot_) plot_results(dir);
-  return code;
 }
 
 }  // namespace jointhb::cli

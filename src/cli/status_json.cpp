@@ -19,8 +19,12 @@ void put_status(nlohmann::ordered_json& block, const Status& status) {
 }
 
 void put_run_status(nlohmann::ordered_json& summary, const Status& run) {
+  put_run_status(summary, run, run.ok() ? "ok" : "failed");
+}
+
+void put_run_status(nlohmann::ordered_json& summary, const Status& run, const char* status_word) {
   if (!summary.is_object()) throw std::invalid_argument("put_run_status: summary is not a JSON object");
-  nlohmann::ordered_json head = {{"status", run.ok() ? "ok" : "failed"}};
+  nlohmann::ordered_json head = {{"status", status_word}};
   put_status(head, run);
   // Rebuilt rather than assigned: ordered_json keeps insertion order, and a reader should find
   // the termination next to "status".

@@ -26,4 +26,8 @@ void put_status(nlohmann::ordered_json& block, const Status& status);
 /// the block's other keys in their places ("status" where it was, else first).
 void put_run_status(nlohmann::ordered_json& summary, const Status& run);
 
+/// The same with the word of "status" given: "interrupted" for a run ended by SIGINT/SIGTERM,
+/// "failed" for one ended by an error (run_support.hpp; "running" is written while it goes on).
+void put_run_status(nlohmann::ordered_json& summary, const Status& run, const char* status_word);
+
 }  // namespace jointhb::cli

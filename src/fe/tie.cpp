@@ -30,7 +30,7 @@ int Tie::num_tied_points() const {
 
 namespace {
 
-// Nodal integration where it is defined (linear faces: decoupled node pairs, NUMERICS.md §5),
+// Nodal integration where it is defined (linear faces: decoupled node pairs, docs/zero-thickness-elements.md §4),
 // Gauss for quadratic faces (interface.hpp refuses nodal integration of quad8 faces).
 InterfaceIntegration integration_for(const Mesh& mesh, const std::string& surface) {
   const auto it = mesh.surfaces.find(surface);

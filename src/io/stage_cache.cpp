@@ -13,9 +13,13 @@
 #include <type_traits>
 
 #include "jointhb/io/aggregate_field_count.hpp"
+#include "jointhb/pipeline/stage_names.hpp"
 #include "../support/file_bytes.hpp"
 
 namespace jointhb::io {
+
+namespace stage_names = pipeline::stage_names;
+
 namespace {
 
 std::uint64_t fnv1a64(std::string_view bytes) {
@@ -1024,12 +1028,12 @@ void StageCache::write_payload(std::string_view stage, const std::string& key, c
 }
 
 std::optional<reduction::FieldRecovery> StageCache::load_field_recovery(const std::string& key) {
-  const auto payload = read_payload("recovery", key);
+  const auto payload = read_payload(stage_names::recovery, key);
   if (!payload) return std::nullopt;
   try {
     return decode_field_recovery(*payload);
   } catch (const std::exception& e) {
-    warn(fmt::format("stage cache: {} does not parse ({}); recomputing the condensation", file("recovery", key).string(),
+    warn(fmt::format("stage cache: {} does not parse ({}); recomputing the condensation", file(stage_names::recovery, key).string(),
                      e.what()));
     return std::nullopt;
   }
@@ -1044,16 +1048,16 @@ void StageCache::store_field_recovery(const std::string& key, const reduction::F
     warn(fmt::format("stage cache: cannot encode the field recovery: {}; not cached", e.what()));
     return;
   }
-  write_payload("recovery", key, payload);
+  write_payload(stage_names::recovery, key, payload);
 }
 
 std::optional<preload::PreloadResult> StageCache::load_preload(const std::string& key) {
-  const auto payload = read_payload("preload", key);
+  const auto payload = read_payload(stage_names::preload, key);
   if (!payload) return std::nullopt;
   try {
     return decode_preload(*payload);
   } catch (const std::exception& e) {
-    warn(fmt::format("stage cache: {} does not parse ({}); recomputing preload", file("preload", key).string(), e.what()));
+    warn(fmt::format("stage cache: {} does not parse ({}); recomputing preload", file(stage_names::preload, key).string(), e.what()));
     return std::nullopt;
   }
 }
@@ -1067,16 +1071,16 @@ void StageCache::store_preload(const std::string& key, const preload::PreloadRes
     warn(fmt::format("stage cache: cannot encode preload: {}; not cached", e.what()));
     return;
   }
-  write_payload("preload", key, payload);
+  write_payload(stage_names::preload, key, payload);
 }
 
 std::optional<modal::ModalResult> StageCache::load_modes(const std::string& key) {
-  const auto payload = read_payload("modes", key);
+  const auto payload = read_payload(stage_names::modes, key);
   if (!payload) return std::nullopt;
   try {
     return decode_modes(*payload);
   } catch (const std::exception& e) {
-    warn(fmt::format("stage cache: {} does not parse ({}); recomputing modes", file("modes", key).string(), e.what()));
+    warn(fmt::format("stage cache: {} does not parse ({}); recomputing modes", file(stage_names::modes, key).string(), e.what()));
     return std::nullopt;
   }
 }
@@ -1090,18 +1094,18 @@ void StageCache::store_modes(const std::string& key, const modal::ModalResult& r
     warn(fmt::format("stage cache: cannot encode modes: {}; not cached", e.what()));
     return;
   }
-  write_payload("modes", key, payload);
+  write_payload(stage_names::modes, key, payload);
 }
 
 std::optional<hb::InterfaceModel> StageCache::load_interface_model(
     const std::string& key, const std::vector<contact::ContactPoint>& laws) {
-  const auto payload = read_payload("interface_model", key);
+  const auto payload = read_payload(stage_names::interface_model, key);
   if (!payload) return std::nullopt;
   try {
     return decode_interface_model(*payload, laws);
   } catch (const std::exception& e) {
     warn(fmt::format("stage cache: {} does not fit ({}); recomputing interface_model",
-                     file("interface_model", key).string(), e.what()));
+                     file(stage_names::interface_model, key).string(), e.what()));
     return std::nullopt;
   }
 }
@@ -1115,7 +1119,7 @@ void StageCache::store_interface_model(const std::string& key, const hb::Interfa
     warn(fmt::format("stage cache: cannot encode interface_model: {}; not cached", e.what()));
     return;
   }
-  write_payload("interface_model", key, payload);
+  write_payload(stage_names::interface_model, key, payload);
 }
 
 }  // namespace jointhb::io

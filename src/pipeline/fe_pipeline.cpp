@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "jointhb/hb/interface_balance.hpp"
+#include "jointhb/pipeline/stage_names.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 
@@ -74,7 +75,7 @@ const preload::PreloadResult& FePipeline::preload() {
   }
   StageInfo info;
   info.key = key;
-  info.location = store_->location("preload", key);
+  info.location = store_->location(stage_names::preload, key);
   const auto start = Clock::now();
   std::optional<preload::PreloadResult> stored = store_->load_preload(key);
   if (stored && (stored->interfaces.size() != model_.interfaces.size() ||
@@ -111,7 +112,7 @@ const modal::ModalResult& FePipeline::modes() {
   if (preloaded && !preload().status().ok()) throw StageError("preload: " + preload_->message);
   StageInfo info;
   info.key = key;
-  info.location = store_->location("modes", key);
+  info.location = store_->location(stage_names::modes, key);
   const auto start = Clock::now();
   std::optional<modal::ModalResult> stored = store_->load_modes(key);
   if (stored && stored->shapes.rows() != dofs().num_free()) {
@@ -185,7 +186,7 @@ const InterfaceStage& FePipeline::interface_stage() {
   settings.options.keep_field_recovery = want_recovery;
   InterfaceStage stage;
   stage.info.key = key;
-  stage.info.location = store_->location("interface_model", key);
+  stage.info.location = store_->location(stage_names::interface_model, key);
   std::vector<contact::ContactPoint> laws;
   for (const auto& ci : model_.interfaces) laws.push_back(ci.law);
   const auto start = Clock::now();

@@ -19,7 +19,7 @@
 //   (B) error vs N_t at fixed H (7 and 15) against N_t = 131072 (aligned), in three variants of the
 //       forcing phase: "aligned" (reversal on a sample), "natural" (φ = 0: the reversal falls where
 //       the solution puts it) and "half" (reversal half-way between two samples, θ = π/N_t: the
-//       worst case). NUMERICS.md §3: the law is integrated exactly between samples, so only a
+//       worst case). docs/theory.md §7: the law is integrated exactly between samples, so only a
 //       reversal between samples (and the aliasing of the analysis) leaves an error.
 //   (C) error vs run time: trace_frf over Ω ∈ [0.8, 1.8] (defaults of continuation::Options) for
 //       H = 1…31 and N_t ∈ {128, 512, 2048, 8192}; wall time (best of 3) and the error of the peak

@@ -13,7 +13,7 @@
 // until the sampling limits it: once the stick slip 2F_f/k_T0 is shorter than the motion between
 // two samples (κ ≳ 1e4 at N_t = 1024), every reversal completes within one sample interval, the
 // AFT sees a Coulomb slider cut at the samples and the result no longer depends on κ (a floor of
-// 3–5e-3 here, set by N_t: the "reversal between samples" error of NUMERICS §3). Bounds: the
+// 3–5e-3 here, set by N_t: the "reversal between samples" error of docs/theory.md §7). Bounds: the
 // observed slope between κ = 10 and 1e3 lies in [−0.6, −0.4] at every β, and the error at κ = 1e3
 // is ≤ 3 %.
 //

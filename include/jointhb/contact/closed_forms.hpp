@@ -3,7 +3,7 @@
 //
 // Notation: F_s = μ F_N (slip limit), k = k_T0, n the exponent of eq. (10), ĝ the slip span of the
 // loading branch of a steady symmetric loop (from F_T = 0, reached by elastic unloading, to F̂_T).
-// For a harmonic slip of amplitude a the span is ĝ = 2a - F̂/k (NUMERICS.md §2).
+// For a harmonic slip of amplitude a the span is ĝ = 2a - F̂/k (docs/theory.md §4.2).
 
 namespace jointhb::contact::closed_form {
 

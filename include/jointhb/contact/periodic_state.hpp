@@ -9,7 +9,7 @@
 // safeguarded by fixed-point steps extrapolated along the drift where Newton does not help or,
 // far from the steady state, where the period map does not contract (docs/theory.md §5, creep).
 // Cycling alone is not used: at small amplitude each period
-// contracts the error only by about (1 - |F_T|/μF_N)^{2n} (NUMERICS.md §2).
+// contracts the error only by about (1 - |F_T|/μF_N)^{2n} (docs/theory.md §5).
 //
 // Uniqueness: where the condition does not fix the state (a Jenkins contact that sticks throughout
 // the period, or a path without motion), the state is fixed by the reference (preloaded) state:

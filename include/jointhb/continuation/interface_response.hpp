@@ -36,7 +36,7 @@ struct InterfaceBackboneOptions {
   double log10_amplitude_end = -3.0;    ///< ≠ start
   /// With continuation.linear_solver = newton_krylov: matrix-free Jacobian
   /// (InterfaceModeResidual::apply_jacobian from the point blocks) and the harmonic block-Jacobi
-  /// preconditioner (eq. T-31), no U × U matrix formed (docs/performance.md: 3–30× faster than
+  /// preconditioner (eq. T-32c), no U × U matrix formed (docs/performance.md: 3–30× faster than
   /// the dense Jacobian on the lap, the same points to 1e-14); false: the dense Jacobian with the
   /// lagged LU. dense_lu always uses the dense Jacobian.
   bool matrix_free = true;

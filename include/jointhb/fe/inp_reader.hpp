@@ -24,7 +24,7 @@
 // its sets and surfaces are named "instance.name". Node and element ids are per part; data lines
 // at assembly level name them "instance.id", or with INSTANCE= on *NSET/*ELSET/*SURFACE.
 //
-// Physics cards (inp_physics.cpp, docs/meshes.md §"Abaqus/CalculiX decks"):
+// Physics cards (inp_physics.cpp, docs/case-files.md §"Abaqus/CalculiX decks"):
 //   *MATERIAL, NAME=m with *ELASTIC (isotropic: E, ν) and *DENSITY (ρ); *SOLID SECTION, ELSET=e,
 //   MATERIAL=m → InpResult::part_materials (one material per part: a section must cover whole
 //   parts);

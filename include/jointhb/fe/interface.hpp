@@ -39,7 +39,7 @@ namespace jointhb::fe {
 
 enum class InterfaceIntegration {
   nodal,  ///< Newton–Cotes / Lobatto 2×2 at the 4 corner nodes (quad4 faces only): node pairs
-          ///< decouple, no traction oscillations (NUMERICS.md §5)
+          ///< decouple, no traction oscillations (docs/zero-thickness-elements.md §4)
   gauss,  ///< Gauss–Legendre 2×2 (quad4 faces) or 3×3 (quad8 faces), as in the paper
 };
 

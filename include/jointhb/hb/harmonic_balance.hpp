@@ -55,7 +55,7 @@ struct HarmonicBalanceOptions {
 /// Per-contact diagnostics of one evaluation.
 struct ContactDiagnostics {
   double dissipation = 0.0;  ///< W_D over one period [J] (periodic state, exact on the samples)
-  /// W_D from the Fourier coefficients, π Σ_k k (a_k^F b_k^g − b_k^F a_k^g) (NUMERICS §3): the
+  /// W_D from the Fourier coefficients, π Σ_k k (a_k^F b_k^g − b_k^F a_k^g) (docs/theory.md §7): the
   /// work of the truncated force that harmonic balance balances; → dissipation as H grows.
   double fourier_dissipation = 0.0;
   bool stuck = true;     ///< no slip during the period

@@ -78,8 +78,8 @@ struct InterfaceBalanceEvaluation {
   Eigen::VectorXd d_xi;       ///< ∂residual/∂ξ (when requested)
   Eigen::MatrixXd contact_force;  ///< A N: m × 3P (coefficients of the force beyond stuck)
   double dissipation = 0.0;   ///< Σ_p A_p W_D,p over one period [J] (sampled path, exact)
-  /// The work of the truncated contact forces, π Σ_p Σ_k k (a_k^F b_k^g − b_k^F a_k^g) (NUMERICS
-  /// §3): what harmonic balance balances; → dissipation as H grows.
+  /// The work of the truncated contact forces, π Σ_p Σ_k k (a_k^F b_k^g − b_k^F a_k^g)
+  /// (docs/theory.md §7): what harmonic balance balances; → dissipation as H grows.
   double fourier_dissipation = 0.0;
   int open_points = 0;        ///< points open throughout the period
   int slipping_points = 0;    ///< points that are neither stuck nor open
@@ -108,7 +108,7 @@ struct InterfaceBalanceTimings {
   int evaluations = 0, jacobians = 0, product_calls = 0, preconditioners = 0, preconditioner_calls = 0;
 };
 
-/// Block-Jacobi preconditioner over harmonics (docs/theory.md §11, eq. T-31): the inverse of J̃,
+/// Block-Jacobi preconditioner over harmonics (docs/theory.md §11, eq. T-32c): the inverse of J̃,
 /// the Jacobian with every coupling between different harmonics dropped. Since D_j, Gφ and R_k
 /// are harmonic-diagonal, J̃ is the Jacobian with each point block B_p replaced by its
 /// harmonic-diagonal part, and falls apart into H + 1 dense systems of (n_s + 3P)·d_k unknowns

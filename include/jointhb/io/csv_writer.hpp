@@ -1,7 +1,7 @@
 #pragma once
 // A CSV file of numbers written row by row: a header row, then rows of doubles at full precision
 // (%.17g, so every value reads back bit for bit). Each row is flushed as soon as it is written, so
-// a run that is interrupted keeps every row computed so far (ARCHITECTURE.md, "Contracts").
+// a run that is interrupted keeps every row computed so far (docs/cli.md, "FRF outputs").
 
 #include <cstddef>
 #include <filesystem>

@@ -54,7 +54,7 @@ TEST(ClosedForms, PrintedFormulasFailAwayFromMindlinExponent) {
     const double ratio = cf::dissipation_paper(span, p) / cf::dissipation_general(span, p);
     EXPECT_GT(std::abs(ratio - 1.0), 0.01) << "n=" << n;
   }
-  // For n < 1/3 the printed eq. (11) turns negative at small spans (NUMERICS.md §2): its O(x²)
+  // For n < 1/3 the printed eq. (11) turns negative at small spans (docs/theory.md §4.3): its O(x²)
   // term is (3/(4(1-n)) - 9/8) x², which vanishes only at n = 1/3.
   const cf::MicroslipParameters small{0.05, 1.0, 1.0};
   for (double x : {0.001, 0.1, 0.3}) {

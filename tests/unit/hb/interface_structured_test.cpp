@@ -89,7 +89,7 @@ TEST(InterfaceBalanceProduct, IndependentOfThreadCount) {
   EXPECT_EQ(s1, s2);
 }
 
-// The harmonic block-Jacobi preconditioner (eq. T-31): each block is the dense Jacobian restricted
+// The harmonic block-Jacobi preconditioner (eq. T-32c): each block is the dense Jacobian restricted
 // to the rows and columns of one harmonic, and it is exact where no point couples harmonics (the
 // stuck state at zero amplitude).
 TEST(InterfaceHarmonicPreconditioner, BlocksAreTheJacobianRestrictedToOneHarmonic) {

@@ -6,15 +6,20 @@
 #include "jointhb/pipeline/fe_pipeline.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <numbers>
+#include <string>
 #include <variant>
 
 #include "jointhb/io/case_file.hpp"
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/io/input_error.hpp"
+#include "jointhb/io/stage_cache.hpp"
 
 namespace {
 
@@ -55,6 +60,24 @@ TEST(pipeline_FePipeline, StagesAreComputedOnceAndKeptWhileTheirKeysHold) {
   // The merge of coincident points (exact with nodal integration): 192 points, 63 node pairs.
   EXPECT_EQ(p.interface_stage().fine_points, 192);
   EXPECT_EQ(p.interface_stage().model.num_points(), 63);
+}
+
+// The place each stage's message names ("interface model: from cache (FILE)") is the file the
+// disk cache wrote: the message once named interface-<key>.bin for interface_model-<key>.bin.
+TEST(pipeline_FePipeline, StageMessagesNameTheFilesTheCacheWrites) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("jointhb-stage-names-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  auto cache = std::make_shared<io::StageCache>(dir, true);
+  FePipeline p(lap_case(), lap_case(), cache);
+  ASSERT_TRUE(p.preload().status().ok());
+  ASSERT_EQ(p.modes().termination, jointhb::Termination::converged);
+  const pipeline::InterfaceStage& s = p.interface_stage();
+  for (const std::string& place : {p.preload_info().location, p.modes_info().location, s.info.location}) {
+    EXPECT_TRUE(std::filesystem::is_regular_file(place)) << place;
+  }
+  EXPECT_EQ(std::filesystem::path(s.info.location).filename().string(), "interface_model-" + s.info.key + ".bin");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(pipeline_FePipeline, AParameterRecomputesExactlyTheStagesItEnters) {
