@@ -538,7 +538,7 @@ VectorXd InterfaceHarmonicPreconditioner::solve(const VectorXd& v) const {
   return out;
 }
 
-// J̃_k (eq. T-31): the rows and columns of harmonic k of the Jacobian assembled in evaluate(),
+// J̃_k (eq. T-32c): the rows and columns of harmonic k of the Jacobian assembled in evaluate(),
 // with B_p restricted to harmonic k's coefficients. Local order: η_j (j < ns) then δg_i
 // (i < 3P), each with its d coefficients innermost.
 std::shared_ptr<const InterfaceHarmonicPreconditioner> InterfaceBalance::harmonic_preconditioner(
