@@ -313,16 +313,7 @@ hb::DiscreteSystem ten_dof_system(const std::string& law, double zeta) {
 
 // Highest natural frequency of (K + Σ k_T0, M) by a dense symmetric eigensolver.
 Eigen::VectorXd stuck_frequencies(const hb::DiscreteSystem& s) {
-  MatrixXd k = MatrixXd(s.stiffness);
-  for (const auto& c : s.contacts) {
-    k(c.dof_a, c.dof_a) += c.stiffness;
-    if (c.dof_b >= 0) {
-      k(c.dof_b, c.dof_b) += c.stiffness;
-      k(c.dof_a, c.dof_b) -= c.stiffness;
-      k(c.dof_b, c.dof_a) -= c.stiffness;
-    }
-  }
-  const Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> eig(k, MatrixXd(s.mass));
+  const Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> eig(stuck_stiffness_matrix(s), MatrixXd(s.mass));
   return eig.eigenvalues().cwiseSqrt();
 }
 

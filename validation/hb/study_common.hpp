@@ -220,9 +220,8 @@ inline hb::Excitation cosine_force(int dof, double amplitude) {
 // assembled here from the system's matrices and contact list (dense complex LU).
 // ---------------------------------------------------------------------------------------------
 
-inline Eigen::VectorXcd stuck_receptance(const hb::DiscreteSystem& s, const hb::Excitation& e,
-                                         double omega) {
-  const int n = s.dofs();
+// K + Σ k_T0 (every contact's spring stuck), dense, assembled from the contact list.
+inline MatrixXd stuck_stiffness_matrix(const hb::DiscreteSystem& s) {
   MatrixXd k = MatrixXd(s.stiffness);
   for (const auto& c : s.contacts) {
     k(c.dof_a, c.dof_a) += c.stiffness;
@@ -232,6 +231,13 @@ inline Eigen::VectorXcd stuck_receptance(const hb::DiscreteSystem& s, const hb::
       k(c.dof_b, c.dof_a) -= c.stiffness;
     }
   }
+  return k;
+}
+
+inline Eigen::VectorXcd stuck_receptance(const hb::DiscreteSystem& s, const hb::Excitation& e,
+                                         double omega) {
+  const int n = s.dofs();
+  const MatrixXd k = stuck_stiffness_matrix(s);
   const MatrixXd m = MatrixXd(s.mass);
   const MatrixXd c = s.damping.nonZeros() ? MatrixXd(s.damping) : MatrixXd::Zero(n, n);
   const Eigen::MatrixXcd d = (k - omega * omega * m).cast<std::complex<double>>() +
