@@ -57,8 +57,8 @@ constexpr double kMaxTurnCosine = 0.5;
 constexpr double kCornerStepFactor = 0.05;
 // At a corner the corrector on the hyperplane τ_kᵀ(y − y_k) = s lands s·tan θ from the predictor
 // (θ: the turn of the branch), however short the step: a lightly damped friction FRF turns by
-// 80°–89° where the stuck response reaches slip and the amplitude is held at the slip limit while
-// the phase turns. Steps at or below kCornerStepFactor · max_step accept a corrector that moved up
+// about 80° (measured: correctors 4.7–12 steps from the predictor) where the stuck response
+// reaches slip and the amplitude is held at the slip limit while the phase turns. Steps at or below kCornerStepFactor · max_step accept a corrector that moved up
 // to this many steps (turns up to atan 10 = 84°; the tangent test above still guards longer steps).
 constexpr double kCornerMoveFactor = 10.0;
 // Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
