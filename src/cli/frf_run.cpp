@@ -6,6 +6,8 @@
 #include <iostream>
 #include <numbers>
 #include <optional>
+#include <span>
+#include <algorithm>
 #include <stdexcept>
 
 #include "cli_support.hpp"
@@ -21,9 +23,22 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
+// The numeric columns of frf.csv; with stability, "stable" (1, 0; −1 where Hill's method failed)
+// and "max_floquet_multiplier" (max |ρ|; −1 where unknown) follow, and the word column
+// "bifurcation" (hb::to_string(Bifurcation)) ends every row.
 const std::vector<std::string> kFrfColumns = {
     "level",       "force_amplitude",   "omega", "frequency_hz", "amplitude_h1", "amplitude_max",
     "dissipation", "newton_iterations", "step",  "fold"};
+
+std::vector<std::string> frf_columns(bool stability) {
+  std::vector<std::string> columns = kFrfColumns;
+  if (stability) {
+    columns.emplace_back("stable");
+    columns.emplace_back("max_floquet_multiplier");
+  }
+  columns.emplace_back("bifurcation");
+  return columns;
+}
 
 Json matrix_json(const hb::SparseMatrix& a) {
   const Eigen::MatrixXd d(a);
@@ -102,6 +117,7 @@ Json inputs_json(const io::DiscreteCase& c) {
                      {"harmonic_selection", selection_name(f.selection)},
                      {"periodic_tolerance", f.periodic_tolerance},
                      {"check_jacobian", f.check_jacobian},
+                     {"stability", f.stability},
                      {"continuation",
                       {{"initial_step", f.continuation.initial_step},
                        {"min_step", f.continuation.min_step},
@@ -144,12 +160,47 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
     folds += p.fold ? 1 : 0;
   }
   if (peak) {
-    j["peak"] = {{"omega", peak->omega},
-                 {"frequency_hz", peak->omega / (2.0 * std::numbers::pi)},
-                 {"amplitude_h1", peak->amplitude_h1},
-                 {"amplitude_max", peak->amplitude_max}};
+    // The located peak (curve.peak) where it could be refined, else the highest accepted point;
+    // amplitude_max is that of the highest accepted point.
+    const bool refined = curve.peak && curve.peak->refined;
+    const double omega = refined ? curve.peak->omega : peak->omega;
+    j["peak"] = {{"omega", omega},
+                 {"frequency_hz", omega / (2.0 * std::numbers::pi)},
+                 {"amplitude_h1", refined ? curve.peak->amplitude_h1 : peak->amplitude_h1},
+                 {"amplitude_max", peak->amplitude_max},
+                 {"refined", refined}};
+    if (refined) {
+      j["peak"]["amplitude_h1_error_bound"] = curve.peak->value_bound;
+      j["peak"]["omega_bracket"] = curve.peak->omega_bracket;
+    } else if (curve.peak) {
+      j["peak"]["note"] = curve.peak->message;
+    }
   }
   j["folds"] = folds;
+  Json located = Json::array();
+  for (const auto& f : curve.folds) {
+    Json fold = {{"omega", f.omega},
+                 {"frequency_hz", f.omega / (2.0 * std::numbers::pi)},
+                 {"amplitude_h1", f.amplitude_h1},
+                 {"omega_error_bound", f.value_bound},
+                 {"refined", f.refined}};
+    if (!f.message.empty()) fold["note"] = f.message;
+    located.push_back(fold);
+  }
+  j["fold_points"] = located;
+  Json bifurcations = Json::array();
+  int unstable = 0, known = 0;
+  for (std::size_t k = 0; k < curve.points.size(); ++k) {
+    const auto& p = curve.points[k];
+    known += p.stability_known ? 1 : 0;
+    unstable += p.stability_known && !p.stable ? 1 : 0;
+    if (p.bifurcation == hb::Bifurcation::none) continue;
+    Json b = {{"type", hb::to_string(p.bifurcation)}, {"point", k}, {"omega", p.omega}};
+    if (k > 0) b["previous_omega"] = curve.points[k - 1].omega;
+    bifurcations.push_back(b);
+  }
+  j["bifurcations"] = bifurcations;
+  j["stability"] = {{"points_known", known}, {"unstable_points", unstable}};
   if (check_jacobian) {
     j["jacobian_check_error"] = curve.jacobian_check_error;
     j["jacobian_check_omega"] = curve.jacobian_check_omega;
@@ -157,6 +208,8 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   j["seconds"] = {{"aft", curve.timings.aft},
                   {"assembly", curve.timings.assembly},
                   {"linear_solve", curve.timings.linear_solve},
+                  {"stability", curve.timings.stability},
+                  {"refinement", curve.timings.refinement},
                   {"total", curve.timings.total}};
   return j;
 }
@@ -192,6 +245,37 @@ void check_setup(const io::DiscreteCase& c) {
   }
 }
 
+// One line naming the bifurcations of a curve and where it is unstable, or empty when there are
+// none: "2 folds (Ω = 3.01, 2.87 rad/s), unstable for Ω in [2.87, 3.01] (5 points)".
+std::string bifurcation_line(const continuation::FrfCurve& curve) {
+  std::vector<std::string> parts;
+  if (!curve.folds.empty()) {
+    std::string where;
+    for (const auto& f : curve.folds) where += fmt::format("{}{:.6g}", where.empty() ? "" : ", ", f.omega);
+    parts.push_back(fmt::format("{} fold{} (Ω = {} rad/s)", curve.folds.size(),
+                                curve.folds.size() == 1 ? "" : "s", where));
+  }
+  for (const auto& p : curve.points) {
+    if (p.bifurcation == hb::Bifurcation::none || p.bifurcation == hb::Bifurcation::fold) continue;
+    parts.push_back(fmt::format("{} near Ω = {:.6g} rad/s", hb::to_string(p.bifurcation), p.omega));
+  }
+  int unstable = 0;
+  double lo = 0.0, hi = 0.0;
+  for (const auto& p : curve.points) {
+    if (!p.stability_known || p.stable) continue;
+    lo = unstable == 0 ? p.omega : std::min(lo, p.omega);
+    hi = unstable == 0 ? p.omega : std::max(hi, p.omega);
+    ++unstable;
+  }
+  if (unstable > 0) {
+    parts.push_back(fmt::format("unstable for Ω in [{:.6g}, {:.6g}] rad/s ({} point{})", lo, hi,
+                                unstable, unstable == 1 ? "" : "s"));
+  }
+  std::string line;
+  for (const auto& part : parts) line += (line.empty() ? "" : "; ") + part;
+  return line;
+}
+
 struct AnalysisOutcome {
   std::vector<NamedStatus> curves;  // how each curve ended, for the run's status
   std::size_t rows = 0;
@@ -201,9 +285,10 @@ struct AnalysisOutcome {
 AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& pipe, const fs::path& dir, Json& summary) {
   const continuation::FrfOptions& options = *c.frf;
   summary["outputs"]["frf"] = "frf.csv";
-  summary["columns"]["frf"] = kFrfColumns;
+  const std::vector<std::string> columns = frf_columns(options.stability);
+  summary["columns"]["frf"] = columns;
   summary["curves"] = Json::array();
-  io::CsvWriter csv(dir / "frf.csv", kFrfColumns);
+  io::CsvWriter csv(dir / "frf.csv", columns);
   const bool progress = stderr_is_terminal();
   AnalysisOutcome outcome;
   const auto frf_start = Clock::now();
@@ -214,9 +299,16 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       for (double v : {p.omega, p.amplitude_h1, p.amplitude_max, p.dissipation}) {
         require_finite_result("frf point", v);
       }
-      csv.write_row({static_cast<double>(l), force, p.omega, p.omega / (2.0 * std::numbers::pi),
-                     p.amplitude_h1, p.amplitude_max, p.dissipation,
-                     static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0});
+      std::vector<double> row = {static_cast<double>(l), force, p.omega,
+                                 p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
+                                 p.amplitude_max, p.dissipation,
+                                 static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
+      if (options.stability) {
+        row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
+        row.push_back(p.stability_known ? p.max_multiplier : -1.0);
+      }
+      const std::string bifurcation = hb::to_string(p.bifurcation);
+      csv.write_row(row, std::span<const std::string>(&bifurcation, 1));
       ++outcome.rows;
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: level {}/{}  Ω = {:.6g} rad/s  |x| = {:.4g}  ",
@@ -238,6 +330,9 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       std::cerr << fmt::format(
           "jointhb run: level {} (force {} N): curve stopped at {} points: {}\n", l, force,
           curve.points.size(), curve.message);
+    }
+    if (const std::string line = bifurcation_line(curve); !line.empty()) {
+      std::cerr << fmt::format("jointhb run: level {} (force {} N): {}\n", l, force, line);
     }
   }
   summary["seconds"]["frf"] = seconds_since(frf_start);

@@ -2,6 +2,7 @@
 #include "jointhb/continuation/frf.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "curve_refinement.hpp"
 #include "linear_limits.hpp"
 
 #include <fmt/format.h>
@@ -119,26 +120,6 @@ double response_scale(const DiscreteSystem& system, const Excitation& excitation
   return bound > 0.0 ? bound : 1.0;
 }
 
-// The coefficients of `x` (DOF-major over basis `from`) in basis `to`: shared orders copied,
-// the others zero.
-Eigen::VectorXd pad(const hb::FourierBasis& from, const hb::FourierBasis& to,
-                    const Eigen::VectorXd& x, int dofs) {
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs) * to.size());
-  for (int i = 0; i < dofs; ++i) {
-    const Eigen::Index fi = static_cast<Eigen::Index>(i) * from.size();
-    const Eigen::Index ti = static_cast<Eigen::Index>(i) * to.size();
-    if (from.has_mean() && to.has_mean()) y[ti] = x[fi];
-    for (int k : from.orders()) {
-      const int b = to.cosine_index(k);
-      if (b < 0) continue;
-      const int a = from.cosine_index(k);
-      y[ti + b] = x[fi + a];
-      y[ti + b + 1] = x[fi + a + 1];
-    }
-  }
-  return y;
-}
-
 // The solution at Ω_start by continuation in the force scale s ∈ [0, 1] from the reference state
 // (s = 0: exact), R_s = R(X, Ω_start) − (s − 1) F_ex.
 std::optional<Eigen::VectorXd> force_ramp(const hb::HarmonicBalance& b, double omega,
@@ -205,7 +186,7 @@ std::optional<Eigen::VectorXd> start_by_ladder(
     std::string reason;
     std::optional<Eigen::VectorXd> next;
     if (x)
-      next = newton_at(b, options.omega_start, pad(*previous, b.basis(), *x, system.dofs()), base,
+      next = newton_at(b, options.omega_start, hb::transfer_coefficients(*previous, b.basis(), *x, system.dofs()), base,
                        iterations, reason);
     if (!next) next = force_ramp(b, options.omega_start, base, iterations, reason);
     if (!next) {
@@ -259,6 +240,81 @@ Eigen::VectorXd start_guess(const hb::HarmonicBalance& balance, double omega) {
   return x0.allFinite() ? x0 : Eigen::VectorXd::Zero(x0.size());
 }
 
+
+// q = |fundamental| of the output DOF, √(a₁² + b₁²), with its gradient (the resonance peak).
+detail::CurveQuantity fundamental_quantity(const hb::HarmonicBalance& b, int dof) {
+  const int a1 = b.basis().cosine_index(1);
+  const Eigen::Index at = b.index(dof, a1);
+  detail::CurveQuantity q;
+  q.value = [at](const Eigen::VectorXd& x, double) { return std::hypot(x[at], x[at + 1]); };
+  q.gradient = [at](const Eigen::VectorXd& x, double) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+    const double a = std::hypot(x[at], x[at + 1]);
+    if (a > 0.0) {
+      g[at] = x[at] / a;
+      g[at + 1] = x[at + 1] / a;
+    }
+    return std::pair<Eigen::VectorXd, double>{g, 0.0};
+  };
+  return q;
+}
+
+FrfExtremum extremum_of(const detail::CurveExtremum& e, const hb::HarmonicBalance& b, int dof) {
+  FrfExtremum f;
+  f.refined = e.ok;
+  f.message = e.message;
+  f.points = e.points;
+  if (!e.ok) return f;
+  f.omega = e.lambda;
+  f.amplitude_h1 = b.fundamental_amplitude(e.x, dof);
+  f.value_bound = e.value_bound;
+  f.omega_bracket = e.lambda_bracket;
+  return f;
+}
+
+// The folds (every turn of Ω) and the peak of amplitude_h1 located between accepted points
+// (curve_refinement.hpp); an extremum that cannot be refined is reported at its accepted point.
+void refine_extrema(const ResidualFunction& residual, const Options& scaling,
+                    const hb::HarmonicBalance& b, int dof, const std::vector<Point>& accepted,
+                    FrfCurve& curve) {
+  for (std::size_t k = 1; k < accepted.size() && k < curve.points.size(); ++k) {
+    if (!accepted[k].fold) continue;
+    FrfExtremum f = extremum_of(detail::refine_extremum(residual, scaling, accepted[k - 1],
+                                                        accepted[k], detail::parameter_quantity()),
+                                b, dof);
+    if (!f.refined) {
+      f.omega = curve.points[k].omega;
+      f.amplitude_h1 = curve.points[k].amplitude_h1;
+      f.value_bound = std::abs(curve.points[k].omega - curve.points[k - 1].omega);
+    }
+    f.bifurcation = curve.points[k].bifurcation;
+    curve.folds.push_back(std::move(f));
+  }
+  if (curve.points.empty() || b.basis().cosine_index(1) < 0) return;
+  std::size_t top = 0;
+  for (std::size_t k = 1; k < curve.points.size(); ++k)
+    if (curve.points[k].amplitude_h1 > curve.points[top].amplitude_h1) top = k;
+  FrfExtremum peak;
+  peak.message = "the largest amplitude is at an end of the curve";
+  if (top > 0 && top + 1 < curve.points.size() && top + 1 < accepted.size()) {
+    const detail::CurveQuantity q = fundamental_quantity(b, dof);
+    for (const std::size_t first : {top - 1, top}) {
+      detail::CurveExtremum e =
+          detail::refine_extremum(residual, scaling, accepted[first], accepted[first + 1], q);
+      if (e.ok) {
+        peak = extremum_of(e, b, dof);
+        break;
+      }
+      peak.message = e.message;
+    }
+  }
+  if (!peak.refined) {
+    peak.omega = curve.points[top].omega;
+    peak.amplitude_h1 = curve.points[top].amplitude_h1;
+  }
+  curve.peak = std::move(peak);
+}
+
 }  // namespace
 
 std::string FrfOptions::validate(int dofs) const {
@@ -272,6 +328,7 @@ std::string FrfOptions::validate(int dofs) const {
   if (output_dof < 0 || output_dof >= dofs) {
     return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
+  if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
   return balance_options(*this).validate();
 }
 
@@ -321,6 +378,10 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   };
 
   FrfCurve curve;
+  std::optional<hb::HillStability> hill;
+  if (options.stability) hill.emplace(balance, options.hill);
+  std::optional<hb::FloquetResult> previous_floquet;
+  std::vector<Point> accepted;  // for the location of folds and the peak
   curve.kept_harmonics = basis.orders();
   if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
   const AcceptCallback accept = [&](const Point& p) {
@@ -336,6 +397,21 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     f.step = p.step;
     f.fold = p.fold;
     f.coefficients = p.x;
+    if (hill) {
+      const auto stability_start = Clock::now();
+      hb::FloquetResult floquet = hill->evaluate(p.x, p.lambda);
+      curve.timings.stability += seconds_since(stability_start);
+      f.stability_known = floquet.ok;
+      f.stable = floquet.stable();
+      f.max_multiplier = floquet.max_multiplier;
+      f.unstable_multipliers = floquet.unstable;
+      f.multipliers = floquet.multipliers;
+      if (previous_floquet) f.bifurcation = hb::classify_bifurcation(*previous_floquet, floquet, p.fold);
+      previous_floquet = std::move(floquet);
+    } else if (p.fold) {
+      f.bifurcation = hb::Bifurcation::fold;
+    }
+    if (options.refine_extrema) accepted.push_back(p);
     if (options.check_jacobian) {
       const hb::JacobianCheck check = hb::check_jacobian(balance, p.x, p.lambda);
       const double e = std::max(check.max_error, check.max_error_omega);
@@ -359,10 +435,18 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
         start_by_ladder(system, excitation, options, balance, c, iterations, why);
     curve.newton_iterations += r.corrector_iterations + iterations;
     if (start) {
+      curve.points.clear();
+      accepted.clear();
+      previous_floquet.reset();
       r = trace(residual, *start, c, accept);
     } else {
       r.message += "; " + why;
     }
+  }
+  if (options.refine_extrema) {
+    const auto refinement_start = Clock::now();
+    refine_extrema(residual, c, balance, options.output_dof, accepted, curve);
+    curve.timings.refinement = seconds_since(refinement_start);
   }
   curve.reason = r.reason;
   curve.message = r.message;

@@ -218,4 +218,25 @@ Eigen::MatrixXd FourierBasis::analysis_matrix() const {
   return a;
 }
 
+// The coefficients of `x` (DOF-major over basis `from`) in basis `to`: shared orders copied,
+// the others zero.
+Eigen::VectorXd transfer_coefficients(const FourierBasis& from, const FourierBasis& to,
+                                      const Eigen::VectorXd& x, int dofs) {
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs) * to.size());
+  for (int i = 0; i < dofs; ++i) {
+    const Eigen::Index fi = static_cast<Eigen::Index>(i) * from.size();
+    const Eigen::Index ti = static_cast<Eigen::Index>(i) * to.size();
+    if (from.has_mean() && to.has_mean()) y[ti] = x[fi];
+    for (int k : from.orders()) {
+      const int b = to.cosine_index(k);
+      if (b < 0) continue;
+      const int a = from.cosine_index(k);
+      y[ti + b] = x[fi + a];
+      y[ti + b + 1] = x[fi + a + 1];
+    }
+  }
+  return y;
+}
+
+
 }  // namespace jointhb::hb

@@ -30,11 +30,19 @@ CsvWriter::CsvWriter(std::filesystem::path path, std::vector<std::string> column
   flush_or_throw();
 }
 
-void CsvWriter::write_row(std::span<const double> values) {
-  if (values.size() != columns_.size()) {
-    throw std::invalid_argument("CsvWriter: row of " + std::to_string(values.size()) +
+void CsvWriter::write_row(std::span<const double> values) { write_row(values, {}); }
+
+void CsvWriter::write_row(std::span<const double> values, std::span<const std::string> labels) {
+  if (values.size() + labels.size() != columns_.size()) {
+    throw std::invalid_argument("CsvWriter: row of " + std::to_string(values.size() + labels.size()) +
                                 " values for " + std::to_string(columns_.size()) + " columns in '" +
                                 path_.string() + "'");
+  }
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i].empty() || labels[i].find_first_of(",\"\r\n ") != std::string::npos) {
+      throw std::invalid_argument("CsvWriter: column '" + columns_[values.size() + i] + "' of '" +
+                                  path_.string() + "' is empty or not one word");
+    }
   }
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
@@ -50,6 +58,7 @@ void CsvWriter::write_row(std::span<const double> values) {
     if (i) line += ',';
     line += buffer;
   }
+  for (const std::string& label : labels) line += (line.empty() ? "" : ",") + label;
   line += '\n';
   out_ << line;
   flush_or_throw();

@@ -595,11 +595,21 @@ class DiscreteCaseReader {
     return given;
   }
 
+  // A true/false key, when given.
+  void read_flag(const Fields& f, const std::string& name, bool& flag) {
+    const auto* entry = f.find(name);
+    if (!entry) return;
+    const std::string key = f.path_of(name);
+    const std::string value = reader_.text(entry->value, key);
+    reader_.check(entry->value, key, check_one_of(value, {"true", "false"}));
+    flag = value == "true";
+  }
+
   continuation::FrfOptions read_frf(const YAML::Node& node, const std::string& path, int n) {
     const Fields f = reader_.fields(
         node, path,
         {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
-         "periodic_tolerance", "check_jacobian", "continuation"});
+         "periodic_tolerance", "check_jacobian", "stability", "continuation"});
     continuation::FrfOptions o;
 
     const auto* omega = f.find("omega");
@@ -630,12 +640,8 @@ class DiscreteCaseReader {
     if (const auto* selection = read_selection(f, o.selection, o.periodic_tolerance)) {
       selection_node_ = *selection;
     }
-    if (const auto* check = f.find("check_jacobian")) {
-      const std::string key = f.path_of("check_jacobian");
-      const std::string value = reader_.text(check->value, key);
-      reader_.check(check->value, key, check_one_of(value, {"true", "false"}));
-      o.check_jacobian = value == "true";
-    }
+    read_flag(f, "check_jacobian", o.check_jacobian);
+    read_flag(f, "stability", o.stability);  // Hill's method at every point (default true)
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

@@ -4,7 +4,9 @@
 usage: jointhb_plot.py DIR
 
 Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
-  DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level
+  DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level;
+                    with a `stable` column, unstable stretches dashed and bifurcations marked
+                    (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●)
   DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode
   DIR/mode<k>_contact.png  for each DIR/mode<k>_contact_points.csv: the contact points' W_D per
                     unit area (colour, scaled per panel) at each field snapshot, one panel per
@@ -25,14 +27,44 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+MARKERS = {"fold": "^", "period_doubling": "s", "neimark_sacker": "D", "branch_point": "o"}
+
+
+def stretches(sel):
+    """Consecutive runs of points with the same stability (1 stable, 0 unstable, -1 unknown),
+    each run sharing its first point with the previous one so that the line is unbroken."""
+    if "stable" not in sel[0]:
+        return [(sel, True)]
+    runs, start = [], 0
+    for k in range(1, len(sel) + 1):
+        if k == len(sel) or sel[k]["stable"] != sel[start]["stable"]:
+            runs.append((sel[max(start - 1, 0):k], sel[start]["stable"] != "0"))
+            start = k
+    return runs
+
+
 def plot_frf(directory):
     rows = read(os.path.join(directory, "frf.csv"))
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for level in sorted({r["level"] for r in rows}, key=float):
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    marked = set()
+    for i, level in enumerate(sorted({r["level"] for r in rows}, key=float)):
         sel = [r for r in rows if r["level"] == level]
-        ax.semilogy([float(r["frequency_hz"]) for r in sel],
-                    [float(r["amplitude_h1"]) for r in sel],
-                    label=f"F = {float(sel[0]['force_amplitude']):g} N")
+        colour = colours[i % len(colours)]
+        for j, (run, stable) in enumerate(stretches(sel)):
+            ax.semilogy([float(r["frequency_hz"]) for r in run],
+                        [float(r["amplitude_h1"]) for r in run], color=colour,
+                        linestyle="-" if stable else "--",
+                        label=f"F = {float(sel[0]['force_amplitude']):g} N" if j == 0 else None)
+        for r in sel:
+            kind = r.get("bifurcation", "none")
+            if kind in MARKERS:
+                ax.plot(float(r["frequency_hz"]), float(r["amplitude_h1"]), MARKERS[kind],
+                        color=colour, markersize=6,
+                        label=kind.replace("_", " ") if kind not in marked else None)
+                marked.add(kind)
+    if any(r.get("stable") == "0" for r in rows):
+        ax.plot([], [], "k--", label="unstable (Hill)")
     ax.set_xlabel("excitation frequency [Hz]")
     ax.set_ylabel("|fundamental| of the output DOF [m]")
     ax.set_title("Nonlinear FRF (harmonic balance)")

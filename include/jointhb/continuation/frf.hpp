@@ -5,12 +5,14 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
+#include "jointhb/hb/hill_stability.hpp"
 
 namespace jointhb::continuation {
 
@@ -27,6 +29,12 @@ struct FrfOptions {
   HarmonicSelection selection = HarmonicSelection::automatic;
   double periodic_tolerance = 1e-14;  ///< contact periodic-state tolerance (relative)
   bool check_jacobian = false;  ///< compare ∂R/∂X, ∂R/∂Ω with central differences at every point
+  /// Floquet multipliers of every accepted point by Hill's method (hb/hill_stability.hpp): one
+  /// eigenproblem of size 2n(2H+1) per point (its cost is FrfTimings::stability)
+  bool stability = true;
+  hb::HillOptions hill;  ///< Hill's method settings
+  /// Folds and the resonance peak located between accepted points (docs/stability.md §3)
+  bool refine_extrema = true;
   Options continuation;         ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
@@ -40,14 +48,40 @@ struct FrfPoint {
   double dissipation = 0.0;    ///< Σ contact W_D over the period [J]
   int iterations = 0;          ///< corrector iterations
   double step = 0.0;           ///< arclength step
-  bool fold = false;
+  bool fold = false;           ///< Ω turned between the previous point and this one
+  /// With FrfOptions::stability: the Floquet multipliers by Hill's method
+  bool stability_known = false;  ///< false: not computed (or Hill's method failed at the point)
+  bool stable = true;            ///< every |ρ| ≤ 1 + tolerance
+  double max_multiplier = 0.0;   ///< max |ρ|
+  int unstable_multipliers = 0;  ///< count of |ρ| > 1 + tolerance
+  /// What happened between the previous point and this one (fold from the turn of Ω, else from the
+  /// multiplier that crossed the unit circle)
+  hb::Bifurcation bifurcation = hb::Bifurcation::none;
+  Eigen::VectorXcd multipliers;  ///< the 2n multipliers, |ρ| descending (empty when not known)
   Eigen::VectorXd coefficients;  ///< X: harmonic coefficients of all DOFs (hb/fourier.hpp order)
+};
+
+/// An extremum located between accepted points (continuation/curve_refinement.hpp): a fold of
+/// the curve (extremum of Ω) or its resonance peak (extremum of amplitude_h1).
+struct FrfExtremum {
+  double omega = 0.0;         ///< Ω at the extremum [rad/s]
+  double amplitude_h1 = 0.0;  ///< |fundamental| of the output DOF there
+  /// Bound on the error of the located value: of Ω for a fold, of amplitude_h1 for a peak
+  double value_bound = 0.0;
+  double omega_bracket = 0.0;  ///< width in Ω of the final bracket
+  bool refined = false;        ///< false: the accepted point is reported (see message)
+  std::string message;         ///< why it was not refined, or where refinement stopped early
+  int points = 0;              ///< points corrected during refinement
+  /// Stability change across a fold (from the accepted points on either side)
+  hb::Bifurcation bifurcation = hb::Bifurcation::none;
 };
 
 struct FrfTimings {
   double aft = 0.0;           ///< contact forces and their sensitivities [s]
   double assembly = 0.0;      ///< linear part and Jacobian assembly [s]
   double linear_solve = 0.0;  ///< factorisations and solves [s]
+  double stability = 0.0;     ///< Hill's method at the accepted points [s]
+  double refinement = 0.0;    ///< location of folds and the peak [s]
   double total = 0.0;
 };
 
@@ -62,6 +96,10 @@ struct FrfCurve {
   /// central differences over the points (hb/jacobian_check.hpp), and where it occurred.
   double jacobian_check_error = 0.0;
   double jacobian_check_omega = 0.0;
+  std::vector<FrfExtremum> folds;  ///< one per turn of Ω, refined
+  /// The resonance peak: the largest amplitude_h1, refined when it lies between two points (not
+  /// at an end of the range)
+  std::optional<FrfExtremum> peak;
   FrfTimings timings;
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).

@@ -69,4 +69,10 @@ class FourierBasis {
   std::shared_ptr<Plans> plans_;
 };
 
+/// The coefficients of `x` (DOF-major over basis `from`, `dofs` DOFs) in basis `to`: shared orders
+/// copied, the others zero (raising H, or going from odd harmonics to all).
+[[nodiscard]] Eigen::VectorXd transfer_coefficients(const FourierBasis& from, const FourierBasis& to,
+                                                    const Eigen::VectorXd& x, int dofs);
+
+
 }  // namespace jointhb::hb

@@ -27,6 +27,11 @@ class CsvWriter {
     write_row(std::span<const double>(values.begin(), values.size()));
   }
 
+  /// Appends one row whose last labels.size() columns hold words (e.g. "fold", "none") and the
+  /// others numbers. Throws std::invalid_argument as write_row does, and for a label that is empty
+  /// or holds a comma, quote, line break or space.
+  void write_row(std::span<const double> values, std::span<const std::string> labels);
+
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
   [[nodiscard]] const std::vector<std::string>& columns() const { return columns_; }
   [[nodiscard]] std::size_t rows() const { return rows_; }

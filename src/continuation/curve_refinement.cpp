@@ -1,0 +1,191 @@
+// Extrema along a traced branch: folds and resonance peaks (curve_refinement.hpp).
+#include "curve_refinement.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace jointhb::continuation::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Scales {
+  Eigen::VectorXd state;  // x_scale
+  double parameter = 1.0;
+
+  Scales(const Options& o, Eigen::Index n)
+      : state(o.state_scale.size() == n ? o.state_scale : Eigen::VectorXd::Ones(n)),
+        parameter(o.parameter_scale) {}
+
+  [[nodiscard]] Eigen::VectorXd scaled(const Eigen::VectorXd& x, double lambda) const {
+    Eigen::VectorXd y(x.size() + 1);
+    y.head(x.size()) = x.cwiseQuotient(state);
+    y[x.size()] = lambda / parameter;
+    return y;
+  }
+};
+
+// A corrected point at σ with its tangent (scaled, oriented along d).
+struct BranchPoint {
+  Eigen::VectorXd x;
+  double lambda = 0.0;
+  Eigen::VectorXd tangent;
+  double sigma = 0.0;
+  double derivative = 0.0;  // q'(σ)
+};
+
+// The bordered matrix [R_x D_x, R_λ λ_scale; dᵀ] of the current Jacobian.
+Eigen::MatrixXd bordered(const Evaluation& e, const Scales& s, const Eigen::VectorXd& d) {
+  const Eigen::Index n = e.residual.size();
+  Eigen::MatrixXd a(n + 1, n + 1);
+  a.topLeftCorner(n, n) = e.d_state * s.state.asDiagonal();
+  a.topRightCorner(n, 1) = e.d_parameter * s.parameter;
+  a.row(n) = d.transpose();
+  return a;
+}
+
+double q_derivative(const CurveQuantity& q, const Scales& s, const Eigen::VectorXd& x,
+                    double lambda, const Eigen::VectorXd& tangent, const Eigen::VectorXd& d) {
+  const double along = tangent.dot(d);
+  if (!(along > 0.0)) return kNaN;
+  const auto [gx, gl] = q.gradient(x, lambda);
+  const Eigen::Index n = x.size();
+  double dq = gl * tangent[n] * s.parameter;
+  if (gx.size() == n) dq += gx.dot(tangent.head(n).cwiseProduct(s.state));
+  return dq / along;
+}
+
+// Newton on the branch at σ from the guess y0; the tangent at the converged point.
+std::optional<BranchPoint> correct_at(const ResidualFunction& residual, const Options& o,
+                                      const Scales& s, const Eigen::VectorXd& ya,
+                                      const Eigen::VectorXd& d, double sigma,
+                                      Eigen::VectorXd y, int& iterations, std::string& why) {
+  const Eigen::Index n = y.size() - 1;
+  for (int it = 0; it <= o.max_corrector_iterations; ++it) {
+    const Eigen::VectorXd x = y.head(n).cwiseProduct(s.state);
+    const double lambda = y[n] * s.parameter;
+    const Evaluation e = residual(x, lambda, true);
+    if (!e.ok || !e.residual.allFinite() || e.d_state.rows() != n) {
+      why = e.ok ? "the residual or its Jacobian is not available" : e.message;
+      return std::nullopt;
+    }
+    const Eigen::MatrixXd a = bordered(e, s, d);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+    Eigen::VectorXd rhs(n + 1);
+    rhs.head(n) = -e.residual;
+    rhs[n] = sigma - d.dot(y - ya);
+    const double r = e.residual.lpNorm<Eigen::Infinity>() / o.residual_scale;
+    if (r <= o.residual_tolerance && std::abs(rhs[n]) <= o.step_tolerance && it > 0) {
+      Eigen::VectorXd e_last = Eigen::VectorXd::Zero(n + 1);
+      e_last[n] = 1.0;
+      Eigen::VectorXd t = lu.solve(e_last);
+      if (!t.allFinite() || t.norm() == 0.0) {
+        why = "the tangent is not defined (singular bordered matrix)";
+        return std::nullopt;
+      }
+      t /= t.norm();
+      return BranchPoint{x, lambda, t, sigma, 0.0};
+    }
+    if (it == o.max_corrector_iterations) break;
+    const Eigen::VectorXd dy = lu.solve(rhs);
+    if (!dy.allFinite()) {
+      why = "singular bordered matrix";
+      return std::nullopt;
+    }
+    y += dy;
+    ++iterations;
+  }
+  why = fmt::format("no convergence in {} corrector iterations at σ = {:.3g}",
+                    o.max_corrector_iterations, sigma);
+  return std::nullopt;
+}
+
+}  // namespace
+
+CurveQuantity parameter_quantity() {
+  CurveQuantity q;
+  q.value = [](const Eigen::VectorXd&, double lambda) { return lambda; };
+  q.gradient = [](const Eigen::VectorXd&, double) {
+    return std::pair<Eigen::VectorXd, double>{Eigen::VectorXd(), 1.0};
+  };
+  return q;
+}
+
+double derivative_along(const Options& scaling, const Point& p, const Eigen::VectorXd& d,
+                        const CurveQuantity& q) {
+  const Scales s(scaling, p.x.size());
+  return q_derivative(q, s, p.x, p.lambda, p.tangent, d);
+}
+
+CurveExtremum refine_extremum(const ResidualFunction& residual, const Options& scaling,
+                              const Point& a, const Point& b, const CurveQuantity& q,
+                              const RefinementOptions& options) {
+  CurveExtremum out;
+  const Scales s(scaling, a.x.size());
+  const Eigen::VectorXd ya = s.scaled(a.x, a.lambda);
+  const Eigen::VectorXd chord = s.scaled(b.x, b.lambda) - ya;
+  const double length = chord.norm();
+  if (!(length > 0.0)) {
+    out.message = "the two points coincide";
+    return out;
+  }
+  const Eigen::VectorXd d = chord / length;
+  BranchPoint lo{a.x, a.lambda, a.tangent, 0.0, q_derivative(q, s, a.x, a.lambda, a.tangent, d)};
+  BranchPoint hi{b.x, b.lambda, b.tangent, length,
+                 q_derivative(q, s, b.x, b.lambda, b.tangent, d)};
+  if (!std::isfinite(lo.derivative) || !std::isfinite(hi.derivative) ||
+      lo.derivative * hi.derivative > 0.0) {
+    out.message = "the derivative does not change sign between the points";
+    return out;
+  }
+  BranchPoint best = std::abs(lo.derivative) < std::abs(hi.derivative) ? lo : hi;
+  int stale = 0;  // consecutive updates of the same bracket end
+  int stale_side = 0;
+  double bound = length * std::max(std::abs(lo.derivative), std::abs(hi.derivative));
+  for (int k = 0; k < options.max_points; ++k) {
+    const double value = q.value(best.x, best.lambda);
+    if (bound <= options.relative_tolerance * std::abs(value) || best.derivative == 0.0) break;
+    double glo = lo.derivative, ghi = hi.derivative;
+    // Illinois: the end that keeps its place has its derivative halved per repeated update.
+    if (stale >= 2) (stale_side < 0 ? ghi : glo) *= std::ldexp(1.0, 1 - stale);
+    double sigma = (lo.sigma * ghi - hi.sigma * glo) / (ghi - glo);
+    const double width = hi.sigma - lo.sigma;
+    sigma = std::clamp(sigma, lo.sigma + 1e-3 * width, hi.sigma - 1e-3 * width);
+    const double w = (sigma - lo.sigma) / width;
+    const Eigen::VectorXd guess =
+        (1.0 - w) * s.scaled(lo.x, lo.lambda) + w * s.scaled(hi.x, hi.lambda);
+    std::string why;
+    std::optional<BranchPoint> c =
+        correct_at(residual, scaling, s, ya, d, sigma, guess, out.corrector_iterations, why);
+    ++out.points;
+    if (!c) {
+      out.message = why;
+      break;
+    }
+    c->derivative = q_derivative(q, s, c->x, c->lambda, c->tangent, d);
+    if (!std::isfinite(c->derivative)) {
+      out.message = "the branch turns back within the bracket";
+      break;
+    }
+    const int side = (c->derivative * lo.derivative > 0.0) ? -1 : +1;  // -1: replaces lo
+    stale = side == stale_side ? stale + 1 : 1;
+    stale_side = side;
+    (side < 0 ? lo : hi) = *c;
+    best = std::abs(lo.derivative) < std::abs(hi.derivative) ? lo : hi;
+    bound = (hi.sigma - lo.sigma) * std::max(std::abs(lo.derivative), std::abs(hi.derivative));
+  }
+  out.ok = true;  // the bracket always holds the extremum: the bound says how well it is known
+  out.x = best.x;
+  out.lambda = best.lambda;
+  out.value = q.value(best.x, best.lambda);
+  out.value_bound = bound;
+  out.lambda_bracket = std::abs(hi.lambda - lo.lambda);
+  return out;
+}
+
+}  // namespace jointhb::continuation::detail
