@@ -29,10 +29,17 @@ int integer_option(const std::string& option, const std::string& text, long long
   return static_cast<int>(*value);
 }
 
+std::string describe_result(double value) {
+  if (std::isfinite(value)) return io::format_number(value);
+  // A NaN here comes from an indeterminate form (∞·0, ∞-∞), nearly always after an overflow.
+  if (std::isnan(value)) return "undefined (an intermediate value overflowed the double range)";
+  return value > 0 ? "beyond the double range (overflow)" : "below minus the double range (overflow)";
+}
+
 void require_finite_result(const std::string& name, double value) {
   if (!std::isfinite(value)) {
-    throw std::runtime_error("result '" + name + "' is not finite (" + io::format_number(value) +
-                             "); nothing written");
+    throw std::runtime_error("result '" + name + "' is " + describe_result(value) +
+                             "; nothing written");
   }
 }
 

@@ -32,9 +32,14 @@ double number_option(const std::string& option, const std::string& text);
 int integer_option(const std::string& option, const std::string& text, long long min,
                    long long max);
 
-/// Throws std::runtime_error("result 'NAME' is not finite") unless value is finite: no NaN or
-/// infinity is ever printed or written.
+/// Throws std::runtime_error("result 'NAME' is " + describe_result(value) + ...) unless value is
+/// finite: no NaN or infinity is ever printed or written, not even in the message.
 void require_finite_result(const std::string& name, double value);
+
+/// A computed value for a message: the number when finite, else what went wrong in words
+/// ("beyond the double range (overflow)", "undefined (an intermediate value overflowed ...)"), so
+/// that no message shows "nan" or "inf".
+std::string describe_result(double value);
 
 /// Progress lines are for people watching: only when stderr is a terminal.
 bool stderr_is_terminal();
