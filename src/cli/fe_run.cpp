@@ -258,27 +258,30 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   // ---- condensation, damping curves, FRFs ---------------------------------------------------
   if (c.dynamics && all_ok()) {
     if (c.interfaces.empty()) {
-      const std::string error = "analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)";
-      std::fprintf(stderr, "error: %s\n", error.c_str());
-      parts.push_back({"dynamics", {Termination::failed, error}});
+      parts.push_back({"dynamics", {Termination::failed, "analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)"}});
     } else {
       write_summary(dir / "summary.json", summary);
       try {
         const std::vector<NamedStatus> curves = run_fe_dynamics(pipe, dir, summary);
         parts.insert(parts.end(), curves.begin(), curves.end());
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
         parts.push_back({"dynamics", {Termination::failed, e.what()}});
       }
     }
   }
   const Status run = worst(parts);
   put_run_status(summary, run);
-  const int code = run.ok() ? 0 : 1;
   summary["seconds"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
+  if (!run.ok()) {
+    // One error line in the form of every jointhb error, and no "done": a script reading stderr
+    // must not take a failed run for a finished one (the exit code says the same).
+    std::fprintf(stderr, "jointhb run: %s: failed: %s (after %.2f s; results so far in %s)\n", c.source.c_str(),
+                 io::printable_one_line(run.message).c_str(), seconds_since(start), dir.string().c_str());
+    return exit_failure;
+  }
   std::fprintf(stderr, "done in %.2f s -> %s\n", seconds_since(start), dir.string().c_str());
-  return code;
+  return exit_ok;
 }
 
 }  // namespace jointhb::cli
