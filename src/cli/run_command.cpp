@@ -61,6 +61,10 @@ bool RunCommand::selected() const { return app_->parsed(); }
 
 int RunCommand::run() const {
   const auto start = Clock::now();
+  // The docs say `--cache-dir CACHE_DIR | --no-cache`: a cache directory that is then neither read
+  // nor written is a mistake, not a choice to make for the user.
+  if (no_cache_ && !cache_dir_.empty())
+    require_option("--cache-dir", "cannot be combined with --no-cache (which neither reads nor writes a cache)");
   // Before any thread exists: SIGINT/SIGTERM then mark summary.json "interrupted" (exit 130/143).
   install_interrupt_handler("jointhb run");
   // The case is read before anything is created, so bad input leaves no output behind.
