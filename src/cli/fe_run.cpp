@@ -204,15 +204,17 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
   write_summary(dir / "summary.json", summary);  // "status": "running" before any stage
   pipeline::FeAnalysis analysis = c;
-  // Progress of the preload: every Newton iteration on a terminal, every 10 s in a log.
-  auto pacer = std::make_shared<ProgressPacer>();
-  analysis.preload.progress = [pacer](int step, int it, double r) {
-    if (pacer->due())
-      std::fprintf(stderr, "%spreload step %d iteration %d residual %.2e%s", pacer->start(), step, it, r, pacer->end());
+  // Progress of the preload: every Newton iteration on a terminal, the heartbeat's line in a log.
+  analysis.preload.progress = [tty](int step, int it, double r) {
+    if (tty)
+      std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
+    else
+      progress_activity("preload step {} iteration {} residual {:.2e}", step, it, r);
   };
   pipeline::FePipeline pipe(c, std::move(analysis), cache);
 
   // ---- structure -------------------------------------------------------------------------
+  progress_activity("assembly of the model");
   const fe::StructuralMatrices& structure = pipe.structure().structure;
   summary["model"]["mass_kg"] = structure.total_mass;
   summary["timings"]["assembly_seconds"] = structure.seconds;
@@ -225,6 +227,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
 
   // ---- preload ---------------------------------------------------------------------------
   if (pipe.needs_preload()) {
+    progress_activity("preload");
     const preload::PreloadResult& p = pipe.preload();
     const pipeline::StageInfo& info = pipe.preload_info();
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
@@ -242,6 +245,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
 
   // ---- modes -----------------------------------------------------------------------------
   if (pipe.modal_options() && all_ok()) {
+    progress_activity("modes");
     const modal::ModalResult& m = pipe.modes();
     const pipeline::StageInfo& info = pipe.modes_info();
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());

@@ -148,6 +148,7 @@ int run_loop_sweep(const io::LoopSweepCase& c, const fs::path& dir, Clock::time_
                          ratios.size(), ratios[i], outcome.iterations)
                   << std::flush;
       }
+      progress_activity("point {}/{}  a/g_max = {:.3e}", i + 1, ratios.size(), ratios[i]);
       try {
         run_point(c, ratios[i], *csv, outcome);
       } catch (const std::exception& e) {
