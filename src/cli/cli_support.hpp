@@ -3,7 +3,10 @@
 // text (so that "nan", "abc" and "-1" are reported in the same words as in case files), and the
 // tests on results before anything is printed.
 
+#include <fmt/format.h>
+
 #include <string>
+#include <utility>
 
 #include "jointhb/io/input_error.hpp"
 
@@ -32,31 +35,50 @@ double number_option(const std::string& option, const std::string& text);
 int integer_option(const std::string& option, const std::string& text, long long min,
                    long long max);
 
-/// Throws std::runtime_error("result 'NAME' is not finite") unless value is finite: no NaN or
-/// infinity is ever printed or written.
+/// Throws std::runtime_error("result 'NAME' is " + describe_result(value) + ...) unless value is
+/// finite: no NaN or infinity is ever printed or written, not even in the message.
 void require_finite_result(const std::string& name, double value);
 
-/// Progress lines are for people watching: only when stderr is a terminal.
+/// A computed value for a message: the number when finite, else what went wrong in words
+/// ("beyond the double range (overflow)", "undefined (an intermediate value overflowed ...)"), so
+/// that no message shows "nan" or "inf".
+std::string describe_result(double value);
+
+/// Progress lines rewritten in place are for people watching: only when stderr is a terminal.
 bool stderr_is_terminal();
 
-/// When a long run reports progress: on a terminal at every event (one line rewritten in place);
-/// otherwise (a pipe, a log file, CI) a plain line at most every `interval` seconds, so that a
-/// minute-long run is not silent in a log.
-class ProgressPacer {
+/// Progress when stderr is not a terminal (a pipe, a log file, CI), where the in-place lines are
+/// not shown: while this object lives, a background thread prints a plain line
+///   COMMAND: running for 20 s: ACTIVITY
+/// every `interval_seconds` (progress_interval()), so that a long run, also inside a stage without
+/// events (the modes, the condensation), is not silent in a log, and a run shorter than the
+/// interval prints nothing more than before. On a terminal it does nothing: the callers' in-place
+/// line stays the display. One at a time: a second one while one lives does nothing.
+class ProgressHeartbeat {
  public:
-  explicit ProgressPacer(double interval_seconds = 10.0);
-  [[nodiscard]] bool terminal() const { return terminal_; }
-  /// Whether this event is shown (always on a terminal; else when the interval has passed).
-  bool due();
-  /// "\r" on a terminal (rewrite the line), "" otherwise.
-  [[nodiscard]] const char* start() const { return terminal_ ? "\r" : ""; }
-  /// "   " on a terminal (the line is rewritten), "\n" otherwise.
-  [[nodiscard]] const char* end() const { return terminal_ ? "   " : "\n"; }
+  ProgressHeartbeat(std::string command, double interval_seconds);
+  ~ProgressHeartbeat();
+  ProgressHeartbeat(const ProgressHeartbeat&) = delete;
+  ProgressHeartbeat& operator=(const ProgressHeartbeat&) = delete;
 
  private:
-  bool terminal_;
-  double interval_;
-  double last_ = -1e300;
+  bool owner_ = false;
 };
+
+/// The heartbeat's interval [s]: 10, or the environment variable JOINTHB_PROGRESS_INTERVAL (a log
+/// may want fewer lines, a test more). Throws io::InputError naming it when it is set but not a
+/// number > 0; read before any output exists, like the options.
+double progress_interval();
+
+/// Whether a heartbeat is running (callers skip formatting their activity otherwise).
+bool progress_heartbeat_active();
+/// What the run is doing now, for the heartbeat's next line.
+void set_progress_activity(std::string activity);
+
+/// set_progress_activity(fmt::format(...)), formatted only while a heartbeat runs.
+template <class... Args>
+void progress_activity(fmt::format_string<Args...> format, Args&&... args) {
+  if (progress_heartbeat_active()) set_progress_activity(fmt::format(format, std::forward<Args>(args)...));
+}
 
 }  // namespace jointhb::cli

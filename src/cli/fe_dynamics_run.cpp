@@ -103,11 +103,11 @@ ordered_json write_fields(pipeline::FePipeline& pipe, const pipeline::BackboneCu
 std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::filesystem::path& dir,
                                          ordered_json& summary) {
   const io::FeDynamicsSpec& d = *pipe.analysis().dynamics;
-  const bool tty = stderr_is_terminal();
-  ProgressPacer pacer;  // a line per point on a terminal, every 10 s in a log
+  const bool tty = stderr_is_terminal();  // a line per point on a terminal, the heartbeat's in a log
   std::vector<NamedStatus> curves;
 
   // ---- condensation ------------------------------------------------------------------------
+  progress_activity("condensation to the interface");
   const pipeline::InterfaceStage& stage = pipe.interface_stage();
   const hb::InterfaceModel& im = stage.model;
   if (stage.info.from_store)
@@ -138,9 +138,12 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         csv.write_row({static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
                        s.damping_ratio, s.dissipation, s.damping_ratio_energy, static_cast<double>(s.slipping_points),
                        static_cast<double>(s.open_points), static_cast<double>(s.newton_iterations)});
-        if (pacer.due())
-          std::fprintf(stderr, "%smode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d%s", pacer.start(), mode,
-                       s.amplitude, s.frequency_hz, s.damping_ratio, s.slipping_points, points, pacer.end());
+        if (tty)
+          std::fprintf(stderr, "\rmode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d   ", mode, s.amplitude,
+                       s.frequency_hz, s.damping_ratio, s.slipping_points, points);
+        else
+          progress_activity("damping curve of mode {}: q = {:.3e}  f = {:.6g} Hz  zeta = {:.4g}  slipping {}/{}", mode,
+                            s.amplitude, s.frequency_hz, s.damping_ratio, s.slipping_points, points);
         return true;
       };
       const pipeline::BackboneCurve b = pipe.backbone(mode, on_point);
@@ -187,9 +190,12 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         csv.write_row({static_cast<double>(level), p.force, p.omega, p.frequency_hz, p.amplitude_h1, p.amplitude_max,
                        p.dissipation, static_cast<double>(p.slipping_points), static_cast<double>(p.open_points),
                        static_cast<double>(p.newton_iterations)});
-        if (pacer.due())
-          std::fprintf(stderr, "%sfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d%s", pacer.start(), p.force,
-                       p.frequency_hz, p.amplitude_h1, p.slipping_points, points, pacer.end());
+        if (tty)
+          std::fprintf(stderr, "\rfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d   ", p.force, p.frequency_hz,
+                       p.amplitude_h1, p.slipping_points, points);
+        else
+          progress_activity("frf F = {} N: f = {:.6g} Hz  |u| = {:.4e} m  slipping {}/{}", p.force, p.frequency_hz,
+                            p.amplitude_h1, p.slipping_points, points);
         return true;
       };
       const pipeline::FrfCurve r = pipe.frf(level, on_point);

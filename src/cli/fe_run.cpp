@@ -204,15 +204,17 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
   write_summary(dir / "summary.json", summary);  // "status": "running" before any stage
   pipeline::FeAnalysis analysis = c;
-  // Progress of the preload: every Newton iteration on a terminal, every 10 s in a log.
-  auto pacer = std::make_shared<ProgressPacer>();
-  analysis.preload.progress = [pacer](int step, int it, double r) {
-    if (pacer->due())
-      std::fprintf(stderr, "%spreload step %d iteration %d residual %.2e%s", pacer->start(), step, it, r, pacer->end());
+  // Progress of the preload: every Newton iteration on a terminal, the heartbeat's line in a log.
+  analysis.preload.progress = [tty](int step, int it, double r) {
+    if (tty)
+      std::fprintf(stderr, "\rpreload step %d iteration %d residual %.2e   ", step, it, r);
+    else
+      progress_activity("preload step {} iteration {} residual {:.2e}", step, it, r);
   };
   pipeline::FePipeline pipe(c, std::move(analysis), cache);
 
   // ---- structure -------------------------------------------------------------------------
+  progress_activity("assembly of the model");
   const fe::StructuralMatrices& structure = pipe.structure().structure;
   summary["model"]["mass_kg"] = structure.total_mass;
   summary["timings"]["assembly_seconds"] = structure.seconds;
@@ -225,6 +227,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
 
   // ---- preload ---------------------------------------------------------------------------
   if (pipe.needs_preload()) {
+    progress_activity("preload");
     const preload::PreloadResult& p = pipe.preload();
     const pipeline::StageInfo& info = pipe.preload_info();
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
@@ -242,6 +245,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
 
   // ---- modes -----------------------------------------------------------------------------
   if (pipe.modal_options() && all_ok()) {
+    progress_activity("modes");
     const modal::ModalResult& m = pipe.modes();
     const pipeline::StageInfo& info = pipe.modes_info();
     if (!info.warning.empty()) std::fprintf(stderr, "warning: stage cache: %s\n", info.warning.c_str());
@@ -258,27 +262,30 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   // ---- condensation, damping curves, FRFs ---------------------------------------------------
   if (c.dynamics && all_ok()) {
     if (c.interfaces.empty()) {
-      const std::string error = "analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)";
-      std::fprintf(stderr, "error: %s\n", error.c_str());
-      parts.push_back({"dynamics", {Termination::failed, error}});
+      parts.push_back({"dynamics", {Termination::failed, "analysis.nonlinear_modes / frf need a model with interfaces (model.interfaces)"}});
     } else {
       write_summary(dir / "summary.json", summary);
       try {
         const std::vector<NamedStatus> curves = run_fe_dynamics(pipe, dir, summary);
         parts.insert(parts.end(), curves.begin(), curves.end());
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "error: %s\n", e.what());
         parts.push_back({"dynamics", {Termination::failed, e.what()}});
       }
     }
   }
   const Status run = worst(parts);
   put_run_status(summary, run);
-  const int code = run.ok() ? 0 : 1;
   summary["seconds"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
+  if (!run.ok()) {
+    // One error line in the form of every jointhb error, and no "done": a script reading stderr
+    // must not take a failed run for a finished one (the exit code says the same).
+    std::fprintf(stderr, "jointhb run: %s: failed: %s (after %.2f s; results so far in %s)\n", c.source.c_str(),
+                 io::printable_one_line(run.message).c_str(), seconds_since(start), dir.string().c_str());
+    return exit_failure;
+  }
   std::fprintf(stderr, "done in %.2f s -> %s\n", seconds_since(start), dir.string().c_str());
-  return code;
+  return exit_ok;
 }
 
 }  // namespace jointhb::cli

@@ -103,6 +103,7 @@ bool FitCommand::selected() const { return app_->parsed(); }
 
 int FitCommand::run() const {
   const auto start = Clock::now();
+  const double progress_seconds = progress_interval();
   const io::CaseFile file = io::read_case_file(case_path_);
   const auto* c = std::get_if<io::DiscreteCase>(&file);
   const auto* fe = std::get_if<io::FeCase>(&file);
@@ -170,6 +171,8 @@ int FitCommand::run() const {
 
   const std::size_t m = fit::point_count(section.targets);
   const bool progress = stderr_is_terminal() && !quiet_;
+  std::optional<ProgressHeartbeat> heartbeat;  // a line every 10 s when stderr is no terminal
+  if (!quiet_) heartbeat.emplace("jointhb fit", progress_seconds);
   fit::HistoryWriter history(history_file, names, m, resume_);
   double best = std::numeric_limits<double>::infinity();
   int shown = 0;
@@ -184,6 +187,8 @@ int FitCommand::run() const {
                 << std::flush;
       ++shown;
     }
+    if (!row.failed && std::isfinite(row.objective))
+      progress_activity("evaluation {}  S = {:.6g}  best {:.6g}", row.eval, row.objective, best);
   };
   for (const auto& row : replay) {
     if (!row.failed) best = std::min(best, row.objective);

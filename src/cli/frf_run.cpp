@@ -315,6 +315,8 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
                                  l + 1, c.levels.size(), p.omega, p.amplitude_h1)
                   << std::flush;
       }
+      progress_activity("frf level {}/{}: omega = {:.6g} rad/s  |x| = {:.4g}", l + 1, c.levels.size(), p.omega,
+                        p.amplitude_h1);
       return true;
     };
     try {
@@ -376,6 +378,8 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
                                  s.damping_ratio)
                   << std::flush;
       }
+      progress_activity("damping curve of mode {}: q = {:.4g}  f = {:.6g} Hz  zeta = {:.4g}", mode, s.amplitude,
+                        s.omega / (2.0 * std::numbers::pi), s.damping_ratio);
       return true;
     };
     continuation::BackboneCurve curve;

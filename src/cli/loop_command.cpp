@@ -210,12 +210,15 @@ int LoopCommand::run() const {
   require_finite_result("loading_span", r.loading_span);
   require_finite_result("g_max", r.full_slip_span);
   require_finite_result("residual", r.state.residual);
-  if (formulas) {
-    require_finite_result("W_D_paper", r.dissipation_paper);
-    require_finite_result("W_D_general", r.dissipation_general);
-    require_finite_result("W_D_paper_amplitude_reading", r.dissipation_paper_amplitude_reading);
-  }
-  if (jenkins_formula) require_finite_result("W_D_jenkins", r.dissipation_jenkins);
+  // The closed forms are only compared with W_D: one that does not fit in double precision (an
+  // overflow at extreme scales) is reported as unavailable (null, a note), W_D stays the answer.
+  const auto available = [](bool applies, double value) -> std::optional<double> {
+    return applies && std::isfinite(value) ? std::optional<double>(value) : std::nullopt;
+  };
+  const std::optional<double> wd_paper = available(formulas, r.dissipation_paper);
+  const std::optional<double> wd_general = available(formulas, r.dissipation_general);
+  const std::optional<double> wd_paper_a = available(formulas, r.dissipation_paper_amplitude_reading);
+  const std::optional<double> wd_jenkins = available(jenkins_formula, r.dissipation_jenkins);
   require_finite_samples("slip", r.slip);
   require_finite_samples("force", r.force);
   require_finite_samples("normal_force", r.normal_force);
@@ -228,8 +231,8 @@ int LoopCommand::run() const {
   const bool sliding =
       peak_limit_ratio(r, options.friction_coefficient) >= 1.0 - gross_slip_tolerance;
   const std::string regime = sliding ? "gross slip" : (jenkins ? "stick" : "microslip");
-  const auto optional = [](bool present, double value) -> nlohmann::ordered_json {
-    return present ? nlohmann::ordered_json(value) : nlohmann::ordered_json(nullptr);
+  const auto optional = [](const std::optional<double>& value) -> nlohmann::ordered_json {
+    return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
   };
 
   if (!csv_path_.empty()) {
@@ -256,10 +259,10 @@ int LoopCommand::run() const {
         {"W_D", r.dissipation},
         {"F_hat", r.force_amplitude},
         {"loading_span", r.loading_span},
-        {"W_D_paper", optional(formulas, r.dissipation_paper)},
-        {"W_D_general", optional(formulas, r.dissipation_general)},
-        {"W_D_paper_amplitude_reading", optional(formulas, r.dissipation_paper_amplitude_reading)},
-        {"W_D_jenkins", optional(jenkins_formula, r.dissipation_jenkins)},
+        {"W_D_paper", optional(wd_paper)},
+        {"W_D_general", optional(wd_general)},
+        {"W_D_paper_amplitude_reading", optional(wd_paper_a)},
+        {"W_D_jenkins", optional(wd_jenkins)},
         {"formulas_apply", r.formulas_apply},
         {"g_max", r.full_slip_span},
         {"regime", regime},
@@ -292,6 +295,12 @@ int LoopCommand::run() const {
                                                std::abs(formula - r.dissipation) / r.dissipation)
                                  : std::string();
     };
+    const auto print_formula = [&](const char* label, const std::optional<double>& value, double raw) {
+      if (value)
+        fmt::print("  {:<28}{:.10g} J{}\n", label, *value, relative(*value));
+      else
+        fmt::print("  {:<28}unavailable: {}\n", label, describe_result(raw));
+    };
     fmt::print("jointhb loop: {}, n = {}, mu = {}, F_N = {} N, k_T0 = {} N/m, a = {} m, N = {}\n",
                options.law, io::format_number(options.exponent),
                io::format_number(options.friction_coefficient),
@@ -299,20 +308,13 @@ int LoopCommand::run() const {
                io::format_number(options.amplitude), options.time_samples);
     fmt::print("  {:<28}{:.10g} J\n", "W_D (periodic state)", r.dissipation);
     if (formulas) {
-      fmt::print("  {:<28}{:.10g} J{}\n", "W_D general-n formula", r.dissipation_general,
-                 relative(r.dissipation_general));
-      fmt::print("  {:<28}{:.10g} J{}\n", "W_D eq. (11)/(12) at span", r.dissipation_paper,
-                 relative(r.dissipation_paper));
-      fmt::print("  {:<28}{:.10g} J{}\n", "W_D eq. (11)/(12) at a",
-                 r.dissipation_paper_amplitude_reading,
-                 relative(r.dissipation_paper_amplitude_reading));
+      print_formula("W_D general-n formula", wd_general, r.dissipation_general);
+      print_formula("W_D eq. (11)/(12) at span", wd_paper, r.dissipation_paper);
+      print_formula("W_D eq. (11)/(12) at a", wd_paper_a, r.dissipation_paper_amplitude_reading);
     } else if (!jenkins_formula) {
       fmt::print("  {:<28}{}\n", "closed forms", "do not apply (harmonics or normal motion)");
     }
-    if (jenkins_formula) {
-      fmt::print("  {:<28}{:.10g} J{}\n", "W_D Jenkins closed form", r.dissipation_jenkins,
-                 relative(r.dissipation_jenkins));
-    }
+    if (jenkins_formula) print_formula("W_D Jenkins closed form", wd_jenkins, r.dissipation_jenkins);
     fmt::print("  {:<28}{:.10g} N\n", "F_hat", r.force_amplitude);
     fmt::print("  {:<28}{:.10g} m\n", "loading span", r.loading_span);
     fmt::print("  {:<28}{:.10g} m\n", "g_max", r.full_slip_span);

@@ -64,7 +64,7 @@ void run_point(const io::LoopSweepCase& c, double ratio, io::CsvWriter& csv,
   if (r.state.termination != jointhb::Termination::converged) {
     throw std::runtime_error(
         fmt::format("periodic state not converged after {} iterations (residual {}){}",
-                    r.state.iterations, io::format_number(r.state.residual),
+                    r.state.iterations, describe_result(r.state.residual),
                     r.state.message.empty() ? "" : ": " + r.state.message));
   }
   require_finite_result("W_D", r.dissipation);
@@ -148,6 +148,7 @@ int run_loop_sweep(const io::LoopSweepCase& c, const fs::path& dir, Clock::time_
                          ratios.size(), ratios[i], outcome.iterations)
                   << std::flush;
       }
+      progress_activity("point {}/{}  a/g_max = {:.3e}", i + 1, ratios.size(), ratios[i]);
       try {
         run_point(c, ratios[i], *csv, outcome);
       } catch (const std::exception& e) {

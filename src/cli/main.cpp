@@ -24,13 +24,10 @@ namespace {
 
 using namespace jointhb::cli;
 
-// Each error is reported as exactly one line, prefixed with the command that raised it.
+// Each error is reported as exactly one printable line, prefixed with the command that raised it
+// (a message may echo bytes of a binary input file).
 void print_error(const std::string& command, const std::string& message) {
-  std::string line = message;
-  for (char& c : line) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  std::cerr << command << ": " << line << '\n';
+  std::cerr << command << ": " << jointhb::io::printable_one_line(message) << '\n';
 }
 
 template <class Command>

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <optional>
 #include <variant>
 
 #include "cli_support.hpp"
@@ -61,6 +62,11 @@ bool RunCommand::selected() const { return app_->parsed(); }
 
 int RunCommand::run() const {
   const auto start = Clock::now();
+  // The docs say `--cache-dir CACHE_DIR | --no-cache`: a cache directory that is then neither read
+  // nor written is a mistake, not a choice to make for the user.
+  if (no_cache_ && !cache_dir_.empty())
+    require_option("--cache-dir", "cannot be combined with --no-cache (which neither reads nor writes a cache)");
+  const double progress_seconds = progress_interval();
   // Before any thread exists: SIGINT/SIGTERM then mark summary.json "interrupted" (exit 130/143).
   install_interrupt_handler("jointhb run");
   // The case is read before anything is created, so bad input leaves no output behind.
@@ -69,6 +75,9 @@ int RunCommand::run() const {
                                   : io::read_case_file(case_path_);
   const OutputDirectory output(output_dir_);  // created and locked until the run returns
   const fs::path& dir = output.path();
+  // A line every 10 s while the analysis runs when stderr is not a terminal; ended before the
+  // plots, after the analysis' last line.
+  std::optional<ProgressHeartbeat> heartbeat(std::in_place, "jointhb run", progress_seconds);
   try {
     if (const auto* sweep = std::get_if<io::LoopSweepCase>(&c)) {
       return run_loop_sweep(*sweep, dir, start);
@@ -78,10 +87,12 @@ int RunCommand::run() const {
       options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
       options.use_cache = !no_cache_;
       const int code = run_fe_case(*fe_case, dir, start, options);
+      heartbeat.reset();
       if (plot_ || built_in) plot_results(dir);
       return code;
     }
     const int code = run_discrete_case(std::get<io::DiscreteCase>(c), dir, start);
+    heartbeat.reset();
     if (plot_) plot_results(dir);
     return code;
   } catch (const std::exception& e) {

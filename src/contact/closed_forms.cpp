@@ -67,56 +67,75 @@ double loading_dissipation_integral(double y0, double w0, double y1, double w1, 
   return loading_integral(y1, w1, n) - loading_integral(y0, w0, n);
 }
 
+namespace {
+
+// 2F_s²/k as 2F_s·(F_s/k): F_s² alone overflows for F_s above ~1e154 although the product with
+// 1/k may not, and an overflowed scale times a vanishing integral would be ∞·0 = NaN.
+double energy_scale(const MicroslipParameters& p) {
+  return 2.0 * p.slip_limit * (p.slip_limit / p.stiffness);
+}
+
+// eq. (12)'s constant n(3-n)/(2(2-3n+n²)) with 2-3n+n² = (1-n)(2-n) factored: the expanded form
+// cancels to relative error eps/(1-n) as n → 1.
+double full_slip_constant(double n) { return n * (3.0 - n) / (2.0 * (1.0 - n) * (2.0 - n)); }
+
+}  // namespace
+
 double dissipation_paper(double loading_span, const MicroslipParameters& p) {
   const double n = p.exponent;
-  const double scale = 2.0 * p.slip_limit * p.slip_limit / p.stiffness;
+  const double scale = energy_scale(p);
   const double x = loading_span / full_slip_span_printed(p);
-  if (x <= 0.25) {
+  const double pexp = (2.0 - n) / (1.0 - n);
+  // The series' terms are C(p,j) x^j ~ (p x)^j / j!: with p = (2-n)/(1-n) → ∞ as n → 1 they
+  // overflow long before they fall, so the series serves only while p x ≤ 1.
+  if (x <= 0.25 && pexp * x <= 1.0) {
     // eq. (11) as printed, by its Taylor series in x: the literal expression cancels O(x) terms
     // down to an O(x²) (n ≠ 1/3) or O(x³) (n = 1/3) result. With p = (2-n)/(1-n), c = 3/(2p):
     //   f = 3x/2 + c[(1-x)^p - 1] - ½[1 - (1-x)^{3/2}]² = Σ_{j≥2} f_j x^j,
     //   f_1 = 3/2 - c p = 0,  f_2 = 3/(4(1-n)) - 9/8 (exactly, not by cancellation),
     //   f_j = c α_j - ½ Σ_{i=1}^{j-1} β_i β_{j-i},  α_j = C(p,j)(-1)^j,  β_j = -C(3/2,j)(-1)^j.
-    const double pexp = (2.0 - n) / (1.0 - n);
     const double c = 1.5 * (1.0 - n) / (2.0 - n);
-    constexpr int kTerms = 60;  // x ≤ 1/4: the terms fall like 4^{-j}
-    double alpha[kTerms + 1], beta[kTerms + 1];
-    alpha[1] = -pexp;
-    beta[1] = 1.5;
+    constexpr int kTerms = 60;  // the terms fall like 1/j! (p x ≤ 1) and 4^{-j} (x ≤ 1/4)
+    // a_j = α_j x^j and b_j = β_j x^j by their recurrences: α_j alone reaches p^j/j!, which
+    // overflows for p near 1e16 (n one rounding error below 1) although α_j x^j stays below 1.
+    double a[kTerms + 1], b[kTerms + 1];
+    a[1] = -pexp * x;
+    b[1] = 1.5 * x;
     for (int j = 1; j < kTerms; ++j) {
-      alpha[j + 1] = -alpha[j] * (pexp - j) / (j + 1);
-      beta[j + 1] = -beta[j] * (1.5 - j) / (j + 1);
+      a[j + 1] = -a[j] * (pexp - j) / (j + 1) * x;
+      b[j + 1] = -b[j] * (1.5 - j) / (j + 1) * x;
     }
-    double sum = 1.125 * (n - 1.0 / 3.0) / (1.0 - n) * x * x;  // f_2 = 3/(4(1-n)) - 9/8
-    double power = x * x;
+    double sum = 1.125 * (n - 1.0 / 3.0) / (1.0 - n) * x * x;  // f_2 x² = (3/(4(1-n)) - 9/8) x²
     for (int j = 3; j <= kTerms; ++j) {
-      power *= x;
       double gamma = 0.0;
-      for (int i = 1; i < j; ++i) gamma += beta[i] * beta[j - i];
-      sum += (c * alpha[j] - 0.5 * gamma) * power;
+      for (int i = 1; i < j; ++i) gamma += b[i] * b[j - i];
+      sum += c * a[j] - 0.5 * gamma;
     }
     return scale * sum;
   }
-  if (x < 1.0) {  // eq. (11), literally
-    const double a = 1.5 * x;
-    const double b = 1.5 * (1.0 - n) / (2.0 - n) * (std::pow(1.0 - x, (2.0 - n) / (1.0 - n)) - 1.0);
-    const double c = 1.0 - std::pow(1.0 - x, 1.5);
-    return scale * (a + b - 0.5 * c * c);
+  if (x < 1.0) {
+    // eq. (11), with 3x/2 = c p x folded into c[(1-x)^p - 1 + p x] (exact algebra): that bracket
+    // is taken by expm1/log1p, so neither (1-x)^p nor the O(x) terms cancel (p x > 1 here or x > 1/4).
+    const double c = 1.5 * (1.0 - n) / (2.0 - n);
+    const double log_rest = std::log1p(-x);
+    const double bracket = std::expm1(pexp * log_rest) + pexp * x;
+    const double open = -std::expm1(1.5 * log_rest);  // 1 - (1-x)^{3/2}
+    return scale * (c * bracket - 0.5 * open * open);
   }
-  // eq. (12), literally
-  return scale * (n * (3.0 - n) / (2.0 * (2.0 - 3.0 * n + n * n)) + 1.5 * (x - 1.0));
+  // eq. (12)
+  return scale * (full_slip_constant(n) + 1.5 * (x - 1.0));
 }
 
 double dissipation_general(double loading_span, const MicroslipParameters& p) {
   const double n = p.exponent;
-  const double scale = 2.0 * p.slip_limit * p.slip_limit / p.stiffness;
+  const double scale = energy_scale(p);
   const double x = loading_span / full_slip_span(p);
   if (x < 1.0) {
     // W_D = (2F_s²/k) I(ŷ), ŷ = F̂/F_s on the virgin curve (docs/theory.md eq. T-11)
     return scale * loading_integral(virgin_force(loading_span, p) / p.slip_limit, 1.0 - x, n);
   }
   // I(1) = n(3-n)/(2(2-3n+n²)) (eq. 12's constant) plus Coulomb sliding 2F_s(ĝ - g_max)
-  return scale * (n * (3.0 - n) / (2.0 * (2.0 - 3.0 * n + n * n)) + (x - 1.0) / (1.0 - n));
+  return scale * (full_slip_constant(n) + (x - 1.0) / (1.0 - n));
 }
 
 SymmetricLoop symmetric_loop(double amplitude, const MicroslipParameters& p) {

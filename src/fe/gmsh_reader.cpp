@@ -286,9 +286,12 @@ class GmshReader {
   void read_nodes() {
     const Line header = next_line("'numEntityBlocks numNodes minNodeTag maxNodeTag'", 4);
     const std::size_t blocks = count(header, 0, "numEntityBlocks");
+    const std::size_t declared = count(header, 1, "numNodes");
+    std::size_t found = 0;
     for (std::size_t b = 0; b < blocks; ++b) {
       const Line block = next_line("'entityDim entityTag parametric numNodesInBlock'", 4);
       const std::size_t n = count(block, 3, "numNodesInBlock");
+      found += n;
       std::vector<std::pair<long, int>> tags;  // tag, line
       for (std::size_t i = 0; i < n; ++i) {
         const Line line = next_line("a node tag", 1);
@@ -305,6 +308,10 @@ class GmshReader {
         node_tags_.push_back(tag);
       }
     }
+    // A header that disagrees with its blocks means a truncated or hand-edited file: its nodes
+    // may not be the ones the mesher wrote.
+    if (found != declared)
+      fail(header.number, fmt::format("the $Nodes header declares {} nodes, its {} blocks hold {}", declared, blocks, found));
   }
 
   // $Elements: "numEntityBlocks numElements minElementTag maxElementTag", then per block
@@ -312,6 +319,8 @@ class GmshReader {
   void read_elements() {
     const Line header = next_line("'numEntityBlocks numElements minElementTag maxElementTag'", 4);
     const std::size_t blocks = count(header, 0, "numEntityBlocks");
+    const std::size_t declared = count(header, 1, "numElements");
+    std::size_t found = 0;
     for (std::size_t b = 0; b < blocks; ++b) {
       const Line line = next_line("'entityDim entityTag elementType numElementsInBlock'", 4);
       ElementBlock block;
@@ -330,8 +339,11 @@ class GmshReader {
         }
         block.elements.push_back(std::move(element));
       }
+      found += block.elements.size();
       blocks_.push_back(std::move(block));
     }
+    if (found != declared)
+      fail(header.number, fmt::format("the $Elements header declares {} elements, its {} blocks hold {}", declared, blocks, found));
   }
 
   std::string physical_name(int dim, int tag) const {

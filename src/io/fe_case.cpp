@@ -81,6 +81,7 @@ class FeCaseReader {
       for (const char* key : {"damping", "reduction", "excitation", "outputs", "nonlinear_modes", "frf"})
         if (f.has(key)) {
           c.dynamics = read_fe_dynamics(reader_, f, c.mesh);
+          check_modes_can_exist(f, c);
           break;
         }
     }
@@ -634,6 +635,43 @@ class FeCaseReader {
 
 
   // ---- analysis ------------------------------------------------------------------------------
+
+  // The modes stage computes analysis.modes.count modes; of a model without constraints (free-free,
+  // held by a 3-2-1 support in the preload only) six are rigid-body modes. A damping curve of an
+  // elastic mode beyond what remains cannot exist: refused here rather than after the preload
+  // (pipeline/interface_settings.cpp finds it only then).
+  void check_modes_can_exist(const Fields& analysis, const FeCase& c) const {
+    const int count = c.modes ? c.modes->count : modal::ModalOptions{}.count;
+    const int rigid = c.constraints.empty() ? 6 : 0;
+    const int elastic = count - rigid;
+    const std::string source = c.modes ? fmt::format("analysis.modes.count = {}", count)
+                                       : fmt::format("the default analysis.modes.count = {}", count);
+    const std::string why = rigid > 0 ? fmt::format("{} modes, {} of them rigid-body modes (the model has no "
+                                                    "constraints)", source, rigid)
+                                      : source + " modes";
+    if (elastic < 1) {
+      const auto* at = analysis.find("modes");
+      reader_.fail(at ? at->value : analysis.find(c.dynamics->nonlinear_modes ? "nonlinear_modes" : "frf")->key,
+                   "analysis.modes.count",
+                   fmt::format("must leave at least one elastic mode for analysis.nonlinear_modes / frf: {}; "
+                               "raise it to at least {}", why, rigid + 1));
+    }
+    if (!c.dynamics->nonlinear_modes) return;
+    const Fields::Entry* nm = analysis.find("nonlinear_modes");
+    const std::vector<int>& modes = c.dynamics->nonlinear_modes->modes;
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+      if (modes[i] <= elastic) continue;
+      // The position of the offending number: mode: k, or item i of mode: [..].
+      const YAML::Node mode = nm->value.IsMap() ? nm->value["mode"] : YAML::Node();
+      const bool listed = mode && mode.IsSequence();
+      reader_.fail(listed ? mode[i] : (mode ? mode : nm->key),
+                   listed ? item_path(analysis.path_of("nonlinear_modes") + ".mode", i)
+                          : analysis.path_of("nonlinear_modes") + ".mode",
+                   fmt::format("elastic mode {} cannot exist: {} leave at most {} elastic modes; raise "
+                               "analysis.modes.count to at least {}",
+                               modes[i], why, std::max(elastic, 0), modes[i] + rigid));
+    }
+  }
 
   void read_analysis(const YAML::Node& node, FeCase& c) {
     const Fields f = reader_.fields(node, "analysis", kAnalysisKeys);

@@ -19,6 +19,22 @@ using yaml::item_path;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
+// A point inside or on the model lies within about half an element diagonal of a node; farther
+// than this many largest element edges it is off the model (a typo, mm for m), and the "nearest
+// node" would silently be some corner far away.
+constexpr double kMaxPointDistanceInEdges = 2.0;
+
+// The mesh's characteristic element size for the point check: its longest element edge [m].
+double longest_edge(const fe::Mesh& mesh) {
+  double longest = 0.0;
+  for (const fe::Element& e : mesh.elements)
+    for (const auto& [a, b] : fe::edge_corners(e.type))
+      longest = std::max(longest, (mesh.coordinates.col(e.nodes[static_cast<std::size_t>(a)]) -
+                                   mesh.coordinates.col(e.nodes[static_cast<std::size_t>(b)]))
+                                      .norm());
+  return longest;
+}
+
 class DynamicsReader {
  public:
   DynamicsReader(const yaml::Reader& reader, const fe::Mesh& mesh) : r_(reader), mesh_(mesh) {}
@@ -104,7 +120,22 @@ class DynamicsReader {
       if (dist < best) best = dist, o.node = i;
     }
     o.distance = best;
+    check_on_model(f.find("point")->value, f.path_of("point"), o);
     return o;
+  }
+
+  void check_on_model(const YAML::Node& node, const std::string& path, const FeNodeDirection& o) const {
+    if (mesh_.elements.empty()) return;
+    const double h = longest_edge(mesh_);
+    if (o.distance <= kMaxPointDistanceInEdges * h) return;
+    const Eigen::Vector3d x = mesh_.coordinates.col(o.node);
+    r_.fail(node, path,
+            fmt::format("must lie on the model (within {} x its longest element edge = {:.4g} m of a node), but "
+                        "lies {:.4g} m from the nearest node, {} at [{:.6g}, {:.6g}, {:.6g}] (coordinates are in m)",
+                        kMaxPointDistanceInEdges, kMaxPointDistanceInEdges * h, o.distance,
+                        mesh_.node_ids.empty() ? static_cast<long>(o.node + 1)
+                                               : mesh_.node_ids[static_cast<std::size_t>(o.node)],
+                        x.x(), x.y(), x.z()));
   }
 
   void read_damping(const YAML::Node& node, const std::string& path, FeDynamicsSpec& d) const {

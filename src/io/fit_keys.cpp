@@ -88,6 +88,13 @@ std::vector<std::string> split_csv(const std::string& line) {
   return cells;
 }
 
+// At most the first 80 bytes of a line echoed in a message: the "header" of a binary file may be
+// kilobytes long (InputError escapes its control bytes).
+std::string excerpt(const std::string& line) {
+  constexpr std::size_t kMax = 80;
+  return line.size() <= kMax ? line : line.substr(0, kMax) + "...";
+}
+
 // Columns of each target type: the abscissa, the measured quantities (any subset may be used).
 struct Layout {
   std::string abscissa;
@@ -154,7 +161,7 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
           throw InputError(name, line_number, 1, key,
                            fmt::format("the header must name the columns {} (a {} target), got "
                                        "'{}'",
-                                       join(needed), fit::to_string(t.kind), line));
+                                       join(needed), fit::to_string(t.kind), excerpt(line)));
         }
       }
       continue;

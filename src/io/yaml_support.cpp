@@ -29,11 +29,22 @@ std::string read_text_file(const std::filesystem::path& file) {
 }
 
 YAML::Node load(const std::string& text, const std::string& file_name) {
+  std::vector<YAML::Node> documents;
   try {
-    return YAML::Load(text);
+    documents = YAML::LoadAll(text);
   } catch (const YAML::ParserException& e) {
     throw InputError(file_name, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
   }
+  // Only the first document is a case: anything after a '---' separator would be silently
+  // ignored, so it is refused (an empty trailing document holds nothing and is harmless).
+  for (std::size_t k = 1; k < documents.size(); ++k) {
+    if (documents[k].IsNull()) continue;
+    const YAML::Mark mark = documents[k].Mark();
+    throw InputError(file_name, mark.line + 1, mark.column + 1, "",
+                     "a second YAML document (after '---'): a case file holds one document, the "
+                     "rest would be ignored");
+  }
+  return documents.empty() ? YAML::Node() : documents.front();
 }
 
 std::string child_path(const std::string& path, const std::string& name) {

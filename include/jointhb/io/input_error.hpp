@@ -10,8 +10,15 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace jointhb::io {
+
+/// `text` made safe to print as one line of a terminal or log: line breaks and tabs become
+/// blanks; other control bytes (C0, DEL, the C1 range, U+2028/U+2029) and bytes that are not
+/// UTF-8 become \xNN escapes (text echoed from a binary file must neither break the line nor
+/// drive the terminal). Valid UTF-8 (file names, the messages' own symbols) is kept.
+std::string printable_one_line(std::string_view text);
 
 /// The FILE part of errors about command-line options.
 inline constexpr const char* command_line = "command line";

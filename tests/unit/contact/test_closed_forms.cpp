@@ -111,3 +111,48 @@ TEST(ClosedForms, PrintedFormulaSeriesJoinsTheLiteralExpression) {
     EXPECT_NEAR(cf::dissipation_paper(span, mindlin), general, 1e-13 * general) << x;
   }
 }
+
+TEST(ClosedForms, PrintedFormulaStaysAccurateAsTheExponentApproachesOne) {
+  // Issue 20, item 4: at n = 0.9999999 the series branch summed C(p, j) x^j with p = (2-n)/(1-n)
+  // = 1e7, which overflowed to NaN. Reference: eq. (11) literally, in 60-digit arithmetic (mpmath),
+  // F_s = k = 1, x = ĝ/g_T^max.
+  struct Case {
+    double n, x, wd;
+  };
+  const Case cases[] = {
+      {0.05, 1e-9, -6.7105263048164827838e-19},  {0.05, 0.25, -0.024613990111562860354},
+      {1.0 / 3.0, 1e-4, 7.5000000009313346209e-13}, {1.0 / 3.0, 0.2, 0.0060035882878007992761},
+      {0.7, 0.01, 0.00027224953652998394468},    {0.7, 0.6, 0.56271520804673666774},
+      {0.9, 1e-9, 1.2749999956125005009e-17},    {0.9, 0.01, 0.0012320129962119957673},
+      {0.9, 0.2, 0.26978332721441092022},        {0.9999999, 1e-9, 1.495012251322162374e-11},
+      {0.9999999, 1e-4, 0.00029967750115516260583}, {0.9999999, 0.01, 0.029775825471137668893},
+      {0.9999999, 0.25, 0.62716280567668812805}, {0.9999999, 0.6, 1.2419641256269708159},
+      {0.9999999999999999, 1e-9, 2.9999996646830928004e-9},
+      {0.9999999999999999, 0.2, 0.51908350559986509747},
+  };
+  for (const Case& c : cases) {
+    const cf::MicroslipParameters p{c.n, 1.0, 1.0};
+    const double wd = cf::dissipation_paper(c.x * cf::full_slip_span_printed(p), p);
+    EXPECT_NEAR(wd, c.wd, 1e-9 * std::abs(c.wd)) << "n=" << c.n << " x=" << c.x;
+  }
+  // Full slip (eq. 12) and the general formula stay finite as well.
+  for (double n : {0.9999999, 0.9999999999999999}) {
+    const cf::MicroslipParameters p{n, 1.0, 1.0};
+    EXPECT_TRUE(std::isfinite(cf::dissipation_paper(2.0 * cf::full_slip_span_printed(p), p))) << n;
+    for (double x : {1e-9, 0.3, 0.99, 2.0})
+      EXPECT_TRUE(std::isfinite(cf::dissipation_general(x * cf::full_slip_span(p), p))) << n << " " << x;
+  }
+}
+
+TEST(ClosedForms, EnergyScaleDoesNotOverflowBeforeTheResultDoes) {
+  // 2F_s²/k with F_s = 1e160 and k = 1e20 is 2e300: F_s² alone (1e320) overflows, and ∞ times a
+  // vanishing integral gave NaN (issue 20, item 4).
+  const cf::MicroslipParameters big{1.0 / 3.0, 1e160, 1e20};
+  const cf::MicroslipParameters unit{1.0 / 3.0, 1.0, 1.0};
+  for (double x : {0.0, 1e-3, 0.5, 3.0}) {
+    const double scaled = cf::dissipation_general(x * cf::full_slip_span(big), big);
+    const double reference = cf::dissipation_general(x * cf::full_slip_span(unit), unit) * 1e300;
+    EXPECT_NEAR(scaled, reference, 1e-12 * reference) << x;
+    EXPECT_TRUE(std::isfinite(cf::dissipation_paper(x * cf::full_slip_span_printed(big), big))) << x;
+  }
+}

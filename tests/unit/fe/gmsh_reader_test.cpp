@@ -232,6 +232,17 @@ TEST(GmshReader, RefusesPyramidsAndCompleteQuadraticElementsAndStrayQuadrangles)
       reports(replaced(kCubeHex8, "$EndElements\n", ""), 40, "file ends where $EndElements"));
 }
 
+TEST(GmshReader, RefusesHeadersThatDisagreeWithTheirBlocks) {
+  // Issue 20, item 7: a $Nodes header claiming more nodes than its blocks hold was accepted.
+  // kCubeHex8: the $Nodes header on line 15, the $Elements header on line 36.
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 100 11 18"), 15,
+                      "the $Nodes header declares 100 nodes, its 2 blocks hold 8"));
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 7 11 18"), 15,
+                      "declares 7 nodes, its 2 blocks hold 8"));
+  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Elements\n2 2 3 7", "$Elements\n2 5 3 7"), 36,
+                      "the $Elements header declares 5 elements, its 2 blocks hold 2"));
+}
+
 TEST(GmshReader, SkipsUnknownSectionsAndLowerDimensionalElements) {
   const std::string extra = replaced(
       replaced(kCubeHex8, "$Nodes\n", "$Comments\nanything at all\n$EndComments\n$Nodes\n"),

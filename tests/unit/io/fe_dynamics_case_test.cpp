@@ -143,6 +143,35 @@ TEST(io_FeDynamics, BadValuesNameLineKeyAndConstraint) {
   expect_error("  nonlinear_modes: {foo: 1}\n", 12, "analysis.nonlinear_modes.foo", "unknown key");
 }
 
+TEST(io_FeDynamics, PointsOffTheModelAreRefused) {
+  // Issue 20, item 7: an excitation 173 m from the nearest node was accepted (the nearest node,
+  // some corner, was driven). The lap's longest element edge is 0.01 m: within 0.02 m passes.
+  expect_error("  nonlinear_modes: {}\n  excitation: {point: [100.0, 140.0, 0.008]}\n", 13, "analysis.excitation.point",
+               "must lie on the model (within 2 x its longest element edge = 0.02 m of a node), but lies 172 m from the nearest node");
+  expect_error("  nonlinear_modes: {}\n  outputs: [{name: tip, point: [0.06, 0.01, 0.5]}]\n", 13,
+               "analysis.outputs[0].point", "lies 0.492 m from the nearest node");
+  const FeCase c = parse_fe_case(with("  nonlinear_modes: {}\n  excitation: {point: [0.06, 0.01, 0.025]}\n"), "case.yaml");
+  EXPECT_NEAR(c.dynamics->excitation.distance, 0.017, 1e-12);
+}
+
+TEST(io_FeDynamics, ModesThatCannotExistAreRefusedBeforeAnyStage) {
+  // Issue 20, item 7: mode 50 with count 12 was found only after the preload. The small lap has
+  // no constraints: 6 of the computed modes are rigid-body modes.
+  const std::string drive = "  excitation: {point: [0.06, 0.01, 0.008]}\n";
+  expect_error("  modes: {count: 12}\n" + drive + "  nonlinear_modes: {mode: 50}\n", 14, "analysis.nonlinear_modes.mode",
+               "elastic mode 50 cannot exist: analysis.modes.count = 12 modes, 6 of them rigid-body modes (the model "
+               "has no constraints) leave at most 6 elastic modes; raise analysis.modes.count to at least 56");
+  expect_error("  modes: {count: 12}\n" + drive + "  nonlinear_modes: {mode: [2, 7]}\n", 14,
+               "analysis.nonlinear_modes.mode[1]", "elastic mode 7 cannot exist");
+  expect_error(drive + "  nonlinear_modes: {mode: 15}\n", 13, "analysis.nonlinear_modes.mode",
+               "the default analysis.modes.count = 20 modes");
+  expect_error("  modes: {count: 6}\n" + drive + "  frf: {frequency_hz: [900, 1000], force: 1}\n", 12,
+               "analysis.modes.count", "must leave at least one elastic mode");
+  // The last elastic mode there is still accepted.
+  const FeCase c = parse_fe_case(with("  modes: {count: 12}\n" + drive + "  nonlinear_modes: {mode: 6}\n"), "case.yaml");
+  EXPECT_EQ(c.dynamics->nonlinear_modes->modes, std::vector<int>{6});
+}
+
 TEST(io_FeDynamics, TheBuiltInDefaultCaseIsTheLapDampingCurve) {
   const CaseFile c = parse_case_file(default_case_text(), "built-in default case");
   const auto* fe = std::get_if<FeCase>(&c);

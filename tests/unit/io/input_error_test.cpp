@@ -31,5 +31,18 @@ TEST(io_InputError, MessageStaysOnOneLine) {
   EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
 }
 
+TEST(io_InputError, ControlBytesAreEscapedAndUtf8IsKept) {
+  // Issue 20, item 6: a binary target CSV echoed its control bytes (vertical tab, form feed,
+  // escape sequences, NEL, U+2028) and so broke the message over lines and drove the terminal.
+  const std::string binary = std::string("a\x0b" "b\x0c" "c\x1b[31m\x7f") + "\xc2\x85" + "\xe2\x80\xa8" +
+                             std::string(1, '\0') + "\xff\xc3";
+  const InputError e("t.csv", 1, 1, "fit.targets[0].file", "got '" + binary + "'");
+  EXPECT_STREQ(e.what(),
+               "t.csv:1:1: key 'fit.targets[0].file': got "
+               "'a\\x0Bb\\x0Cc\\x1B[31m\\x7F\\xC2\\x85\\xE2\\x80\\xA8\\x00\\xFF\\xC3'");
+  // Tabs and line breaks become blanks; valid UTF-8 (symbols of the messages, file names) stays.
+  EXPECT_EQ(printable_one_line("σ = 1\tμm → «ok»\r\n"), "σ = 1 μm → «ok»  ");
+}
+
 }  // namespace
 }  // namespace jointhb::io

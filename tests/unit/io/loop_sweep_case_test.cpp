@@ -207,5 +207,16 @@ TEST(io_LoopSweepCase, UnreadableFileIsAnInputErrorNamingIt) {
   EXPECT_NE(std::string(e.what()).find("cannot open case file"), std::string::npos);
 }
 
+TEST(io_LoopSweepCase, ASecondYamlDocumentIsRefusedNotIgnored) {
+  // Issue 20, item 7: everything after '---' was silently ignored.
+  const TempFile file(".yaml", std::string(valid_case) + "---\nanalysis:\n  loop_sweep: {mu: 0.9}\n");
+  const InputError e = error_of(file);
+  EXPECT_EQ(e.line(), 13) << e.what();
+  EXPECT_NE(e.constraint().find("a second YAML document"), std::string::npos) << e.what();
+  // An empty trailing document holds nothing to ignore.
+  const TempFile empty(".yaml", std::string(valid_case) + "---\n");
+  EXPECT_EQ(read_loop_sweep_case(empty.path()).points, 41);
+}
+
 }  // namespace
 }  // namespace jointhb::io

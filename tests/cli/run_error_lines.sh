@@ -1,0 +1,37 @@
+# Issue 20, item 6: an error is one printable line (bytes echoed from a binary file escaped), and a
+# failed FE run ends with one "jointhb run: ..." error line instead of "done".
+source "$(dirname "$0")/common.inc" "$@"
+LAP="$SOURCE_DIR/cases/08-lap-damping/case.yaml"
+
+# refused NAME PATTERN ARGS...: exit 2, one line matching PATTERN, no summary.json in $WORK/NAME.
+refused() {
+  local name=$1 pattern=$2
+  shift 2
+  expect_bad_input "$@" -o "$WORK/$name"
+  grep -q -- "$pattern" "$ERR" || fail "$name: message does not match '$pattern': $(cat "$ERR")"
+  [ ! -e "$WORK/$name/summary.json" ] || fail "$name: a refused case wrote summary.json"
+}
+
+# A binary target file: the echoed header stays one printable line (control bytes escaped).
+mkdir -p "$WORK/fit"
+cp "$SOURCE_DIR/cases/10-fit-one-dof/case.yaml" "$WORK/fit/"
+printf 'amp\x0bli\x0ctude\x1b[31m,freq\xc2\x85uency_hz\xe2\x80\xa8x\x00y\n1,2\n' >"$WORK/fit/measured_backbone.csv"
+refused fitbin "measured_backbone.csv:1:1: key 'fit.targets\[0\].file': the header must name" fit "$WORK/fit/case.yaml"
+if LC_ALL=C grep -q -P '[\x00-\x08\x0b-\x1f\x7f\x80-\xff]' "$ERR"; then
+  fail "the message holds control or non-ASCII bytes: $(od -c "$ERR" | head -5)"
+fi
+grep -q 'amp\\x0Bli\\x0Ctude\\x1B\[31m,freq\\xC2\\x85uency_hz\\xE2\\x80\\xA8x\\x00y' "$ERR" ||
+  fail "escaped header: $(cat "$ERR")"
+
+# A preload that does not converge: one error line with the prefix, last, and no "done" line.
+sed 's/preload: {load_steps: 4, tolerance: 1.0e-9}/preload: {load_steps: 1, max_iterations: 1, tolerance: 1.0e-12}/' \
+  "$LAP" >"$WORK/preload.yaml"
+run_capture run "$WORK/preload.yaml" -o "$WORK/preload"
+[ "$STATUS" -eq 1 ] || fail "failed preload exited $STATUS, expected 1"
+grep -q "done in" "$ERR" && fail "a failed run printed the 'done' line: $(cat "$ERR")"
+[ "$(grep -c '^jointhb run: ' "$ERR")" -eq 1 ] || fail "expected one 'jointhb run:' line: $(cat "$ERR")"
+tail -n 1 "$ERR" | grep -q "^jointhb run: .*preload.yaml: failed: preload: preload step 1/1 (load factor 1): no convergence" ||
+  fail "last line: $(tail -n 1 "$ERR")"
+[ "$(summary_status "$WORK/preload/summary.json")" = failed ] || fail "summary.json status of the failed preload"
+echo "ok: failed preload -> $(tail -n 1 "$ERR")"
+finish
