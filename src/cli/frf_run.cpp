@@ -117,7 +117,9 @@ Json inputs_json(const io::DiscreteCase& c) {
                      {"harmonic_selection", selection_name(f.selection)},
                      {"periodic_tolerance", f.periodic_tolerance},
                      {"check_jacobian", f.check_jacobian},
-                     {"stability", f.stability},
+                     {"stability", f.stability == continuation::Stability::automatic ? "auto"
+                                   : f.stability == continuation::Stability::always  ? "true"
+                                                                                     : "false"},
                      {"continuation",
                       {{"initial_step", f.continuation.initial_step},
                        {"min_step", f.continuation.min_step},
@@ -201,6 +203,7 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   }
   j["bifurcations"] = bifurcations;
   j["stability"] = {{"points_known", known}, {"unstable_points", unstable}};
+  if (!curve.stability_note.empty()) j["stability"]["note"] = curve.stability_note;
   if (check_jacobian) {
     j["jacobian_check_error"] = curve.jacobian_check_error;
     j["jacobian_check_omega"] = curve.jacobian_check_omega;
@@ -285,7 +288,8 @@ struct AnalysisOutcome {
 AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& pipe, const fs::path& dir, Json& summary) {
   const continuation::FrfOptions& options = *c.frf;
   summary["outputs"]["frf"] = "frf.csv";
-  const std::vector<std::string> columns = frf_columns(options.stability);
+  const bool stability = continuation::computes_stability(options, c.system.dofs());
+  const std::vector<std::string> columns = frf_columns(stability);
   summary["columns"]["frf"] = columns;
   summary["curves"] = Json::array();
   io::CsvWriter csv(dir / "frf.csv", columns);
@@ -303,7 +307,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
                                  p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
                                  p.amplitude_max, p.dissipation,
                                  static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
-      if (options.stability) {
+      if (stability) {
         row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
         row.push_back(p.stability_known ? p.max_multiplier : -1.0);
       }

@@ -266,6 +266,7 @@ FrfExtremum extremum_of(const detail::CurveExtremum& e, const hb::HarmonicBalanc
   f.points = e.points;
   if (!e.ok) return f;
   f.omega = e.lambda;
+  f.coefficients = e.x;
   f.amplitude_h1 = b.fundamental_amplitude(e.x, dof);
   f.value_bound = e.value_bound;
   f.omega_bracket = e.lambda_bracket;
@@ -284,6 +285,7 @@ void refine_extrema(const ResidualFunction& residual, const Options& scaling,
                                 b, dof);
     if (!f.refined) {
       f.omega = curve.points[k].omega;
+      f.coefficients = curve.points[k].coefficients;
       f.amplitude_h1 = curve.points[k].amplitude_h1;
       f.value_bound = std::abs(curve.points[k].omega - curve.points[k - 1].omega);
     }
@@ -310,6 +312,7 @@ void refine_extrema(const ResidualFunction& residual, const Options& scaling,
   }
   if (!peak.refined) {
     peak.omega = curve.points[top].omega;
+    peak.coefficients = curve.points[top].coefficients;
     peak.amplitude_h1 = curve.points[top].amplitude_h1;
   }
   curve.peak = std::move(peak);
@@ -330,6 +333,13 @@ std::string FrfOptions::validate(int dofs) const {
   }
   if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
   return balance_options(*this).validate();
+}
+
+bool computes_stability(const FrfOptions& options, int dofs) {
+  // Hill's method works on the full basis 0..H even where the curve keeps odd harmonics only.
+  const long long unknowns = static_cast<long long>(dofs) * (2LL * options.harmonics + 1);
+  return options.stability == Stability::always ||
+         (options.stability == Stability::automatic && unknowns <= kAutomaticStabilityUnknowns);
 }
 
 FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
@@ -379,7 +389,14 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
 
   FrfCurve curve;
   std::optional<hb::HillStability> hill;
-  if (options.stability) hill.emplace(balance, options.hill);
+  if (computes_stability(options, system.dofs())) {
+    hill.emplace(balance, options.hill);
+  } else if (options.stability == Stability::automatic) {
+    curve.stability_note = fmt::format(
+        "stability not computed: Hill's eigenproblem has 2n(2H+1) = {} unknowns per point "
+        "(automatic up to {}); set stability: true to compute it",
+        2LL * system.dofs() * (2 * options.harmonics + 1), 2 * kAutomaticStabilityUnknowns);
+  }
   std::optional<hb::FloquetResult> previous_floquet;
   std::vector<Point> accepted;  // for the location of folds and the peak
   curve.kept_harmonics = basis.orders();

@@ -641,7 +641,14 @@ class DiscreteCaseReader {
       selection_node_ = *selection;
     }
     read_flag(f, "check_jacobian", o.check_jacobian);
-    read_flag(f, "stability", o.stability);  // Hill's method at every point (default true)
+    if (const auto* stability = f.find("stability")) {  // Hill's method at every point
+      const std::string key = f.path_of("stability");
+      const std::string value = reader_.text(stability->value, key);
+      reader_.check(stability->value, key, check_one_of(value, {"auto", "true", "false"}));
+      o.stability = value == "auto"   ? continuation::Stability::automatic
+                    : value == "true" ? continuation::Stability::always
+                                      : continuation::Stability::never;
+    }
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }
