@@ -120,6 +120,9 @@ Json inputs_json(const io::DiscreteCase& c) {
                      {"stability", f.stability == continuation::Stability::automatic ? "auto"
                                    : f.stability == continuation::Stability::always  ? "true"
                                                                                      : "false"},
+                     {"stability_method",
+                      f.stability_method == continuation::StabilityMethod::hill ? "hill"
+                                                                                : "monodromy"},
                      {"continuation",
                       {{"initial_step", f.continuation.initial_step},
                        {"min_step", f.continuation.min_step},

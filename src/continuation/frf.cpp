@@ -332,14 +332,16 @@ std::string FrfOptions::validate(int dofs) const {
     return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
   if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
+  if (auto msg = monodromy.validate(); !msg.empty()) return "monodromy." + msg;
   return balance_options(*this).validate();
 }
 
 bool computes_stability(const FrfOptions& options, int dofs) {
   // Hill's method works on the full basis 0..H even where the curve keeps odd harmonics only.
+  if (options.stability != Stability::automatic) return options.stability == Stability::always;
+  if (options.stability_method == StabilityMethod::monodromy) return dofs <= kAutomaticStabilityDofs;
   const long long unknowns = static_cast<long long>(dofs) * (2LL * options.harmonics + 1);
-  return options.stability == Stability::always ||
-         (options.stability == Stability::automatic && unknowns <= kAutomaticStabilityUnknowns);
+  return unknowns <= kAutomaticStabilityUnknowns;
 }
 
 FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
@@ -389,13 +391,19 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
 
   FrfCurve curve;
   std::optional<hb::HillStability> hill;
-  if (computes_stability(options, system.dofs())) {
+  const bool stability = computes_stability(options, system.dofs());
+  if (stability && options.stability_method == StabilityMethod::hill) {
     hill.emplace(balance, options.hill);
-  } else if (options.stability == Stability::automatic) {
-    curve.stability_note = fmt::format(
-        "stability not computed: Hill's eigenproblem has 2n(2H+1) = {} unknowns per point "
-        "(automatic up to {}); set stability: true to compute it",
-        2LL * system.dofs() * (2 * options.harmonics + 1), 2 * kAutomaticStabilityUnknowns);
+  } else if (!stability && options.stability == Stability::automatic) {
+    curve.stability_note =
+        options.stability_method == StabilityMethod::hill
+            ? fmt::format("stability not computed: Hill's eigenproblem has 2n(2H+1) = {} unknowns "
+                          "per point (automatic up to {}); set stability: true to compute it",
+                          2LL * system.dofs() * (2 * options.harmonics + 1),
+                          2 * kAutomaticStabilityUnknowns)
+            : fmt::format("stability not computed: {} DOFs (automatic up to {}); set "
+                          "stability: true to compute it",
+                          system.dofs(), kAutomaticStabilityDofs);
   }
   std::optional<hb::FloquetResult> previous_floquet;
   std::vector<Point> accepted;  // for the location of folds and the peak
@@ -414,9 +422,10 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     f.step = p.step;
     f.fold = p.fold;
     f.coefficients = p.x;
-    if (hill) {
+    if (stability) {
       const auto stability_start = Clock::now();
-      hb::FloquetResult floquet = hill->evaluate(p.x, p.lambda);
+      hb::FloquetResult floquet = hill ? hill->evaluate(p.x, p.lambda)
+                                       : hb::orbit_floquet(balance, p.x, p.lambda, options.monodromy);
       curve.timings.stability += seconds_since(stability_start);
       f.stability_known = floquet.ok;
       f.stable = floquet.stable();

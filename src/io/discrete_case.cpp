@@ -609,7 +609,8 @@ class DiscreteCaseReader {
     const Fields f = reader_.fields(
         node, path,
         {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
-         "periodic_tolerance", "check_jacobian", "stability", "continuation"});
+         "periodic_tolerance", "check_jacobian", "stability", "stability_method",
+         "continuation"});
     continuation::FrfOptions o;
 
     const auto* omega = f.find("omega");
@@ -648,6 +649,13 @@ class DiscreteCaseReader {
       o.stability = value == "auto"   ? continuation::Stability::automatic
                     : value == "true" ? continuation::Stability::always
                                       : continuation::Stability::never;
+    }
+    if (const auto* method = f.find("stability_method")) {
+      const std::string key = f.path_of("stability_method");
+      const std::string value = reader_.text(method->value, key);
+      reader_.check(method->value, key, check_one_of(value, {"monodromy", "hill"}));
+      o.stability_method = value == "hill" ? continuation::StabilityMethod::hill
+                                           : continuation::StabilityMethod::monodromy;
     }
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);

@@ -13,6 +13,7 @@
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
 #include "jointhb/hb/hill_stability.hpp"
+#include "jointhb/hb/orbit_monodromy.hpp"
 
 namespace jointhb::continuation {
 
@@ -22,12 +23,26 @@ using hb::HarmonicSelection;
 
 /// Whether an FRF computes the stability of its points.
 enum class Stability {
-  automatic,  ///< when the eigenproblem is small (N = n(2H+1) ≤ kAutomaticStabilityUnknowns)
+  automatic,  ///< when it is cheap: n ≤ kAutomaticStabilityDofs (monodromy), n(2H+1) ≤
+              ///< kAutomaticStabilityUnknowns (Hill)
   always,
   never,
 };
 
-/// The largest N = n(2H+1) for which Stability::automatic computes stability: 2N = 300, about
+/// How the stability of a point is computed (docs/stability.md §1–2).
+enum class StabilityMethod {
+  /// The monodromy of the variational equation along the harmonic-balance orbit with the laws'
+  /// increment derivatives (hb/orbit_monodromy.hpp): agrees with shooting; O(N_f n² (2n + n_c))
+  monodromy,
+  /// Hill's method on the harmonic-balance Jacobian (hb/hill_stability.hpp): exact at folds
+  /// (ρ = +1), but the Jacobian freezes the contacts' memory, so the other multipliers of
+  /// slipping contacts are wrong (docs/stability.md §2); O((2n(2H+1))³)
+  hill,
+};
+
+/// The largest n for which Stability::automatic computes the monodromy (~5 ms per point).
+inline constexpr int kAutomaticStabilityDofs = 10;
+/// The largest N = n(2H+1) for which Stability::automatic computes Hill's method: 2N = 300, about
 /// 0.05 s per point (dgeev with eigenvectors; a 30-DOF chain at H = 3, 2N = 420, takes 0.12 s
 /// per point against 2.4 ms for the harmonic balance itself: docs/stability.md §5).
 inline constexpr int kAutomaticStabilityUnknowns = 150;
@@ -43,9 +58,11 @@ struct FrfOptions {
   bool check_jacobian = false;  ///< compare ∂R/∂X, ∂R/∂Ω with central differences at every point
   /// Floquet multipliers of every accepted point by Hill's method (hb/hill_stability.hpp): one
   /// dense eigenproblem of size 2N = 2n(2H+1) per point, O((2N)³) (its cost is
-  /// FrfTimings::stability); automatic: computed when N ≤ kAutomaticStabilityUnknowns
+  /// FrfTimings::stability), or by the monodromy along the orbit (stability_method)
   Stability stability = Stability::automatic;
-  hb::HillOptions hill;  ///< Hill's method settings
+  StabilityMethod stability_method = StabilityMethod::monodromy;
+  hb::HillOptions hill;               ///< Hill's method settings
+  hb::OrbitMonodromyOptions monodromy;  ///< the monodromy's settings
   /// Folds and the resonance peak located between accepted points (docs/stability.md §3)
   bool refine_extrema = true;
   Options continuation;         ///< steps, tolerances (start/end/scales set by trace_frf)
