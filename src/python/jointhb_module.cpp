@@ -593,6 +593,27 @@ class DiscreteModel {
     d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
     d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
+    // Stability (docs/stability.md): −1 where it was not computed.
+    d["stable"] = column(r.points, [](const P& p) {
+      return p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0;
+    });
+    d["max_floquet_multiplier"] =
+        column(r.points, [](const P& p) { return p.stability_known ? p.max_multiplier : -1.0; });
+    py::list bifurcation;
+    for (const auto& p : r.points) bifurcation.append(hb::to_string(p.bifurcation));
+    d["bifurcation"] = bifurcation;
+    const auto extremum = [](const continuation::FrfExtremum& e) {
+      py::dict x;
+      x["omega"] = e.omega;
+      x["amplitude_h1"] = e.amplitude_h1;
+      x["error_bound"] = e.value_bound;
+      x["refined"] = e.refined;
+      return x;
+    };
+    if (r.peak) d["peak"] = extremum(*r.peak);
+    py::list folds;
+    for (const auto& f : r.folds) folds.append(extremum(f));
+    d["folds"] = folds;
     put_curve_status(d, r.status(), on_point.interrupted());
     d["harmonics"] = r.kept_harmonics;
     d["seconds"] = r.timings.total;
@@ -830,7 +851,9 @@ PYBIND11_MODULE(_core, m) {
            py::arg("level") = 0, py::arg("callback") = py::none(),
            "Nonlinear FRF under f(t) = force cos(Omega t) (force: amplitude per DOF [N]) over omega = (start, end) "
            "[rad/s]; without force, the case's excitation level `level` and analysis.frf settings. Numpy arrays "
-           "omega, frequency_hz, amplitude_h1, amplitude_max [m], dissipation [J]; status, message.")
+           "omega, frequency_hz, amplitude_h1, amplitude_max [m], dissipation [J], stable (1/0, -1: not "
+           "computed), max_floquet_multiplier, bifurcation (list of str); peak and folds (dicts: omega, "
+           "amplitude_h1, error_bound, refined); status, message.")
       .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
            "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude (the case's "

@@ -203,6 +203,13 @@ def test_a_discrete_model_from_arrays_meets_the_stuck_closed_form():
     exact = 1e-4 / np.sqrt((k + kt0 - m * w**2) ** 2 + (c * w) ** 2)
     assert np.max(np.abs(r["amplitude_h1"] / exact - 1.0)) < 1e-8
     assert np.all(r["dissipation"] == 0.0)  # stuck: no friction work
+    # Stability (monodromy along the orbit): a linear damped system is stable everywhere, its
+    # multipliers are exp(-c T / 2) in modulus (|rho| = exp(Re(lambda) T), Re(lambda) = -c/(2m)).
+    assert np.all(r["stable"] == 1.0) and all(b == "none" for b in r["bifurcation"])
+    expected = np.exp(-c / (2 * m) * 2 * np.pi / w)
+    assert np.max(np.abs(r["max_floquet_multiplier"] - expected)) < 1e-4
+    peak_w = np.sqrt((k + kt0) / m - c**2 / (2 * m**2))  # the damped peak of the receptance
+    assert r["peak"]["refined"] and abs(r["peak"]["omega"] - peak_w) < 1e-6
     b = model.backbone(mode=1, log10_amplitude=(-6.0, -0.5), harmonics=5)
     assert b["status"] == "ok", b["message"]
     assert abs(b["omega"][0] / np.sqrt(k + kt0) - 1.0) < 1e-9

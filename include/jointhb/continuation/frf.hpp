@@ -44,7 +44,7 @@ enum class StabilityMethod {
 inline constexpr int kAutomaticStabilityDofs = 10;
 /// The largest N = n(2H+1) for which Stability::automatic computes Hill's method: 2N = 300, about
 /// 0.05 s per point (dgeev with eigenvectors; a 30-DOF chain at H = 3, 2N = 420, takes 0.12 s
-/// per point against 2.4 ms for the harmonic balance itself: docs/stability.md §5).
+/// per point against 2.4 ms for the harmonic balance itself: docs/stability.md §6).
 inline constexpr int kAutomaticStabilityUnknowns = 150;
 
 struct FrfOptions {
