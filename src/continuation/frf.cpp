@@ -279,7 +279,7 @@ void refine_extrema(const ResidualFunction& residual, const Options& scaling,
                     const hb::HarmonicBalance& b, int dof, const std::vector<Point>& accepted,
                     FrfCurve& curve) {
   for (std::size_t k = 1; k < accepted.size() && k < curve.points.size(); ++k) {
-    if (!accepted[k].fold) continue;
+    if (!accepted[k].fold || curve.points[k].bifurcation == hb::Bifurcation::reversal) continue;
     FrfExtremum f = extremum_of(detail::refine_extremum(residual, scaling, accepted[k - 1],
                                                         accepted[k], detail::parameter_quantity()),
                                 b, dof);
@@ -478,6 +478,14 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   curve.message = r.message;
   if (!r.completed() && r.reason != StopReason::stopped_by_user) {
     if (const std::string why = stop_diagnosis(system, curve); !why.empty()) curve.message += ". " + why;
+    for (const auto& p : curve.points) {
+      if (p.bifurcation != hb::Bifurcation::reversal) continue;
+      curve.message += fmt::format(
+          ". The curve reversed at Ω = {:.6g} rad/s without a Floquet multiplier crossing +1: "
+          "not a fold but the continuation turning back along the branch at a kink (issue 23)",
+          p.omega);
+      break;
+    }
   }
   curve.newton_iterations += r.corrector_iterations;
   curve.rejected_steps = r.rejected_steps;

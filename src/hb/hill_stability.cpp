@@ -111,6 +111,7 @@ std::string to_string(Bifurcation b) {
     case Bifurcation::branch_point: return "branch_point";
     case Bifurcation::period_doubling: return "period_doubling";
     case Bifurcation::neimark_sacker: return "neimark_sacker";
+    case Bifurcation::reversal: return "reversal";
   }
   return "none";
 }
@@ -184,7 +185,12 @@ FloquetResult hill_floquet(const DiscreteSystem& system, const FourierBasis& bas
 
 Bifurcation classify_bifurcation(const FloquetResult& before, const FloquetResult& after,
                                  bool turned) {
-  if (turned) return Bifurcation::fold;
+  if (turned) {
+    // A fold changes the count of unstable multipliers by one (ρ passes +1); a turn without that
+    // is the continuation reversing along the branch.
+    return before.ok && after.ok && before.unstable == after.unstable ? Bifurcation::reversal
+                                                                       : Bifurcation::fold;
+  }
   if (!before.ok || !after.ok || before.unstable == after.unstable) return Bifurcation::none;
   const FloquetResult& less_stable = after.unstable > before.unstable ? after : before;
   // The tolerance that counted the multipliers is not stored: any |ρ| > 1 qualifies here, the

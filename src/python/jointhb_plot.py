@@ -6,7 +6,7 @@ usage: jointhb_plot.py DIR
 Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
   DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level;
                     with a `stable` column, unstable stretches dashed and bifurcations marked
-                    (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●)
+                    (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●, reversal ×)
   DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode
   DIR/mode<k>_contact.png  for each DIR/mode<k>_contact_points.csv: the contact points' W_D per
                     unit area (colour, scaled per panel) at each field snapshot, one panel per
@@ -27,7 +27,8 @@ def read(path):
         return list(csv.DictReader(f))
 
 
-MARKERS = {"fold": "^", "period_doubling": "s", "neimark_sacker": "D", "branch_point": "o"}
+MARKERS = {"fold": "^", "period_doubling": "s", "neimark_sacker": "D", "branch_point": "o",
+           "reversal": "x"}
 
 
 def stretches(sel):

@@ -55,9 +55,13 @@ enum class Bifurcation {
   branch_point,     ///< a real multiplier crosses +1 without a turn (a symmetry-breaking branch)
   period_doubling,  ///< a real multiplier crosses −1
   neimark_sacker,   ///< a complex pair crosses the unit circle
+  /// the curve's parameter turned but no multiplier crossed +1 (both points known, the same count
+  /// of unstable multipliers): not a fold of the branch but the continuation reversing along it at
+  /// a kink (docs/stability.md §1)
+  reversal,
 };
 
-/// "none", "fold", "branch_point", "period_doubling", "neimark_sacker".
+/// "none", "fold", "branch_point", "period_doubling", "neimark_sacker", "reversal".
 [[nodiscard]] std::string to_string(Bifurcation b);
 
 struct FloquetResult {
@@ -85,7 +89,7 @@ FloquetResult hill_floquet(const DiscreteSystem& system, const FourierBasis& bas
 /// multiplier that crossed is the one outside the unit circle closest to it in the less stable
 /// point; its argument tells +1 (fold when `turned`, the curve's parameter turned between the
 /// points, else branch point), −1 (period doubling) or a complex pair (Neimark–Sacker). A turn
-/// without a change of the count is reported as a fold as well.
+/// without a change of the count is a reversal when both results are known, else a fold.
 [[nodiscard]] Bifurcation classify_bifurcation(const FloquetResult& before,
                                                const FloquetResult& after, bool turned);
 

@@ -168,6 +168,32 @@ TEST(FrfStability, FoldsAgreeWithTheAmplitudeParametrisationAndCarryHillMultipli
   EXPECT_GE(unstable, 1);
 }
 
+TEST(FrfStability, ATurnWithoutAMultiplierCrossingIsAReversalNotAFold) {
+  // k_T0/k = 0.3, μF_N = 0.1, c = 1e-4, F = 0.0046: the curve climbs the stuck resonance to slip
+  // onset (Ω ≈ 1.1342) where the continuation turns back down the same branch (issue 23). Every
+  // |ρ| stays below 1 on both sides: no fold. Should the continuation pass the kink one day, the
+  // curve completes and has no reversal either way.
+  const hb::DiscreteSystem s = jenkins_oscillator(0.3, 0.1, 1e-4);
+  FrfOptions o = options(0.5, 2.0 * std::sqrt(1.3), 5);
+  o.time_samples = 1024;
+  const FrfCurve curve = trace_frf(s, force(0.00464158883361278), o);
+  int reversals = 0;
+  for (const auto& p : curve.points) {
+    ASSERT_TRUE(p.stability_known);
+    EXPECT_TRUE(p.stable) << p.omega;
+    reversals += p.bifurcation == hb::Bifurcation::reversal ? 1 : 0;
+    EXPECT_NE(p.bifurcation, hb::Bifurcation::fold) << p.omega;
+  }
+  EXPECT_TRUE(curve.folds.empty());
+  if (curve.completed()) {
+    EXPECT_EQ(reversals, 0);
+  } else {
+    EXPECT_EQ(curve.reason, StopReason::left_range) << curve.message;
+    EXPECT_EQ(reversals, 1);
+    EXPECT_NE(curve.message.find("reversed at"), std::string::npos) << curve.message;
+  }
+}
+
 TEST(FrfStability, AutomaticStabilitySkipsLargeProblemsAndSaysSo) {
   FrfOptions o = options(0.5, 1.5, 3);
   o.stability = Stability::automatic;

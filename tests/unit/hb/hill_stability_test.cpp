@@ -148,6 +148,9 @@ TEST(HillStability, ClassifiesTheMultiplierThatCrossed) {
   EXPECT_EQ(classify_bifurcation(stable, negative_out, false), Bifurcation::period_doubling);
   EXPECT_EQ(classify_bifurcation(pair_out, stable, false), Bifurcation::neimark_sacker);
   EXPECT_EQ(classify_bifurcation(stable, stable, false), Bifurcation::none);
+  EXPECT_EQ(classify_bifurcation(stable, stable, true), Bifurcation::reversal);
+  FloquetResult unknown;  // not computed: a turn is taken for a fold
+  EXPECT_EQ(classify_bifurcation(unknown, stable, true), Bifurcation::fold);
 }
 
 TEST(HillStability, RejectsAJacobianOfTheWrongSizeAndAnOddBasis) {
