@@ -160,7 +160,11 @@ PredictedCurve predict_frf(const DiscreteProblem& c, const Target& target) {
         fmt::format("level {} does not exist (the case has {})", target.level, c.levels.size());
     return out;
   }
-  const continuation::FrfOptions& options = *c.frf;
+  // A fit compares amplitudes at the targets' frequencies: stability and the located extrema
+  // would cost an eigenproblem or a monodromy per point of every evaluation for nothing.
+  continuation::FrfOptions options = *c.frf;
+  options.stability = continuation::Stability::never;
+  options.refine_extrema = false;
   const hb::Excitation& level = c.levels[static_cast<std::size_t>(target.level)];
   const continuation::FrfCurve curve = continuation::trace_frf(c.system, level, options);
   std::vector<double> omega, amplitude;
