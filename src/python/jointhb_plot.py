@@ -65,7 +65,7 @@ def plot_frf(directory):
                         label=kind.replace("_", " ") if kind not in marked else None)
                 marked.add(kind)
     if any(r.get("stable") == "0" for r in rows):
-        ax.plot([], [], "k--", label="unstable (Hill)")
+        ax.plot([], [], "k--", label="unstable")
     ax.set_xlabel("excitation frequency [Hz]")
     ax.set_ylabel("|fundamental| of the output DOF [m]")
     ax.set_title("Nonlinear FRF (harmonic balance)")
