@@ -3,15 +3,6 @@
 source "$(dirname "$0")/common.inc" "$@"
 LAP="$SOURCE_DIR/cases/08-lap-damping/case.yaml"
 
-# refused NAME PATTERN ARGS...: exit 2, one line matching PATTERN, no summary.json in $WORK/NAME.
-refused() {
-  local name=$1 pattern=$2
-  shift 2
-  expect_bad_input "$@" -o "$WORK/$name"
-  grep -q -- "$pattern" "$ERR" || fail "$name: message does not match '$pattern': $(cat "$ERR")"
-  [ ! -e "$WORK/$name/summary.json" ] || fail "$name: a refused case wrote summary.json"
-}
-
 # A binary target file: the echoed header stays one printable line (control bytes escaped).
 mkdir -p "$WORK/fit"
 cp "$SOURCE_DIR/cases/10-fit-one-dof/case.yaml" "$WORK/fit/"

@@ -3,15 +3,6 @@
 source "$(dirname "$0")/common.inc" "$@"
 LAP="$SOURCE_DIR/cases/08-lap-damping/case.yaml"
 
-# refused NAME PATTERN ARGS...: exit 2, one line matching PATTERN, no summary.json in $WORK/NAME.
-refused() {
-  local name=$1 pattern=$2
-  shift 2
-  expect_bad_input "$@" -o "$WORK/$name"
-  grep -q -- "$pattern" "$ERR" || fail "$name: message does not match '$pattern': $(cat "$ERR")"
-  [ ! -e "$WORK/$name/summary.json" ] || fail "$name: a refused case wrote summary.json"
-}
-
 # An excitation 176 m from the nearest node (the lap's elements are 5 mm long).
 sed 's/excitation: {point: \[0.160, 0.015, 0.008\]/excitation: {point: [100.0, 145.0, 0.008]/' "$LAP" >"$WORK/far.yaml"
 refused far "far.yaml:[0-9]*:[0-9]*: key 'analysis.excitation.point': must lie on the model .* but lies 176 m from the nearest node" \

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "linear_floquet_model.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <complex>
@@ -17,33 +19,14 @@ namespace {
 
 using cd = std::complex<double>;
 
-DiscreteSystem two_dof_linear() {
-  DiscreteSystem s;
-  Eigen::MatrixXd m(2, 2), k(2, 2), c(2, 2);
-  m << 1.0, 0.0, 0.0, 2.0;
-  k << 3.0, -1.0, -1.0, 1.5;
-  c << 0.05, -0.01, -0.01, 0.03;
-  s.mass = m.sparseView();
-  s.stiffness = k.sparseView();
-  s.damping = c.sparseView();
-  return s;
-}
+using testing::two_dof_linear;
 
-// |ρ| of e^{λT} for the eigenvalues of [0 I; −M⁻¹K −M⁻¹C], sorted descending, with K + `extra`.
+// The closed-form multipliers with K + `extra`, by |ρ| descending.
 std::vector<cd> closed_form_multipliers(const DiscreteSystem& s, const Eigen::MatrixXd& extra,
                                         double omega) {
-  const Eigen::MatrixXd m = Eigen::MatrixXd(s.mass);
-  const Eigen::MatrixXd k = Eigen::MatrixXd(s.stiffness) + extra;
-  const Eigen::MatrixXd c = Eigen::MatrixXd(s.damping);
-  const int n = s.dofs();
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  a.topRightCorner(n, n).setIdentity();
-  a.bottomLeftCorner(n, n) = -m.inverse() * k;
-  a.bottomRightCorner(n, n) = -m.inverse() * c;
-  const Eigen::VectorXcd lambda = a.eigenvalues();
-  const double period = 2.0 * std::numbers::pi / omega;
-  std::vector<cd> rho;
-  for (const cd& l : lambda) rho.push_back(std::exp(l * period));
+  const Eigen::VectorXcd lambda =
+      testing::first_order_eigenvalues(s, Eigen::MatrixXd(s.stiffness) + extra);
+  std::vector<cd> rho = testing::exact_multipliers(lambda, 2.0 * std::numbers::pi / omega);
   std::sort(rho.begin(), rho.end(), [](cd x, cd y) {
     return std::abs(x) != std::abs(y) ? std::abs(x) > std::abs(y) : x.imag() > y.imag();
   });

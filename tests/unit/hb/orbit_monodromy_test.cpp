@@ -12,45 +12,22 @@
 #include <numbers>
 
 #include "jointhb/timeint/shooting.hpp"
+#include "linear_floquet_model.hpp"
 
 namespace jointhb::hb {
 namespace {
 
 using cd = std::complex<double>;
 
-DiscreteSystem two_dof() {
-  DiscreteSystem s;
-  Eigen::MatrixXd m(2, 2), k(2, 2), c(2, 2);
-  m << 1.0, 0.0, 0.0, 2.0;
-  k << 3.0, -1.0, -1.0, 1.5;
-  c << 0.05, -0.01, -0.01, 0.03;
-  s.mass = m.sparseView();
-  s.stiffness = k.sparseView();
-  s.damping = c.sparseView();
-  return s;
-}
-
+// The distance of the closed-form multipliers to the computed ones (nearest-neighbour matching).
 double largest_modulus_error(const FloquetResult& r, const DiscreteSystem& s, double omega) {
-  const Eigen::MatrixXd m = Eigen::MatrixXd(s.mass), k = Eigen::MatrixXd(s.stiffness),
-                        c = Eigen::MatrixXd(s.damping);
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(4, 4);
-  a.topRightCorner(2, 2).setIdentity();
-  a.bottomLeftCorner(2, 2) = -m.inverse() * k;
-  a.bottomRightCorner(2, 2) = -m.inverse() * c;
-  const Eigen::VectorXcd lambda = a.eigenvalues();
-  const double period = 2.0 * std::numbers::pi / omega;
-  double worst = 0.0;
-  for (const cd& l : lambda) {
-    const cd rho = std::exp(l * period);
-    double best = 1e300;
-    for (const cd& x : r.multipliers) best = std::min(best, std::abs(x - rho));
-    worst = std::max(worst, best);
-  }
-  return worst;
+  const Eigen::VectorXcd lambda = testing::first_order_eigenvalues(s, Eigen::MatrixXd(s.stiffness));
+  return testing::matched_error(r.multipliers,
+                                testing::exact_multipliers(lambda, 2.0 * std::numbers::pi / omega));
 }
 
 TEST(OrbitMonodromy, LinearMultipliersConvergeToExpLambdaTAtSecondOrder) {
-  const DiscreteSystem s = two_dof();
+  const DiscreteSystem s = testing::two_dof_linear();
   Excitation e;
   e.forces.push_back({0, 1.0, 1});
   HarmonicBalanceOptions o;

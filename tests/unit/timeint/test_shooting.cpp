@@ -19,6 +19,7 @@
 
 #include "jointhb/timeint/newmark.hpp"
 #include "jointhb/timeint/shooting.hpp"
+#include "../hb/linear_floquet_model.hpp"
 
 namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
@@ -41,6 +42,23 @@ hb::DiscreteSystem two_dof() {
   return s;
 }
 
+// two_dof() with a Jenkins link between the DOFs that never slips (μF_N = 1e6, k_T0 = 50) and a
+// reference state (force 0.3, slip 0.01).
+hb::DiscreteSystem two_dof_with_stuck_link() {
+  auto sys = two_dof();
+  hb::ContactElement link;
+  link.law = "jenkins";
+  link.dof_a = 0;
+  link.dof_b = 1;
+  link.friction_coefficient = 1.0;
+  link.normal_force = 1e6;
+  link.stiffness = 50.0;
+  link.reference_force = 0.3;
+  link.reference_slip = 0.01;
+  sys.contacts.push_back(link);
+  return sys;
+}
+
 hb::Excitation two_dof_forcing() {
   hb::Excitation e;
   e.static_force = Eigen::Vector2d(0.0, 5.0);
@@ -48,42 +66,9 @@ hb::Excitation two_dof_forcing() {
   return e;
 }
 
-// Eigenvalues λ of ẏ = [0 I; −M⁻¹K −M⁻¹C] y, K = the given stiffness.
-Eigen::VectorXcd first_order_eigenvalues(const hb::DiscreteSystem& s, const Eigen::MatrixXd& k) {
-  const Eigen::Index n = s.dofs();
-  const Eigen::MatrixXd m(s.mass), c(s.damping);
-  const Eigen::MatrixXd minv = m.inverse();
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  a.topRightCorner(n, n).setIdentity();
-  a.bottomLeftCorner(n, n) = -minv * k;
-  a.bottomRightCorner(n, n) = -minv * c;
-  return Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues();
-}
-
-// max_j |ρ_j − expected_j| over a nearest-neighbour matching (each computed value used once).
-double matched_error(const Eigen::VectorXcd& rho, const std::vector<Complex>& expected) {
-  std::vector<bool> used(static_cast<std::size_t>(rho.size()), false);
-  double worst = 0.0;
-  for (const Complex& e : expected) {
-    double best = std::numeric_limits<double>::infinity();
-    std::size_t at = 0;
-    for (Eigen::Index i = 0; i < rho.size(); ++i) {
-      if (!used[static_cast<std::size_t>(i)] && std::abs(rho[i] - e) < best) {
-        best = std::abs(rho[i] - e);
-        at = static_cast<std::size_t>(i);
-      }
-    }
-    used[at] = true;
-    worst = std::max(worst, best);
-  }
-  return worst;
-}
-
-std::vector<Complex> exact_multipliers(const Eigen::VectorXcd& lambda, double period) {
-  std::vector<Complex> r;
-  for (const Complex& l : lambda) r.push_back(std::exp(l * period));
-  return r;
-}
+using jointhb::hb::testing::exact_multipliers;
+using jointhb::hb::testing::first_order_eigenvalues;
+using jointhb::hb::testing::matched_error;
 
 // The trapezoidal rule's multipliers: its one-step map has eigenvalues (1 + λΔt/2)/(1 − λΔt/2).
 std::vector<Complex> trapezoidal_multipliers(const Eigen::VectorXcd& lambda, double dt, int steps) {
@@ -179,17 +164,8 @@ TEST(ShootingLinear, StuckContactIsEliminatedWithoutNeutralMultiplier) {
   // A Jenkins contact between the two DOFs that can never slip (μF_N = 1e6) and has a reference
   // state (force, slip): the monodromy is 4 × 4 (no neutral multiplier 1 of the slider), its
   // multipliers are those of K + k_T0 b bᵀ, and the orbit keeps the guess's slider F − k_T0 g.
-  auto sys = two_dof();
-  hb::ContactElement c;
-  c.law = "jenkins";
-  c.dof_a = 0;
-  c.dof_b = 1;
-  c.friction_coefficient = 1.0;
-  c.normal_force = 1e6;
-  c.stiffness = 50.0;
-  c.reference_force = 0.3;
-  c.reference_slip = 0.01;
-  sys.contacts.push_back(c);
+  const auto sys = two_dof_with_stuck_link();
+  const hb::ContactElement& c = sys.contacts[0];
   const auto ex = two_dof_forcing();
   const double omega = 2 * pi * 0.9;
   const int steps = 256;
@@ -385,17 +361,7 @@ TEST(ShootingJenkins, OrbitTouchingTheSlipLimitKeepsTheLinearBranch) {
   // orbit's max|F| (1 + 1e-10): the same orbit now touches the limit (as after a shakedown), and a
   // perturbation of one sign would slip. The monodromy is still the stuck system's: the perturbed
   // periods keep the stuck contact on its linear branch (TI-25).
-  auto sys = two_dof();
-  hb::ContactElement link;
-  link.law = "jenkins";
-  link.dof_a = 0;
-  link.dof_b = 1;
-  link.friction_coefficient = 1.0;
-  link.normal_force = 1e6;
-  link.stiffness = 50.0;
-  link.reference_force = 0.3;
-  link.reference_slip = 0.01;
-  sys.contacts.push_back(link);
+  auto sys = two_dof_with_stuck_link();
   const auto ex = two_dof_forcing();
   const double omega = 2 * pi * 0.9;
   const int steps = 256;
