@@ -116,12 +116,6 @@ CurveQuantity parameter_quantity() {
   return q;
 }
 
-double derivative_along(const Options& scaling, const Point& p, const Eigen::VectorXd& d,
-                        const CurveQuantity& q) {
-  const Scales s(scaling, p.x.size());
-  return q_derivative(q, s, p.x, p.lambda, p.tangent, d);
-}
-
 CurveExtremum refine_extremum(const ResidualFunction& residual, const Options& scaling,
                               const Point& a, const Point& b, const CurveQuantity& q,
                               const RefinementOptions& options) {

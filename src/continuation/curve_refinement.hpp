@@ -59,9 +59,4 @@ CurveExtremum refine_extremum(const ResidualFunction& residual, const Options& s
                               const Point& a, const Point& b, const CurveQuantity& q,
                               const RefinementOptions& options = {});
 
-/// q'(σ) at an accepted point along the chord direction d (scaled), from its tangent; NaN when
-/// the tangent is orthogonal to d.
-double derivative_along(const Options& scaling, const Point& p, const Eigen::VectorXd& d,
-                        const CurveQuantity& q);
-
 }  // namespace jointhb::continuation::detail

@@ -259,12 +259,19 @@ detail::CurveQuantity fundamental_quantity(const hb::HarmonicBalance& b, int dof
   return q;
 }
 
-FrfExtremum extremum_of(const detail::CurveExtremum& e, const hb::HarmonicBalance& b, int dof) {
+// An extremum as located (e.ok), else reported at the accepted point `at` with e's message.
+FrfExtremum extremum_of(const detail::CurveExtremum& e, const FrfPoint& at,
+                        const hb::HarmonicBalance& b, int dof) {
   FrfExtremum f;
   f.refined = e.ok;
   f.message = e.message;
   f.points = e.points;
-  if (!e.ok) return f;
+  if (!e.ok) {
+    f.omega = at.omega;
+    f.coefficients = at.coefficients;
+    f.amplitude_h1 = at.amplitude_h1;
+    return f;
+  }
   f.omega = e.lambda;
   f.coefficients = e.x;
   f.amplitude_h1 = b.fundamental_amplitude(e.x, dof);
@@ -273,49 +280,45 @@ FrfExtremum extremum_of(const detail::CurveExtremum& e, const hb::HarmonicBalanc
   return f;
 }
 
-// The folds (every turn of Ω) and the peak of amplitude_h1 located between accepted points
-// (curve_refinement.hpp); an extremum that cannot be refined is reported at its accepted point.
+// The folds (every turn of Ω that is not a reversal) and the peak of amplitude_h1 located between
+// accepted points (curve_refinement.hpp), from the points and their unit tangents; an extremum
+// that cannot be refined is reported at its accepted point.
 void refine_extrema(const ResidualFunction& residual, const Options& scaling,
-                    const hb::HarmonicBalance& b, int dof, const std::vector<Point>& accepted,
-                    FrfCurve& curve) {
-  for (std::size_t k = 1; k < accepted.size() && k < curve.points.size(); ++k) {
-    if (!accepted[k].fold || curve.points[k].bifurcation == hb::Bifurcation::reversal) continue;
-    FrfExtremum f = extremum_of(detail::refine_extremum(residual, scaling, accepted[k - 1],
-                                                        accepted[k], detail::parameter_quantity()),
-                                b, dof);
-    if (!f.refined) {
-      f.omega = curve.points[k].omega;
-      f.coefficients = curve.points[k].coefficients;
-      f.amplitude_h1 = curve.points[k].amplitude_h1;
-      f.value_bound = std::abs(curve.points[k].omega - curve.points[k - 1].omega);
-    }
-    f.bifurcation = curve.points[k].bifurcation;
+                    const hb::HarmonicBalance& b, int dof,
+                    const std::vector<Eigen::VectorXd>& tangents, FrfCurve& curve) {
+  const std::size_t count = std::min(tangents.size(), curve.points.size());
+  const auto branch_point = [&](std::size_t k) {
+    Point p;
+    p.x = curve.points[k].coefficients;
+    p.lambda = curve.points[k].omega;
+    p.tangent = tangents[k];
+    return p;
+  };
+  for (std::size_t k = 1; k < count; ++k) {
+    const FrfPoint& p = curve.points[k];
+    if (!p.fold || p.bifurcation == hb::Bifurcation::reversal) continue;
+    FrfExtremum f = extremum_of(detail::refine_extremum(residual, scaling, branch_point(k - 1),
+                                                        branch_point(k), detail::parameter_quantity()),
+                                p, b, dof);
+    if (!f.refined) f.value_bound = std::abs(p.omega - curve.points[k - 1].omega);
+    f.bifurcation = p.bifurcation;
     curve.folds.push_back(std::move(f));
   }
   if (curve.points.empty() || b.basis().cosine_index(1) < 0) return;
   std::size_t top = 0;
   for (std::size_t k = 1; k < curve.points.size(); ++k)
     if (curve.points[k].amplitude_h1 > curve.points[top].amplitude_h1) top = k;
-  FrfExtremum peak;
-  peak.message = "the largest amplitude is at an end of the curve";
-  if (top > 0 && top + 1 < curve.points.size() && top + 1 < accepted.size()) {
+  detail::CurveExtremum located;
+  located.message = "the largest amplitude is at an end of the curve";
+  if (top > 0 && top + 1 < count) {
     const detail::CurveQuantity q = fundamental_quantity(b, dof);
     for (const std::size_t first : {top - 1, top}) {
-      detail::CurveExtremum e =
-          detail::refine_extremum(residual, scaling, accepted[first], accepted[first + 1], q);
-      if (e.ok) {
-        peak = extremum_of(e, b, dof);
-        break;
-      }
-      peak.message = e.message;
+      located = detail::refine_extremum(residual, scaling, branch_point(first),
+                                        branch_point(first + 1), q);
+      if (located.ok) break;
     }
   }
-  if (!peak.refined) {
-    peak.omega = curve.points[top].omega;
-    peak.coefficients = curve.points[top].coefficients;
-    peak.amplitude_h1 = curve.points[top].amplitude_h1;
-  }
-  curve.peak = std::move(peak);
+  curve.peak = extremum_of(located, curve.points[top], b, dof);
 }
 
 }  // namespace
@@ -406,7 +409,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
                           system.dofs(), kAutomaticStabilityDofs);
   }
   std::optional<hb::FloquetResult> previous_floquet;
-  std::vector<Point> accepted;  // for the location of folds and the peak
+  std::vector<Eigen::VectorXd> tangents;  // of the accepted points, to locate folds and the peak
   curve.kept_harmonics = basis.orders();
   if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
   const AcceptCallback accept = [&](const Point& p) {
@@ -437,7 +440,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     } else if (p.fold) {
       f.bifurcation = hb::Bifurcation::fold;
     }
-    if (options.refine_extrema) accepted.push_back(p);
+    if (options.refine_extrema) tangents.push_back(p.tangent);
     if (options.check_jacobian) {
       const hb::JacobianCheck check = hb::check_jacobian(balance, p.x, p.lambda);
       const double e = std::max(check.max_error, check.max_error_omega);
@@ -462,7 +465,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     curve.newton_iterations += r.corrector_iterations + iterations;
     if (start) {
       curve.points.clear();
-      accepted.clear();
+      tangents.clear();
       previous_floquet.reset();
       r = trace(residual, *start, c, accept);
     } else {
@@ -471,7 +474,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   }
   if (options.refine_extrema) {
     const auto refinement_start = Clock::now();
-    refine_extrema(residual, c, balance, options.output_dof, accepted, curve);
+    refine_extrema(residual, c, balance, options.output_dof, tangents, curve);
     curve.timings.refinement = seconds_since(refinement_start);
   }
   curve.reason = r.reason;

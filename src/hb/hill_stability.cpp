@@ -85,12 +85,14 @@ double harmonic_centre(const FourierBasis& basis, int dofs, const Eigen::VectorX
   return total > 0.0 ? weighted / total : 0.0;
 }
 
-// The multiplier outside the unit circle (|ρ| > 1 + tol) closest to it, or 0 when there is none.
-cd crossing_multiplier(const FloquetResult& r, double tolerance) {
+// The multiplier outside the unit circle closest to it, or 0 when there is none. (The tolerance
+// that counted the unstable multipliers is not stored: any |ρ| > 1 qualifies, the caller already
+// knows the counts differ.)
+cd crossing_multiplier(const FloquetResult& r) {
   cd best = 0.0;
   for (const cd& rho : r.multipliers) {
     const double a = std::abs(rho);
-    if (a > 1.0 + tolerance && (best == 0.0 || a < std::abs(best))) best = rho;
+    if (a > 1.0 && (best == 0.0 || a < std::abs(best))) best = rho;
   }
   return best;
 }
@@ -193,9 +195,7 @@ Bifurcation classify_bifurcation(const FloquetResult& before, const FloquetResul
   }
   if (!before.ok || !after.ok || before.unstable == after.unstable) return Bifurcation::none;
   const FloquetResult& less_stable = after.unstable > before.unstable ? after : before;
-  // The tolerance that counted the multipliers is not stored: any |ρ| > 1 qualifies here, the
-  // counts already differ.
-  const cd rho = crossing_multiplier(less_stable, 0.0);
+  const cd rho = crossing_multiplier(less_stable);
   if (rho == 0.0) return Bifurcation::none;
   if (std::abs(rho.imag()) <= 1e-6 * std::abs(rho)) {
     return rho.real() > 0.0 ? Bifurcation::branch_point : Bifurcation::period_doubling;
