@@ -678,57 +678,6 @@ struct NewmarkPoint {
   double seconds = 0.0;
 };
 
-// Value and time derivative at t = 0 of every DOF, the contact forces of the law's periodic state
-// along the harmonic-balance path at t = 0.
-timeint::State initial_state(const hb::HarmonicBalance& b, const hb::DiscreteSystem& system,
-                             const VectorXd& x, double omega) {
-  const hb::FourierBasis& basis = b.basis();
-  const int n = system.dofs();
-  timeint::State st;
-  st.displacement = VectorXd::Zero(n);
-  st.velocity = VectorXd::Zero(n);
-  for (int dof = 0; dof < n; ++dof) {
-    if (basis.has_mean()) st.displacement[dof] += x[b.index(dof, 0)];
-    for (int k : basis.orders()) {
-      const int a = basis.cosine_index(k);
-      st.displacement[dof] += x[b.index(dof, a)];
-      st.velocity[dof] += k * omega * x[b.index(dof, a + 1)];
-    }
-  }
-  constexpr int kPathSamples = 4096;
-  for (const auto& c : system.contacts) {
-    contact::PeriodicPath path;
-    path.slip.resize(kPathSamples);
-    path.limits.assign(kPathSamples, {c.slip_limit(), c.stiffness});
-    for (int i = 0; i < kPathSamples; ++i) {
-      const double theta = 2.0 * kPi * i / kPathSamples;
-      double g = 0.0;
-      for (int side = 0; side < 2; ++side) {
-        const int dof = side == 0 ? c.dof_a : c.dof_b;
-        if (dof < 0) continue;
-        double v = basis.has_mean() ? x[b.index(dof, 0)] : 0.0;
-        for (int k : basis.orders()) {
-          const int a = basis.cosine_index(k);
-          v += x[b.index(dof, a)] * std::cos(k * theta) +
-               x[b.index(dof, a + 1)] * std::sin(k * theta);
-        }
-        g += side == 0 ? v : -v;
-      }
-      path.slip[static_cast<std::size_t>(i)] = contact::Vec2(g, 0.0);
-    }
-    contact::PeriodicStateOptions po;
-    po.keep_step_derivatives = false;
-    po.reference_traction = contact::Vec2(c.reference_force, 0.0);
-    po.reference_slip = contact::Vec2(c.reference_slip, 0.0);
-    const auto law = hb::DiscreteSystem::make_law(c);
-    const contact::PeriodicStateResult ps = contact::solve_periodic_state(*law, path, po);
-    const double limit = c.slip_limit();
-    st.contact_forces.push_back(std::clamp(ps.traction.front().x(), -limit, limit));
-  }
-  st.time = 0.0;
-  return st;
-}
-
 NewmarkPoint compare_newmark(const FrfScenario& s, const hb::HarmonicBalance& b,
                              const hb::HarmonicBalance& b21, const Sample& p, int steps,
                              int max_periods) {
@@ -743,7 +692,7 @@ NewmarkPoint compare_newmark(const FrfScenario& s, const hb::HarmonicBalance& b,
                                    -p.coefficients[b.index(s.output_dof, a + 1)]);
   out.hb_amax = p.amplitude_max;
   out.hb_x1 = std::abs(hb_x1);
-  const timeint::State initial = initial_state(b, s.system, p.coefficients, p.omega);
+  const timeint::State initial = study::initial_state(b, s.system, p.coefficients, p.omega);
   std::vector<timeint::SteadyStateResult> runs;
   for (const int n : {steps, 2 * steps}) {
     timeint::SteadyStateOptions o;

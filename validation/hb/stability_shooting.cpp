@@ -69,45 +69,6 @@ std::vector<FrfCase> cases() {
   return out;
 }
 
-// The state at t = 0 of the harmonic-balance solution: x(0), ẋ(0) from the coefficients and each
-// contact's force from its law run over three periods of the gap's sampled history (the periodic
-// state, reached after one reversal for Jenkins, and well converged for Gaul–Mayer).
-timeint::State state_at_start(const hb::HarmonicBalance& b, const Eigen::VectorXd& x,
-                              double omega) {
-  const hb::DiscreteSystem& s = b.system();
-  const int n = s.dofs();
-  const hb::FourierBasis& basis = b.basis();
-  timeint::State z;
-  z.displacement.resize(n);
-  z.velocity.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const Eigen::VectorXd c = x.segment(b.index(i, 0), basis.size());
-    double x0 = basis.has_mean() ? c[0] : 0.0, v0 = 0.0;
-    for (int h : basis.orders()) {
-      const int a = basis.cosine_index(h);
-      x0 += c[a];
-      v0 += h * omega * c[a + 1];
-    }
-    z.displacement[i] = x0;
-    z.velocity[i] = v0;
-  }
-  for (const auto& e : s.contacts) {
-    Eigen::VectorXd g = b.time_history(x, e.dof_a);
-    if (e.dof_b >= 0) g -= b.time_history(x, e.dof_b);
-    const auto law = hb::DiscreteSystem::make_law(e);
-    const contact::TangentialLimits limits{e.slip_limit(), e.stiffness};
-    double f = std::clamp(e.stiffness * g[0], -e.slip_limit(), e.slip_limit());
-    const Eigen::Index m = g.size();
-    for (int period = 0; period < 3; ++period) {
-      for (Eigen::Index j = 0; j < m; ++j) {
-        f = law->scalar_step(f, g[(j + 1) % m] - g[j], limits, false).force;
-      }
-    }
-    z.contact_forces.push_back(f);
-  }
-  return z;
-}
-
 // The 2n shooting multipliers nearest to Hill's (greedy matching), and their largest modulus.
 double matched_radius(const Eigen::VectorXcd& hill, const Eigen::VectorXcd& shooting,
                       double& worst_pair) {
@@ -193,7 +154,7 @@ int main(int argc, char** argv) {
       timeint::ShootingOptions so;
       so.steps_per_period = steps;
       const timeint::ShootingResult r = timeint::periodic_orbit_by_shooting(
-          c.system, c.excitation, p.omega, state_at_start(balance, p.coefficients, p.omega), so);
+          c.system, c.excitation, p.omega, study::initial_state(balance, c.system, p.coefficients, p.omega), so);
       const bool converged = r.termination == jointhb::Termination::converged;
       double pair = 0.0;
       const double matched = converged ? matched_radius(h.multipliers, r.multipliers, pair) : 0.0;

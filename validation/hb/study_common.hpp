@@ -29,6 +29,8 @@
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/fourier.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
+#include "jointhb/contact/periodic_state.hpp"
+#include "jointhb/timeint/newmark.hpp"
 #include "study_arguments.hpp"
 
 namespace study {
@@ -256,21 +258,59 @@ inline Eigen::VectorXcd stuck_receptance(const hb::DiscreteSystem& s, const hb::
 // X of `to` from X of `from`: common harmonics copied per DOF, the others zero.
 inline VectorXd pad(const hb::HarmonicBalance& from, const VectorXd& x,
                     const hb::HarmonicBalance& to) {
-  VectorXd y = VectorXd::Zero(to.unknowns());
-  const int n = to.system().dofs();
+  return hb::transfer_coefficients(from.basis(), to.basis(), x, to.system().dofs());
+}
+
+// Value and time derivative at t = 0 of every DOF, the contact forces of the law's periodic state
+// along the harmonic-balance path at t = 0.
+inline jointhb::timeint::State initial_state(const hb::HarmonicBalance& b,
+                                             const hb::DiscreteSystem& system, const VectorXd& x,
+                                             double omega) {
+  const hb::FourierBasis& basis = b.basis();
+  const int n = system.dofs();
+  jointhb::timeint::State st;
+  st.displacement = VectorXd::Zero(n);
+  st.velocity = VectorXd::Zero(n);
   for (int dof = 0; dof < n; ++dof) {
-    if (from.basis().has_mean() && to.basis().has_mean()) {
-      y[to.index(dof, 0)] = x[from.index(dof, 0)];
-    }
-    for (int k : to.basis().orders()) {
-      const int a_from = from.basis().cosine_index(k);
-      if (a_from < 0) continue;
-      const int a_to = to.basis().cosine_index(k);
-      y[to.index(dof, a_to)] = x[from.index(dof, a_from)];
-      y[to.index(dof, a_to + 1)] = x[from.index(dof, a_from + 1)];
+    if (basis.has_mean()) st.displacement[dof] += x[b.index(dof, 0)];
+    for (int k : basis.orders()) {
+      const int a = basis.cosine_index(k);
+      st.displacement[dof] += x[b.index(dof, a)];
+      st.velocity[dof] += k * omega * x[b.index(dof, a + 1)];
     }
   }
-  return y;
+  constexpr int kPathSamples = 4096;
+  for (const auto& c : system.contacts) {
+    jointhb::contact::PeriodicPath path;
+    path.slip.resize(kPathSamples);
+    path.limits.assign(kPathSamples, {c.slip_limit(), c.stiffness});
+    for (int i = 0; i < kPathSamples; ++i) {
+      const double theta = 2.0 * kPi * i / kPathSamples;
+      double g = 0.0;
+      for (int side = 0; side < 2; ++side) {
+        const int dof = side == 0 ? c.dof_a : c.dof_b;
+        if (dof < 0) continue;
+        double v = basis.has_mean() ? x[b.index(dof, 0)] : 0.0;
+        for (int k : basis.orders()) {
+          const int a = basis.cosine_index(k);
+          v += x[b.index(dof, a)] * std::cos(k * theta) +
+               x[b.index(dof, a + 1)] * std::sin(k * theta);
+        }
+        g += side == 0 ? v : -v;
+      }
+      path.slip[static_cast<std::size_t>(i)] = jointhb::contact::Vec2(g, 0.0);
+    }
+    jointhb::contact::PeriodicStateOptions po;
+    po.keep_step_derivatives = false;
+    po.reference_traction = jointhb::contact::Vec2(c.reference_force, 0.0);
+    po.reference_slip = jointhb::contact::Vec2(c.reference_slip, 0.0);
+    const auto law = hb::DiscreteSystem::make_law(c);
+    const jointhb::contact::PeriodicStateResult ps = jointhb::contact::solve_periodic_state(*law, path, po);
+    const double limit = c.slip_limit();
+    st.contact_forces.push_back(std::clamp(ps.traction.front().x(), -limit, limit));
+  }
+  st.time = 0.0;
+  return st;
 }
 
 // The coefficients of y(θ) = x(θ + θ0) for every DOF (a time shift by θ0/Ω).
