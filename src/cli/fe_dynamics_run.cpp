@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "backbone_columns.hpp"
 #include "cli_support.hpp"
 #include "interface_fields.hpp"
 #include "jointhb/continuation/interface_response.hpp"
@@ -23,9 +24,6 @@ namespace {
 using nlohmann::ordered_json;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-const std::vector<std::string> kBackboneColumns = {
-    "mode",          "amplitude",       "output_amplitude", "omega",   "frequency_hz",     "damping_ratio",
-    "W_D",           "damping_ratio_energy", "slipping_points", "open_points", "newton_iterations"};
 const std::vector<std::string> kFrfColumns = {
     "level",        "force_amplitude", "omega",           "frequency_hz", "amplitude_h1", "amplitude_max",
     "dissipation",  "slipping_points", "open_points",     "newton_iterations"};
@@ -132,12 +130,16 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
     const io::FeNonlinearModesSpec& nm = *d.nonlinear_modes;
     io::CsvWriter csv(dir / "backbone.csv", kBackboneColumns);
     summary["outputs"]["backbone"] = "backbone.csv";
+    summary["columns"]["backbone"] = kBackboneColumns;
     summary["backbones"] = ordered_json::array();
     for (int mode : nm.modes) {
       const auto on_point = [&](const pipeline::BackbonePoint& s) {
+        const double slip_fraction =
+            s.contact_points > 0 ? static_cast<double>(s.slipping_points) / s.contact_points : 0.0;
         csv.write_row({static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
-                       s.damping_ratio, s.dissipation, s.damping_ratio_energy, static_cast<double>(s.slipping_points),
-                       static_cast<double>(s.open_points), static_cast<double>(s.newton_iterations)});
+                       s.damping_ratio, s.dissipation, s.viscous_dissipation, s.damping_ratio_energy, slip_fraction,
+                       static_cast<double>(s.slipping_points), static_cast<double>(s.open_points),
+                       static_cast<double>(s.newton_iterations), s.step});
         if (tty)
           std::fprintf(stderr, "\rmode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d   ", mode, s.amplitude,
                        s.frequency_hz, s.damping_ratio, s.slipping_points, points);

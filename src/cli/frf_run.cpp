@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "backbone_columns.hpp"
 #include "cli_support.hpp"
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
@@ -238,18 +239,6 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   return j;
 }
 
-const std::vector<std::string> kBackboneColumns = {"mode",
-                                                   "amplitude",
-                                                   "omega",
-                                                   "frequency_hz",
-                                                   "damping_ratio",
-                                                   "W_D",
-                                                   "damping_ratio_energy",
-                                                   "slip_fraction",
-                                                   "viscous_dissipation",
-                                                   "newton_iterations",
-                                                   "step"};
-
 // Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: reported before any
 // output exists.
 void check_setup(const io::DiscreteCase& c) {
@@ -312,6 +301,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
   for (std::size_t l = 0; l < c.levels.size(); ++l) {
     const double force = c.level_amplitudes[l];
     continuation::FrfCurve curve;
+    std::vector<continuation::FrfPoint> written;  // the rows of frf.csv, kept if an error ends the curve
     const auto on_point = [&](const continuation::FrfPoint& p) {
       for (double v : {p.omega, p.amplitude_h1, p.amplitude_max, p.dissipation}) {
         require_finite_result("frf point", v);
@@ -326,6 +316,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       }
       const std::string bifurcation = hb::to_string(p.bifurcation);
       csv.write_row(row, std::span<const std::string>(&bifurcation, 1));
+      written.push_back(p);
       ++outcome.rows;
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: level {}/{}  Ω = {:.6g} rad/s  |x| = {:.4g}  ",
@@ -339,7 +330,10 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
     try {
       curve = pipe.frf(l, on_point);  // the problem's level l and frf options (= *c.frf)
     } catch (const std::exception& e) {
-      curve.reason = continuation::StopReason::start_failed;
+      // The summary then describes exactly the rows written before the error.
+      curve = continuation::FrfCurve{};
+      curve.points = std::move(written);
+      curve.reason = continuation::StopReason::error;
       curve.message = e.what();
     }
     outcome.curves.push_back({fmt::format("frf level {}", l), curve.status()});
@@ -377,9 +371,11 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
       for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
         require_finite_result("backbone point", v);
       }
-      csv.write_row({static_cast<double>(mode), s.amplitude, s.omega,
+      // Discrete contacts carry a constant normal force: none is ever open.
+      csv.write_row({static_cast<double>(mode), s.amplitude, p.output_amplitude, s.omega,
                      s.omega / (2.0 * std::numbers::pi), s.damping_ratio, s.dissipation,
-                     s.damping_ratio_energy, s.slip_fraction, s.viscous_dissipation,
+                     s.viscous_dissipation, s.damping_ratio_energy, s.slip_fraction,
+                     static_cast<double>(s.slipping_points), 0.0,
                      static_cast<double>(p.iterations), p.step});
       points.push_back({{"amplitude", s.amplitude},
                         {"omega", s.omega},
@@ -403,7 +399,11 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     try {
       curve = pipe.backbone(options, on_point);
     } catch (const std::exception& e) {
-      curve.reason = continuation::StopReason::start_failed;
+      // An error (e.g. writing the CSV) ends the curve and loses its in-memory points; the rows
+      // already written stay, and the summary below counts and lists exactly those, with no
+      // invented linear values (null where the curve never computed them).
+      curve = continuation::BackboneCurve{};
+      curve.reason = continuation::StopReason::error;
       curve.message = e.what();
     }
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
@@ -411,11 +411,13 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     Json entry = {{"mode", mode}};
     put_status(entry, curve.status());
     entry["stop_reason"] = std::string(continuation::to_string(curve.reason));  // the detail
+    const bool lost = curve.reason == continuation::StopReason::error;
+    const auto known = [&](double v) { return lost ? Json(nullptr) : Json(v); };
     entry.update(Json{
-         {"linear_omega", curve.linear_omega},
-         {"linear_frequency_hz", curve.linear_omega / (2.0 * std::numbers::pi)},
-         {"linear_damping_ratio", curve.linear_damping_ratio},
-         {"points", curve.points.size()},
+         {"linear_omega", known(curve.linear_omega)},
+         {"linear_frequency_hz", known(curve.linear_omega / (2.0 * std::numbers::pi))},
+         {"linear_damping_ratio", known(curve.linear_damping_ratio)},
+         {"points", points.size()},
          {"newton_iterations", curve.newton_iterations},
          {"rejected_steps", curve.rejected_steps},
          {"seconds", curve.seconds},
@@ -423,7 +425,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     summary["backbones"].push_back(std::move(entry));
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
-                               mode, curve.points.size(), curve.message);
+                               mode, points.size(), curve.message);
     }
   }
   summary["seconds"]["nonlinear_modes"] = seconds_since(start);
@@ -432,6 +434,8 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
 }
 
 }  // namespace
+
+void check_discrete_setup(const io::DiscreteCase& c) { check_setup(c); }
 
 int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::time_point start) {
   if (!c.frf && !c.nonlinear_modes) {

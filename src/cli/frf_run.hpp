@@ -15,4 +15,8 @@ namespace jointhb::cli {
 int run_discrete_case(const io::DiscreteCase& c, const std::filesystem::path& dir,
                       Clock::time_point start);
 
+/// The set-up checks that need the model built (e.g. a forcing harmonic outside the basis):
+/// throws UsageError naming the problem. run_discrete_case makes them first; `run --check` too.
+void check_discrete_setup(const io::DiscreteCase& c);
+
 }  // namespace jointhb::cli

@@ -190,6 +190,17 @@ int LoopCommand::run() const {
     require_option("--lambda", "must be > 0 when --normal-amplitude is not 0, got 0");
   }
   options.stiffness_follows_normal = stiffness_follows_normal_;
+  // The library's constraints that involve several options (e.g. the slip range) are reported
+  // at the option their message names.
+  if (const std::string msg = options.validate(); !msg.empty()) {
+    const std::size_t colon = msg.find(": ");
+    const std::string field = msg.substr(0, colon);
+    for (const auto& [name, option] : {std::pair{"amplitude", "--amplitude"}, std::pair{"mu", "--mu"},
+                                       std::pair{"normal_force", "--normal-force"}, std::pair{"kt0", "--kt0"},
+                                       std::pair{"lambda", "--lambda"}}) {
+      if (field == name && colon != std::string::npos) require_option(option, msg.substr(colon + 2));
+    }
+  }
 
   contact::LoopResult r;
   try {

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +46,10 @@ int run_guarded(const std::string& name, const Command& command) {
   } catch (const UsageError& e) {
     print_error(name, e.what());
     return exit_bad_input;
+  } catch (const std::bad_alloc&) {
+    print_error(name, "out of memory: the model needs more memory than this machine has (fewer "
+                      "elements, contact points or harmonics need less)");
+    return exit_failure;
   } catch (const std::exception& e) {
     print_error(name, e.what());
     return exit_failure;

@@ -1,6 +1,7 @@
 #include "run_command.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <variant>
@@ -50,6 +51,9 @@ RunCommand::RunCommand(CLI::App& parent) {
       ->type_name("CACHE_DIR");
   app_->add_flag("--no-cache", no_cache_,
                  "neither read nor write the stage cache: every stage is computed");
+  app_->add_flag("--check", check_only_,
+                 "read and check the case file (and the meshes and target files it names), run "
+                 "nothing and write nothing: exit 0 when it is valid, 2 with the error otherwise");
   app_->footer(
       "Exit codes: 0 ok, 1 a point or curve failed (rows so far kept, summary.json status\n"
       "\"failed\"), 2 invalid case file or options, or DIR in use by another run, 130/143\n"
@@ -73,6 +77,11 @@ int RunCommand::run() const {
   const bool built_in = case_path_.empty();
   const io::CaseFile c = built_in ? io::parse_case_file(io::default_case_text(), "built-in default case")
                                   : io::read_case_file(case_path_);
+  if (check_only_) {
+    if (const auto* discrete = std::get_if<io::DiscreteCase>(&c)) check_discrete_setup(*discrete);
+    std::fprintf(stderr, "jointhb run: %s: valid\n", built_in ? "built-in default case" : case_path_.c_str());
+    return exit_ok;
+  }
   const OutputDirectory output(output_dir_);  // created and locked until the run returns
   const fs::path& dir = output.path();
   // A line every 10 s while the analysis runs when stderr is not a terminal; ended before the

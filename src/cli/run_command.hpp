@@ -25,6 +25,7 @@ class RunCommand {
   bool plot_ = false;
   std::string cache_dir_;  ///< empty: OUTPUT/.cache
   bool no_cache_ = false;
+  bool check_only_ = false;  // --check: read and check the case, run nothing
 };
 
 }  // namespace jointhb::cli

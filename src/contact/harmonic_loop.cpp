@@ -1,6 +1,8 @@
 // One contact point driven through its periodic steady state (harmonic_loop.hpp).
 #include "jointhb/contact/harmonic_loop.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -45,6 +47,21 @@ std::string LoopOptions::validate() const {
   }
   if (normal_amplitude != 0.0 && normal_decay <= 0.0) {
     return "lambda: must be > 0 when the normal amplitude is not zero";
+  }
+  if (!finite_positive(friction_coefficient * normal_force)) {
+    return "mu * normal_force: the slip limit must be finite";
+  }
+  // The loop is computed in SI doubles: powers of the slip over the stick range g_s = μF_N/k_T0
+  // (up to the third in W_D) must stay representable. Outside [1e-100, 1e100] they do not (W_D
+  // came out 0 at a/g_s = 3e-119 and 3e154), so such loops are refused, not answered wrongly.
+  double slip = std::abs(amplitude);
+  for (const auto& h : harmonics) slip += std::abs(h.amplitude);
+  const double ratio = slip * stiffness / (friction_coefficient * normal_force);
+  if (slip > 0.0 && !(ratio >= kMinSlipRatio && ratio <= kMaxSlipRatio)) {
+    return fmt::format(
+        "amplitude: the slip over the stick range, (a + Σ|a_k|) k_T0/(μ F_N) = {:.3g}, must lie in "
+        "[{:g}, {:g}]: outside, the loop's energies over- or underflow doubles (rescale the units)",
+        ratio, kMinSlipRatio, kMaxSlipRatio);
   }
   if (time_samples < 4) return "time_samples: must be >= 4";
   for (const auto& h : harmonics) {

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "jointhb/contact/harmonic_loop.hpp"
+
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -37,6 +39,16 @@ std::string internal_resonance(const hb::DiscreteSystem& system, const hb::Fouri
       best->stuck ? "stuck" : "contact-free", best->omega, best->harmonic, best->harmonic);
 }
 
+// Every output a point reports is a finite number (a curve whose amplitude range reaches ~1e154
+// overflows W_D ∝ q² while the state itself is still finite).
+bool finite_outputs(const hb::NonlinearModeState& s) {
+  for (const double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation, s.viscous_dissipation,
+                         s.injected_energy, s.damping_ratio_energy, s.slip_fraction}) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string BackboneOptions::validate(int dofs) const {
@@ -46,6 +58,9 @@ std::string BackboneOptions::validate(int dofs) const {
   }
   if (log10_amplitude_start == log10_amplitude_end) {
     return "log10_amplitude: end must differ from start";
+  }
+  if (output_dof < 0 || output_dof >= dofs) {
+    return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
   return {};
 }
@@ -90,10 +105,21 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   // R̂'s scale: the stiffness seen by the mode, ω² (mass-normalised shape).
   c.residual_scale = epmc.linear_omega() * epmc.linear_omega();
 
+  // λ of a converged point whose outputs are not finite or whose contacts slip beyond the range
+  // the laws are computed in.
+  std::optional<double> overflow_at;
   const AcceptCallback accept = [&](const Point& p) {
     BackbonePoint b;
     const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
     b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
+    if (!finite_outputs(b.state) ||
+        !(epmc.balance().max_slip_ratio(b.state.amplitude * p.x.head(epmc.balance().unknowns())) <=
+          contact::kMaxSlipRatio)) {
+      overflow_at = p.lambda;
+      return false;
+    }
+    const Eigen::Index nx = epmc.balance().unknowns();
+    b.output_amplitude = b.state.amplitude * epmc.balance().fundamental_amplitude(p.x.head(nx), options.output_dof);
     b.iterations = p.iterations;
     b.step = p.step;
     b.unknowns = p.x;
@@ -103,7 +129,15 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   const Result r = trace(residual, epmc.linear_start(), c, accept);
   curve.reason = r.reason;
   curve.message = r.message;
-  if (!r.completed() && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
+  if (overflow_at) {
+    curve.reason = StopReason::out_of_range;
+    curve.message = fmt::format(
+        "at log10 q = {:.4g} the contacts slip more than {:g} times their stick range μF_N/k_T0, "
+        "or an output overflows (W_D or the energies exceed the range of doubles); the curve ends "
+        "on the last point before: narrow log10_amplitude",
+        *overflow_at, contact::kMaxSlipRatio);
+  }
+  if (!r.completed() && curve.reason != StopReason::out_of_range && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
     const std::string why = internal_resonance(system, epmc.balance().basis(), curve.points.back().state.omega);
     if (!why.empty()) curve.message += ". " + why;
   }

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "jointhb/contact/harmonic_loop.hpp"
+
 #include "jointhb/hb/jacobian_check.hpp"
 
 #include <algorithm>
@@ -412,6 +414,10 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   std::vector<Eigen::VectorXd> tangents;  // of the accepted points, to locate folds and the peak
   curve.kept_harmonics = basis.orders();
   if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
+  // Ω of a converged point whose outputs are not finite or whose contacts slip beyond the range
+  // the laws are computed in, and that ratio.
+  std::optional<double> overflow_at;
+  double overflow_ratio = 0.0;
   const AcceptCallback accept = [&](const Point& p) {
     if (p.lambda != last_omega || p.x.size() != last_x.size() || p.x != last_x)
       balance.evaluate(p.x, p.lambda, false, last);
@@ -425,6 +431,13 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     f.step = p.step;
     f.fold = p.fold;
     f.coefficients = p.x;
+    if (const double ratio = balance.max_slip_ratio(p.x);
+        !std::isfinite(f.amplitude_h1) || !std::isfinite(f.amplitude_max) ||
+        !std::isfinite(f.dissipation) || !(ratio <= contact::kMaxSlipRatio)) {
+      overflow_at = p.lambda;
+      overflow_ratio = ratio;
+      return false;
+    }
     if (stability) {
       const auto stability_start = Clock::now();
       hb::FloquetResult floquet = hill ? hill->evaluate(p.x, p.lambda)
@@ -479,7 +492,14 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
   }
   curve.reason = r.reason;
   curve.message = r.message;
-  if (!r.completed() && r.reason != StopReason::stopped_by_user) {
+  if (overflow_at) {
+    curve.reason = StopReason::out_of_range;
+    curve.message = fmt::format(
+        "at Ω = {:.6g} rad/s the contacts slip {:.3g} times their stick range μF_N/k_T0 (or an "
+        "output overflows): beyond {:g} the laws' energies leave the range of doubles; the curve "
+        "ends on the last point before (rescale the units or the forces)",
+        *overflow_at, overflow_ratio, contact::kMaxSlipRatio);
+  } else if (!r.completed() && r.reason != StopReason::stopped_by_user) {
     if (const std::string why = stop_diagnosis(system, curve); !why.empty()) curve.message += ". " + why;
     for (const auto& p : curve.points) {
       if (p.bifurcation != hb::Bifurcation::reversal) continue;

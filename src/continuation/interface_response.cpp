@@ -136,6 +136,7 @@ InterfaceBackbone trace_interface_backbone(
     const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
     b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
     b.iterations = p.iterations;
+    b.step = p.step;
     b.unknowns = p.x;
     curve.points.push_back(b);
     return on_point ? on_point(b) : true;

@@ -571,6 +571,10 @@ std::string_view to_string(StopReason reason) {
       return "stopped_by_user";
     case StopReason::left_range:
       return "left_range";
+    case StopReason::out_of_range:
+      return "out_of_range";
+    case StopReason::error:
+      return "error";
   }
   return "unknown";
 }
@@ -586,6 +590,8 @@ Termination termination(StopReason reason) {
     case StopReason::min_step:
     case StopReason::start_failed:
     case StopReason::left_range:
+    case StopReason::out_of_range:
+    case StopReason::error:
       return Termination::failed;
   }
   return Termination::failed;

@@ -315,6 +315,18 @@ double HarmonicBalance::fundamental_amplitude(const Eigen::VectorXd& x, int dof)
   return std::hypot(x[index(dof, a)], x[index(dof, a + 1)]);
 }
 
+double HarmonicBalance::max_slip_ratio(const Eigen::VectorXd& x) const {
+  const FourierBasis& basis = impl_->basis;
+  const Eigen::Index m = basis.size();
+  double worst = 0.0;
+  for (const ContactElement& c : impl_->system.contacts) {
+    Eigen::VectorXd g = x.segment(index(c.dof_a, 0), m);
+    if (c.dof_b >= 0) g -= x.segment(index(c.dof_b, 0), m);
+    worst = std::max(worst, basis.peak_magnitude(g) * c.stiffness / c.slip_limit());
+  }
+  return worst;
+}
+
 HarmonicBalanceTimings HarmonicBalance::timings() const { return impl_->timings; }
 void HarmonicBalance::reset_timings() { impl_->timings = {}; }
 

@@ -180,7 +180,6 @@ NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double
                                                 const Evaluation* at_point) const {
   const Eigen::Index nx = balance_.unknowns();
   const double q = std::pow(10.0, lambda);
-  const Eigen::VectorXd x = q * y.head(nx);
   NonlinearModeState s;
   s.amplitude = q;
   s.omega = y[nx];
@@ -193,22 +192,28 @@ NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double
   s.dissipation = at_point->fourier_dissipation;
   int slipping = 0;
   for (const auto& c : at_point->contacts) slipping += c.stuck ? 0 : 1;
+  s.slipping_points = slipping;
   s.slip_fraction = at_point->contacts.empty() ? 0.0
                                                : static_cast<double>(slipping) /
                                                      static_cast<double>(at_point->contacts.size());
-  // Works over one period: ∮ ẋᵀ A ẋ dt = π Ω Σ_k k² (a_kᵀ A a_k + b_kᵀ A b_k).
+  // Works over one period: ∮ ẋᵀ A ẋ dt = π Ω Σ_k k² (a_kᵀ A a_k + b_kᵀ A b_k), summed on the
+  // normalised shape X̂ (x = q X̂) and scaled by q² afterwards.
+  const Eigen::VectorXd x_hat = y.head(nx);
   double em = 0.0, ec = 0.0;
   for (int k : balance_.basis().orders()) {
-    const auto [ak, bk] = harmonic(x, k);
+    const auto [ak, bk] = harmonic(x_hat, k);
     em += k * k * (ak.dot(system_.mass * ak) + bk.dot(system_.mass * bk));
     if (system_.damping.nonZeros()) {
       ec += k * k * (ak.dot(system_.damping * ak) + bk.dot(system_.damping * bk));
     }
   }
-  s.injected_energy = y[nx + 1] * std::numbers::pi * s.omega * em;
-  s.viscous_dissipation = std::numbers::pi * s.omega * ec;
-  const double energy = 0.5 * s.omega * s.omega * q * q;
-  s.damping_ratio_energy = s.dissipation / (4.0 * std::numbers::pi * energy);
+  s.injected_energy = y[nx + 1] * std::numbers::pi * s.omega * em * q * q;
+  s.viscous_dissipation = std::numbers::pi * s.omega * ec * q * q;
+  // ζ_E = (W_D + W_visc) / (4π E), E = ½ Ω² q², with W_visc/q² from X̂ and W_D divided by q twice,
+  // so that no q² under- or overflows where the ratio itself is representable (at q = 1e-300
+  // ζ_E is the viscous share, its limit, not 0/0).
+  s.damping_ratio_energy = ((s.dissipation / q) / q + std::numbers::pi * s.omega * ec) /
+                           (2.0 * std::numbers::pi * s.omega * s.omega);
   return s;
 }
 

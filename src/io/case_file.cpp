@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "jointhb/io/value_checks.hpp"
 #include "yaml_support.hpp"
 
 namespace jointhb::io {
@@ -45,6 +46,13 @@ CaseFile parse_case_file(const std::string& text, const std::string& file_name) 
       const YAML::Node key = it->first;
       if (key.IsScalar() && key.Scalar() == "model") {
         const YAML::Node type = it->second.IsMap() ? it->second["type"] : YAML::Node();
+        // The type decides which reader reads the rest: a wrong one is named here, before either
+        // reader would report the other kind's keys as unknown.
+        if (type) {
+          const yaml::Reader reader(file_name);
+          const std::string name = type.IsScalar() ? type.Scalar() : std::string("a non-scalar value");
+          reader.check(type, "model.type", check_one_of(name, {"discrete", "fe"}));
+        }
         if (type && type.IsScalar() && type.Scalar() == "fe") return parse_fe_case(text, file_name);
         return parse_discrete_case(text, file_name);
       }

@@ -666,7 +666,7 @@ class DiscreteCaseReader {
   continuation::BackboneOptions read_nonlinear_modes(const YAML::Node& node,
                                                      const std::string& path, int n) {
     const Fields f = reader_.fields(node, path,
-                                    {"mode", "log10_amplitude", "harmonics", "time_samples",
+                                    {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
                                      "harmonic_selection", "periodic_tolerance", "continuation"});
     continuation::BackboneOptions o;
     modes_.clear();
@@ -710,6 +710,11 @@ class DiscreteCaseReader {
       if (o.log10_amplitude_end == o.log10_amplitude_start) {
         reader_.fail(range->value[1], item_path(key, 1), "must differ from start");
       }
+    }
+    if (const auto* output = f.find("output_dof")) {
+      const long long dof = reader_.integer(output->value, f.path_of("output_dof"));
+      reader_.check(output->value, f.path_of("output_dof"), check_in_range(dof, 0, n - 1));
+      o.output_dof = static_cast<int>(dof);
     }
     read_harmonics(f, o.mode.harmonics, o.mode.time_samples);
     read_selection(f, o.mode.selection, o.mode.periodic_tolerance);

@@ -25,6 +25,7 @@
 #include "jointhb/fe/tie.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "../support/physical_memory.hpp"
 #include "fe_dynamics_keys.hpp"
 #include "yaml_support.hpp"
 
@@ -182,6 +183,22 @@ class FeCaseReader {
     return it->second;
   }
 
+  // A box mesh's memory, estimated before it is built: its DOFs (3 per node of the linear mesh, a
+  // lower bound for quadratic elements) at the ~12 KB per DOF that the sparse Cholesky factor of
+  // a box took at 3e5 DOFs (3.5 GB, docs/performance.md); refused when that exceeds the machine.
+  void check_box_memory(const YAML::Node& at, const std::string& key, const std::array<int, 3>& n) const {
+    const double dofs = 3.0 * (n[0] + 1.0) * (n[1] + 1.0) * (n[2] + 1.0);
+    const double bytes = 12.0e3 * dofs;
+    const double available = static_cast<double>(support::physical_memory_bytes());
+    if (available > 0.0 && bytes > available) {
+      reader_.fail(at, key,
+                   fmt::format("{} x {} x {} elements give {:.3g} DOFs, which need about {:.3g} GB "
+                               "(12 KB per DOF for the factorisation), more than this machine's "
+                               "{:.3g} GB: use fewer divisions",
+                               n[0], n[1], n[2], dofs, bytes / 1e9, available / 1e9));
+    }
+  }
+
   void read_parts(const YAML::Node& node, FeCase& c) {
     if (!node.IsSequence() || node.size() == 0)
       reader_.fail(node, "model.parts", "must be a non-empty list of parts, got " + yaml::Reader::describe(node));
@@ -217,6 +234,7 @@ class FeCaseReader {
           reader_.check(d[k], item_path(b.path_of("divisions"), k), check_in_range(v, 1, 100000));
           o.divisions[k] = static_cast<int>(v);
         }
+        check_box_memory(d, b.path_of("divisions"), o.divisions);
         part_mesh = fe::box_mesh(o);
         part_materials.push_back(material(f.find("material")->value, f.path_of("material")));
       } else {
@@ -690,7 +708,7 @@ class FeCaseReader {
       }
       if (const auto* s = pf.find("tolerance")) {
         const double v = reader_.number(s->value, pf.path_of("tolerance"));
-        if (!(v > 0.0 && v < 1.0)) reader_.fail(s->value, pf.path_of("tolerance"), fmt::format("must be in (0, 1), got {}", v));
+        if (!(v > 0.0 && v < 1.0)) reader_.fail(s->value, pf.path_of("tolerance"), fmt::format("must be in (0, 1), got {}", format_number(v)));
         c.preload.residual_tolerance = v;
       }
       if (const auto* s = pf.find("closed_pressure_fraction")) {

@@ -179,8 +179,9 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
       int col_pos = 1;
       for (std::size_t i = 0; i < it->second; ++i) col_pos += static_cast<int>(cells[i].size()) + 1;
       if (!v || !std::isfinite(*v)) {
+        const std::string got = v && std::isnan(*v) ? std::string("not-a-number") : "'" + text + "'";
         throw InputError(name, line_number, col_pos, key,
-                         fmt::format("column '{}' must be a finite number, got '{}'", col, text));
+                         fmt::format("column '{}' must be a finite number, got {}", col, got));
       }
       out = *v;
       return true;
@@ -215,6 +216,13 @@ void read_points(const std::filesystem::path& file, const std::string& key, fit:
       p.quantity = q;
       p.line = line_number;
       value(qname, p.measured);
+      // Frequencies and amplitudes are positive, damping ratios not negative.
+      if (p.measured < 0.0 || (p.measured == 0.0 && q != fit::Quantity::damping_ratio)) {
+        throw InputError(name, line_number, 1, key,
+                         fmt::format("{} must be {}, got {}", qname,
+                                     q == fit::Quantity::damping_ratio ? ">= 0" : "> 0",
+                                     format_number(p.measured)));
+      }
       p.weight = weight * row_weight;
       double sigma = 0.0;
       if (value("sigma_" + qname, sigma) && !(sigma > 0.0)) {

@@ -10,7 +10,10 @@
 
 namespace jointhb::io {
 
-std::string format_number(double value) { return fmt::format("{}", value); }
+// A NaN is spelled out: no message jointhb prints contains "nan" (issue 20, item 4).
+std::string format_number(double value) {
+  return std::isnan(value) ? std::string("not-a-number") : fmt::format("{}", value);
+}
 
 std::optional<double> parse_number(std::string_view text) {
   // YAML 1.2 spells the special values with a leading dot; strtod does not know them.

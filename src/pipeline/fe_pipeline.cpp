@@ -295,7 +295,10 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
     b.damping_ratio_energy = s.damping_ratio_energy;
     b.slipping_points = s.slipping_points;
     b.open_points = s.open_points;
+    b.viscous_dissipation = s.viscous_dissipation;
+    b.contact_points = im.num_points();
     b.newton_iterations = p.iterations;
+    b.step = p.step;
     out.points.push_back(b);
     if (linear_hz == 0.0) linear_hz = b.frequency_hz;
     // ζ (what the balance needs) against ζ_E (the sampled loops' W_D + viscous work): apart from

@@ -13,6 +13,7 @@ Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
                     interface, open points crossed (plane of the points' two widest coordinates)
 """
 import csv
+import math
 import os
 import sys
 
@@ -90,7 +91,10 @@ def plot_backbone(directory):
         top.semilogx(q, [float(r["frequency_hz"]) for r in sel], color=color, label=name)
         bottom.loglog(q, [float(r["damping_ratio"]) for r in sel], color=color,
                       label=f"{name}: ζ (EPMC, viscous + contacts)")
-        bottom.loglog(q, [max(float(r["damping_ratio_energy"]), 1e-12) for r in sel], "--",
+        # The contacts' share ζ_c = W_D / (4π E), E = ½ Ω² q² (the rest is viscous).
+        zeta_c = [float(r["W_D"]) / (2 * math.pi * (2 * math.pi * float(r["frequency_hz"])) ** 2
+                                     * float(r["amplitude"]) ** 2) for r in sel]
+        bottom.loglog(q, [max(z, 1e-12) for z in zeta_c], "--",
                       color=color, label=f"{name}: contacts only, W_D/(4πE)")
     top.set_ylabel("frequency [Hz]")
     top.set_title("Damping curves (EPMC)")

@@ -36,6 +36,15 @@ for force in 1e300 1e160; do
   echo "ok: loop --normal-force $force: exit $STATUS, no nan"
 done
 
+# Amplitudes whose slip over the stick range leaves [1e-100, 1e100] are refused (exit 2, naming
+# the amplitude), not answered with W_D = 0 (issue 20, item 3).
+for args in "--amplitude 1e160" "--amplitude 1e-5 --normal-force 1e120"; do
+  # shellcheck disable=SC2086
+  expect_bad_input loop $args --json
+  grep -q "option '--amplitude'" "$ERR" || fail "loop $args: the message does not name --amplitude: $(cat "$ERR")"
+  no_nan "$OUT" "$ERR"
+done
+
 cat >"$WORK/huge.yaml" <<'YAML'
 analysis:
   loop_sweep:

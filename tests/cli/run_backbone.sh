@@ -6,6 +6,8 @@ CASE="$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml"
 
 run_capture run "$CASE" -o "$WORK/out"
 [ "$STATUS" -eq 0 ] || fail "run $CASE exited $STATUS: $(cat "$ERR")"
+[ "$(head -1 "$WORK/out/backbone.csv")" = "$BACKBONE_COLUMNS" ] ||
+  fail "backbone.csv header is not the one schema: $(head -1 "$WORK/out/backbone.csv")"
 "$PYTHON" - "$WORK/out/backbone.csv" "$WORK/out/summary.json" "$WORK/out/frf.csv" <<'PY' || fail "outputs"
 import csv, json, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
@@ -28,6 +30,14 @@ assert abs(q[0] - 1e-8) < 1e-20 and abs(q[-1] - 10 ** -3.5) < 1e-12 * q[-1]
 # Softening all the way towards the slipped system (100 rad/s); damping rises then falls.
 assert all(b2 <= a2 * (1 + 1e-9) for a2, b2 in zip(om, om[1:])), "frequency must not rise"
 assert om[-1] < 0.6 * om[0] and om[-1] > 100.0
+# One DOF of unit mass: the output DOF's fundamental is q; the energy balance's ζ_E (contacts and
+# viscous work) equals ζ up to the higher harmonics' share of the EPMC work (E counts the
+# fundamental only); no discrete contact is ever open.
+for r in rows:
+    assert abs(float(r["output_amplitude"]) - float(r["amplitude"])) <= 1e-9 * float(r["amplitude"]), r
+    assert abs(float(r["damping_ratio_energy"]) / float(r["damping_ratio"]) - 1) < 5e-3, r  # 2.9e-3 at H = 7
+    assert float(r["open_points"]) == 0 and float(r["slipping_points"]) in (0.0, 1.0), r
+    assert float(r["slip_fraction"]) == float(r["slipping_points"]), r
 peak = max(zeta)
 assert 0.1 < peak < 0.4 and zeta[-1] < peak and zeta[0] < 0.01 * peak * 10
 # FRF peaks lie on the backbone (interpolated in log q; m = 1 kg so q = amplitude).

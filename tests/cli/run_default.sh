@@ -19,6 +19,8 @@ if "$PYTHON" -c 'import matplotlib' 2>/dev/null; then
   [ -s "$WORK/out/backbone.png" ] || fail "no backbone.png although matplotlib is installed"
 fi
 grep -qi 'nan\|inf' "$WORK/out/backbone.csv" && fail "non-finite value in backbone.csv"
+[ "$(head -1 "$WORK/out/backbone.csv")" = "$BACKBONE_COLUMNS" ] ||
+  fail "backbone.csv header is not the one schema: $(head -1 "$WORK/out/backbone.csv")"
 "$PYTHON" - "$WORK/out" <<'PY' || fail "default-case outputs"
 import csv, json, sys
 d = sys.argv[1]

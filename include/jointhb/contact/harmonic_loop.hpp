@@ -19,6 +19,11 @@ struct LoopHarmonic {
   double phase = 0.0;      ///< φ_k [rad]
 };
 
+/// The range of (a + Σ|a_k|) k_T0/(μ F_N), the slip over the stick range, in which a loop is
+/// computed (LoopOptions::validate refuses the rest: its energies would over- or underflow).
+inline constexpr double kMinSlipRatio = 1e-100;
+inline constexpr double kMaxSlipRatio = 1e100;
+
 struct LoopOptions {
   std::string law = "gaul-mayer";         ///< "gaul-mayer" or "jenkins"
   double exponent = 1.0 / 3.0;            ///< n ∈ (0, 1) (gaul-mayer)

@@ -15,6 +15,7 @@ struct BackboneOptions {
   hb::NonlinearModeOptions mode;        ///< mode number, H, N_t
   double log10_amplitude_start = -7.0;  ///< λ of the first point (should be in the linear range)
   double log10_amplitude_end = -3.0;    ///< λ of the last point, ≠ start
+  int output_dof = 0;  ///< DOF whose |fundamental| each point reports (BackbonePoint::output_amplitude)
   /// Steps and tolerances (range and scales are set by trace_backbone). The residual tolerance
   /// defaults to 1e-12 (not 1e-10): the energy balance injected = viscous + ΣW_D then holds to
   /// ~1e-10 at every point (at 1e-10 it drifts to ~2e-8; validation/hb/README_epmc_convergence.md).
@@ -29,6 +30,7 @@ struct BackboneOptions {
 /// One accepted point: hb::NonlinearModeState plus the continuation's record.
 struct BackbonePoint {
   hb::NonlinearModeState state;
+  double output_amplitude = 0.0;  ///< |fundamental| of options.output_dof: q √(â₁² + b̂₁²) [m]
   int iterations = 0;
   double step = 0.0;
   Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ)

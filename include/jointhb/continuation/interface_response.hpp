@@ -69,6 +69,7 @@ struct InterfaceBackboneOptions {
 struct InterfaceBackbonePoint {
   hb::InterfaceModeState state;
   int iterations = 0;
+  double step = 0.0;  ///< arclength step that reached the point
   Eigen::VectorXd unknowns;  ///< Ŷ = (ŷ, Ω, ξ)
 };
 

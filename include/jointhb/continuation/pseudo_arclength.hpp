@@ -122,6 +122,12 @@ enum class StopReason {
   start_failed,     ///< the corrector at λ = parameter_start did not converge
   stopped_by_user,  ///< the accept callback returned false
   left_range,       ///< the branch turned back across parameter_start (last point on it)
+  /// A converged point whose reported outputs (energies, amplitudes) are not finite: it overflowed
+  /// doubles (e.g. W_D ∝ q² beyond q ≈ 1e154); the curve ends on the last finite point.
+  out_of_range,
+  /// An exception ended the curve (set by the callers of the curve drivers, e.g. when writing an
+  /// accepted point failed); the points accepted before it are kept where the caller can.
+  error,
 };
 
 /// The enumerator's name ("reached_end", "min_step", ...), as written to summary files.
@@ -132,7 +138,7 @@ enum class StopReason {
 /// InterfaceBackbone, InterfaceFrf):
 ///   reached_end → reached_end;  stopped_by_user → stopped_by_user;
 ///   max_points → no_convergence (the point budget ran out before the end);
-///   min_step, start_failed, left_range → failed (the corrector broke down, the start did not
+///   min_step, start_failed, left_range, out_of_range, error → failed (the corrector broke down, the start did not
 ///   converge, the branch turned back across the start: more points would not reach the end).
 [[nodiscard]] Termination termination(StopReason reason);
 

@@ -125,6 +125,10 @@ class HarmonicBalance {
   [[nodiscard]] Eigen::VectorXd time_history(const Eigen::VectorXd& coefficients, int dof) const;
   /// |fundamental| √(a₁² + b₁²) of a DOF (0 when the basis lacks harmonic 1).
   [[nodiscard]] double fundamental_amplitude(const Eigen::VectorXd& coefficients, int dof) const;
+  /// The largest slip over the stick range, max_t |g(t) − g_ref| k_T0 / (μ F_N), of the contacts
+  /// (0 without contacts): the curve drivers stop where it leaves the range in which the laws are
+  /// computed (contact::kMaxSlipRatio, harmonic_loop.hpp).
+  [[nodiscard]] double max_slip_ratio(const Eigen::VectorXd& coefficients) const;
 
   [[nodiscard]] HarmonicBalanceTimings timings() const;
   void reset_timings();

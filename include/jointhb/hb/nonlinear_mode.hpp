@@ -46,8 +46,12 @@ struct NonlinearModeState {
   double dissipation = 0.0;           ///< Σ contact W_D from the Fourier coefficients [J]
   double viscous_dissipation = 0.0;   ///< work of C over the period [J]
   double injected_energy = 0.0;       ///< work of the EPMC term ξ M ẋ over the period [J]
-  double damping_ratio_energy = 0.0;  ///< W_D / (4π E), E = ½ Ω² q² (kinetic energy amplitude)
+  /// (W_D + viscous work) / (4π E), E = ½ Ω² q² (kinetic energy amplitude): the energy
+  /// balance's damping ratio, equal to ζ up to the EPMC's truncation (the same definition as the
+  /// FE damping curve's, hb/interface_mode.hpp)
+  double damping_ratio_energy = 0.0;
   double slip_fraction = 0.0;         ///< share of contacts that slip during the period
+  int slipping_points = 0;            ///< contacts that slip during the period
 };
 
 class NonlinearModeResidual {

@@ -15,7 +15,7 @@ namespace jointhb::io {
 inline constexpr long long max_time_samples = 1 << 20;
 inline constexpr long long max_sweep_points = 100000;
 
-/// Shortest text that reads back to the same double ("-1", "0.3", "nan", "inf").
+/// Shortest text that reads back to the same double ("-1", "0.3", "not-a-number", "inf").
 std::string format_number(double value);
 
 /// The whole text as a number. Accepts what strtod accepts (including "nan" and "inf", so that the

@@ -83,7 +83,10 @@ struct BackbonePoint {
   double damping_ratio = 0.0;         ///< ζ of the EPMC
   double dissipation = 0.0;           ///< W_D per cycle [J]
   double damping_ratio_energy = 0.0;  ///< ζ_E from the sampled loops' energy
+  double viscous_dissipation = 0.0;   ///< work of the kept modes' damping per cycle [J]
   int slipping_points = 0, open_points = 0, newton_iterations = 0;
+  int contact_points = 0;             ///< P, for the slip fraction
+  double step = 0.0;                  ///< arclength step that reached the point
 };
 
 struct BackboneCurve {

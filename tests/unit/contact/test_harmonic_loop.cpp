@@ -90,3 +90,30 @@ TEST(HarmonicLoop, InvalidOptionsAreRejected) {
   o.law = "coulomb";
   EXPECT_THROW(jc::run_loop(o), std::invalid_argument);
 }
+
+// The slip over the stick range, r = a k_T0/(μ F_N), is accepted in [1e-100, 1e100] (its cube,
+// in W_D, stays a double); at the edges W_D still equals the closed form, beyond them the loop is
+// refused naming the amplitude instead of answered with W_D = 0 (issue 20, item 3: before the
+// check a = 1e160 m gave W_D 0 and "microslip").
+TEST(HarmonicLoop, SlipRangeEdgesAreRightAndBeyondThemRefused) {
+  const auto at_ratio = [](double ratio, double normal_force) {
+    jc::LoopOptions o;
+    o.normal_force = normal_force;
+    o.amplitude = ratio * o.friction_coefficient * o.normal_force / o.stiffness;
+    return o;
+  };
+  for (const auto& [ratio, force] : {std::pair{3e-99, 1e95}, std::pair{3e99, 100.0}}) {
+    const auto r = jc::run_loop(at_ratio(ratio, force));
+    ASSERT_EQ(r.state.termination, jointhb::Termination::converged) << ratio;
+    ASSERT_GT(r.dissipation, 0.0) << ratio;
+    EXPECT_NEAR(r.dissipation_general, r.dissipation, 1e-9 * r.dissipation) << ratio;
+  }
+  for (double ratio : {1e-101, 1e101}) {
+    try {
+      (void)jc::run_loop(at_ratio(ratio, 100.0));
+      ADD_FAILURE() << "ratio " << ratio << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("amplitude: ", 0), 0u) << e.what();
+    }
+  }
+}

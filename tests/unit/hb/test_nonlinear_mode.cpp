@@ -92,6 +92,11 @@ TEST(NonlinearMode, StuckLimitIsTheLinearModeAndEnergyBalances) {
     const NonlinearModeState& s = p.state;
     // The EPMC term injects what viscous damping and the contacts dissipate.
     EXPECT_NEAR(s.injected_energy, s.viscous_dissipation + s.dissipation, 1e-8 * s.injected_energy);
+    // ζ_E = (W_D + W_visc)/(4πE) is the same balance per unit energy: it equals ζ = ξ/2Ω up to
+    // the share of ξ M ẋ's work in the higher harmonics (E counts the fundamental's q only).
+    EXPECT_NEAR(s.damping_ratio_energy, s.damping_ratio, 2e-3 * s.damping_ratio);
+    // The output DOF (0)'s fundamental, q |X̂₀₁|, is q times the mode shape's entry at the start.
+    EXPECT_GT(p.output_amplitude, 0.0);
     EXPECT_LE(s.omega, previous_omega * (1.0 + 1e-12));  // friction only softens
     previous_omega = s.omega;
   }
@@ -102,6 +107,45 @@ TEST(NonlinearMode, StuckLimitIsTheLinearModeAndEnergyBalances) {
   EXPECT_GT(last.omega, 1.0);
   EXPECT_EQ(last.slip_fraction, 0.5);
   EXPECT_GT(last.damping_ratio_energy, 0.0);
+}
+
+// A curve driven beyond what doubles hold ends on its last finite point with out_of_range
+// (W_D ∝ q² overflows near q = 1e154), keeping every point; one started at q = 1e-300 reports the
+// linear limit's energy ratio (the viscous share), not 0/0 (issue 20, item 2).
+TEST(NonlinearMode, ExtremeAmplitudesEndOnFinitePoints) {
+  // The one-DOF Gaul–Mayer oscillator of cases/03 (m = 1, k = 1e4, c = 0.4; k_T0 = 3e4, μF_N = 1).
+  DiscreteSystem system;
+  system.mass = Eigen::MatrixXd::Identity(1, 1).sparseView();
+  system.stiffness = (1e4 * Eigen::MatrixXd::Identity(1, 1)).sparseView();
+  system.damping = (0.4 * Eigen::MatrixXd::Identity(1, 1)).sparseView();
+  ContactElement c;
+  c.law = "gaul-mayer";
+  c.stiffness = 3e4;
+  c.friction_coefficient = 0.2;
+  c.normal_force = 5.0;
+  system.contacts.push_back(c);
+  continuation::BackboneOptions o;
+  o.mode.harmonics = 3;
+  o.mode.time_samples = 32;
+  o.log10_amplitude_start = -6.0;
+  o.log10_amplitude_end = 300.0;
+  const continuation::BackboneCurve up = continuation::trace_backbone(system, o);
+  EXPECT_EQ(up.reason, continuation::StopReason::out_of_range) << up.message;
+  EXPECT_EQ(up.status().termination, Termination::failed);
+  ASSERT_GT(up.points.size(), 5u);
+  // It ends before the contact slips 1e100 stick ranges (μF_N/k_T0 = 1/3e4: q ≈ 3e95).
+  EXPECT_GT(up.points.back().state.amplitude, 1e90);
+  EXPECT_LT(up.points.back().state.amplitude, 1e97);
+  for (const auto& p : up.points) {
+    EXPECT_TRUE(std::isfinite(p.state.dissipation) && std::isfinite(p.state.damping_ratio_energy));
+  }
+  o.log10_amplitude_start = -300.0;
+  o.log10_amplitude_end = -298.0;
+  const continuation::BackboneCurve down = continuation::trace_backbone(system, o);
+  ASSERT_TRUE(down.completed()) << down.message;
+  const NonlinearModeState& s = down.points.front().state;
+  EXPECT_NEAR(s.damping_ratio_energy, down.linear_damping_ratio, 1e-9);
+  EXPECT_NEAR(s.damping_ratio, down.linear_damping_ratio, 1e-9);
 }
 
 // The 30-DOF chain of issues 18 and 23 (unit masses, springs of 225 N/m grounded at DOF 0 and free

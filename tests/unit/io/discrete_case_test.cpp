@@ -395,7 +395,7 @@ TEST(io_DiscreteCase, WrongTypesAreReported) {
 
 TEST(io_DiscreteCase, NonFiniteNumbersAreRejected) {
   expect_error("model:\n  type: discrete\n  mass: [[.nan, 0.0], [0.0, 1.0]]\n", 3, ".nan",
-               "model.mass[0][0]", "must be finite, got nan");
+               "model.mass[0][0]", "must be finite, got not-a-number");
   expect_error(
       with("contacts:\n  - {law: jenkins, dofs: [1], kt0: .inf, mu: 0.3, normal_force: 1}\n"), 6,
       ".inf", "contacts[0].kt0", "must be finite, got inf");

@@ -32,7 +32,7 @@ TEST(io_ValueChecks, ParsesOnlyWholeIntegers) {
 TEST(io_ValueChecks, ConstraintsNameTheValue) {
   EXPECT_EQ(check_positive(-1.0), "must be > 0, got -1");
   EXPECT_EQ(check_positive(0.0), "must be > 0, got 0");
-  EXPECT_EQ(check_positive(std::nan("")), "must be finite, got nan");
+  EXPECT_EQ(check_positive(std::nan("")), "must be finite, got not-a-number");
   EXPECT_EQ(check_non_negative(-0.5), "must be >= 0, got -0.5");
   EXPECT_EQ(check_open_unit(1.5), "must be in (0, 1), got 1.5");
   EXPECT_EQ(check_open_unit(1.0), "must be in (0, 1), got 1");

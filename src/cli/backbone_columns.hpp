@@ -1,0 +1,26 @@
+#pragma once
+// The columns of backbone.csv, one schema for discrete and finite-element damping curves
+// (docs/cli.md "Damping-curve outputs"): a script reads both with the same names.
+
+#include <string>
+#include <vector>
+
+namespace jointhb::cli {
+
+inline const std::vector<std::string> kBackboneColumns = {
+    "mode",                  // the linear mode followed
+    "amplitude",             // modal amplitude q [m √kg]
+    "output_amplitude",      // |fundamental| of the output DOF [m]
+    "omega",                 // Ω [rad/s]
+    "frequency_hz",          // Ω/2π [Hz]
+    "damping_ratio",         // ζ = ξ/(2Ω) of the EPMC term
+    "W_D",                   // contact dissipation per cycle [J]
+    "viscous_dissipation",   // work of the viscous damping per cycle [J]
+    "damping_ratio_energy",  // (W_D + viscous work) / (2π Ω² q²)
+    "slip_fraction",         // share of contact points slipping during the cycle
+    "slipping_points",       // contact points slipping during the cycle
+    "open_points",           // contact points open throughout the cycle
+    "newton_iterations",     // corrector iterations of the point
+    "step"};                 // arclength step that reached the point
+
+}  // namespace jointhb::cli
