@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -142,8 +143,10 @@ void write_preload(const std::filesystem::path& dir, const io::FeCase& c, const 
                       {"step", "load_factor", "iterations", "line_search_cuts", "residual", "converged"});
   for (std::size_t k = 0; k < p.steps.size(); ++k) {
     const auto& s = p.steps[k];
+    // A step that failed on a non-finite residual has no residual to write: -1 (docs/cli.md).
     steps.write_row({static_cast<double>(k + 1), s.load_factor, static_cast<double>(s.iterations),
-                     static_cast<double>(s.line_search_cuts), s.residual, s.status().ok() ? 1.0 : 0.0});
+                     static_cast<double>(s.line_search_cuts), std::isfinite(s.residual) ? s.residual : -1.0,
+                     s.status().ok() ? 1.0 : 0.0});
   }
   for (std::size_t i = 0; i < p.interfaces.size(); ++i) {
     const auto& r = p.interfaces[i];

@@ -165,11 +165,20 @@ class DiscreteCaseReader {
 
   /// A square matrix: a list of n rows of n numbers, or a plain number for n = 1. With `n` < 0 it
   /// sets the size (the mass matrix); otherwise it must have n rows.
+  // A number of the model or the excitation: finite and of a magnitude doubles can multiply
+  // (check_magnitude: 0 or in [1e-100, 1e100]; issue 20, item 3: mass 1e300 gave meaningless
+  // amplitudes and stability verdicts).
+  double physical_number(const YAML::Node& node, const std::string& path) const {
+    const double value = reader_.finite_number(node, path);
+    reader_.check(node, path, check_magnitude(value));
+    return value;
+  }
+
   Eigen::MatrixXd read_matrix(const MatrixSource& source, int n) const {
     const YAML::Node& node = source.node;
     const std::string& path = source.path;
     if (yaml::Reader::is_plain_scalar(node)) {
-      const double value = reader_.finite_number(node, path);
+      const double value = physical_number(node, path);
       if (n > 1) {
         reader_.fail(node, path,
                      fmt::format("must be a {} x {} matrix like model.mass, got a number", n, n));
@@ -204,7 +213,7 @@ class DiscreteCaseReader {
       }
       for (int j = 0; j < rows; ++j) {
         const auto jj = static_cast<std::size_t>(j);
-        a(i, j) = reader_.finite_number(row[jj], item_path(row_path, jj));
+        a(i, j) = physical_number(row[jj], item_path(row_path, jj));
       }
     }
     return a;
@@ -409,6 +418,7 @@ class DiscreteCaseReader {
       const YAML::Node value = f.find(name)->value;
       const double x = reader_.number(value, f.path_of(name));
       reader_.check(value, f.path_of(name), check_positive(x));
+      reader_.check(value, f.path_of(name), check_magnitude(x));
       return x;
     };
     e.stiffness = positive("kt0");
@@ -509,10 +519,10 @@ class DiscreteCaseReader {
           reader_.fail(amplitude->value, key, "must be a number or a non-empty list of numbers");
         }
         for (std::size_t i = 0; i < amplitude->value.size(); ++i) {
-          force.amplitudes.push_back(reader_.finite_number(amplitude->value[i], item_path(key, i)));
+          force.amplitudes.push_back(physical_number(amplitude->value[i], item_path(key, i)));
         }
       } else {
-        force.amplitudes.push_back(reader_.finite_number(amplitude->value, key));
+        force.amplitudes.push_back(physical_number(amplitude->value, key));
       }
     }
     if (const auto* harmonic = f.find("harmonic")) {
@@ -525,7 +535,7 @@ class DiscreteCaseReader {
     }
     if (stat) {
       force.has_static = true;
-      force.static_force = reader_.finite_number(stat->value, f.path_of("static"));
+      force.static_force = physical_number(stat->value, f.path_of("static"));
     }
     return force;
   }
@@ -539,8 +549,10 @@ class DiscreteCaseReader {
     }
     const double start = reader_.number(node[0], item_path(path, 0));
     reader_.check(node[0], item_path(path, 0), check_positive(start));
+    reader_.check(node[0], item_path(path, 0), check_magnitude(start));
     const double end = reader_.number(node[1], item_path(path, 1));
     reader_.check(node[1], item_path(path, 1), check_positive(end));
+    reader_.check(node[1], item_path(path, 1), check_magnitude(end));
     if (end == start) {
       reader_.fail(node[1], item_path(path, 1),
                    fmt::format("must differ from start {}, got {}", start, end));

@@ -58,6 +58,15 @@ std::string check_positive(double value) {
   return "must be > 0, got " + format_number(value);
 }
 
+std::string check_magnitude(double value) {
+  if (auto error = check_finite(value); !error.empty()) return error;
+  const double a = std::abs(value);
+  if (a == 0.0 || (a >= kMinMagnitude && a <= kMaxMagnitude)) return {};
+  return fmt::format("magnitude must lie in [{:g}, {:g}] (or be 0), got {}: jointhb computes in SI "
+                     "doubles, and products of such inputs would leave their range (rescale the units)",
+                     kMinMagnitude, kMaxMagnitude, format_number(value));
+}
+
 std::string check_non_negative(double value) {
   if (auto error = check_finite(value); !error.empty()) return error;
   if (value >= 0.0) return {};

@@ -305,6 +305,15 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
     Eigen::VectorXd u_step = u;
     for (int it = 0;; ++it) {
       step.residual = norm / reference;
+      if (!std::isfinite(step.residual)) {
+        // A numerical failure of the stage, named as such (issue 20, item 5: p_N0 = 1e300 Pa).
+        step.termination = Termination::failed;
+        step.message = fmt::format(
+            "the residual is not finite at iteration {} (the contact forces or the stiffness "
+            "overflow the range of doubles: check the interface pressure p_N0 and decay λ, the "
+            "bolt preloads and the materials)", it);
+        break;
+      }
       if (options.progress) options.progress(k, it, step.residual);
       if (step.residual <= options.residual_tolerance) {
         step.termination = Termination::converged;

@@ -18,6 +18,13 @@ inline constexpr long long max_sweep_points = 100000;
 /// Shortest text that reads back to the same double ("-1", "0.3", "not-a-number", "inf").
 std::string format_number(double value);
 
+/// The magnitudes a physical input of a discrete case may have: 0, or |v| in [1e-100, 1e100]
+/// (jointhb computes in SI doubles; products of three such inputs stay representable).
+inline constexpr double kMinMagnitude = 1e-100;
+inline constexpr double kMaxMagnitude = 1e100;
+/// Empty when `value` is finite and 0 or of a magnitude in [kMinMagnitude, kMaxMagnitude].
+std::string check_magnitude(double value);
+
 /// The whole text as a number. Accepts what strtod accepts (including "nan" and "inf", so that the
 /// check below can name them) and the YAML spellings .nan/.inf/-.inf; nullopt for anything else.
 std::optional<double> parse_number(std::string_view text);
