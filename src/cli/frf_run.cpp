@@ -15,6 +15,7 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/io/csv_writer.hpp"
+#include "jointhb/io/input_error.hpp"
 #include "jointhb/pipeline/discrete_pipeline.hpp"
 #include "status_json.hpp"
 
@@ -470,9 +471,16 @@ int run_discrete_case(const io::DiscreteCase& c, const fs::path& dir, Clock::tim
   put_run_status(summary, run);
   summary["seconds"]["total"] = seconds_since(start);
   write_summary(dir / "summary.json", summary);
+  if (!run.ok()) {
+    // The last line of a failed run is its error line, as for the other kinds of case: a script
+    // reading stderr must not take it for a finished one (the exit code says the same).
+    std::cerr << fmt::format("jointhb run: {}: failed: {} ({}, {:.3g} s; results so far in {})\n", c.source,
+                             io::printable_one_line(run.message), what, seconds_since(start), dir.string());
+    return exit_failure;
+  }
   std::cerr << fmt::format("jointhb run: {}: {} in {:.3g} s; wrote {}\n", c.source, what,
                            seconds_since(start), dir.string());
-  return run.ok() ? exit_ok : exit_failure;
+  return exit_ok;
 }
 
 }  // namespace jointhb::cli

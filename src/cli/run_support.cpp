@@ -138,7 +138,9 @@ void install_interrupt_handler(const std::string& command) {
     } catch (const std::exception& e) {
       where = fmt::format(" ({})", e.what());
     }
-    std::fprintf(stderr, "\n%s: interrupted by %s%s\n", command.c_str(), signal_name(sig), where.c_str());
+    // On a terminal a progress line may be open: end it first. Elsewhere no blank line.
+    std::fprintf(stderr, "%s%s: interrupted by %s%s\n", stderr_is_terminal() ? "\n" : "", command.c_str(),
+                 signal_name(sig), where.c_str());
     std::fflush(stderr);
     std::_Exit(128 + sig);
   }).detach();

@@ -46,6 +46,7 @@ assert s["case"].endswith("slow.yaml") and s["analyses"] == ["frf"]
 PY
   grep -q "^jointhb run: interrupted by SIG$signal (.*summary.json: \"status\": \"interrupted\")$" "$DIR.err" ||
     fail "SIG$signal: stderr: $(cat "$DIR.err")"
+  grep -q '^$' "$DIR.err" && fail "SIG$signal: a blank line on stderr (not a terminal)"
   check_rows "$DIR"
   [ "$FAILURES" -eq "$BEFORE" ] && echo "ok: SIG$signal -> exit $CODE, $(($(wc -l <"$DIR/frf.csv") - 1)) rows kept, status interrupted"
 done

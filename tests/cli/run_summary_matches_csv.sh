@@ -32,6 +32,10 @@ sed 's/log10_amplitude: \[.*\]/log10_amplitude: [-8, 300]/' \
 run_capture run "$WORK/overflow.yaml" -o "$WORK/overflow"
 [ "$STATUS" -eq 1 ] || fail "log10_amplitude [-8, 300] exited $STATUS, expected 1 (a curve failed)"
 grep -q "stick range" "$ERR" || fail "the stop message does not say what left the range: $(cat "$ERR")"
+# A failed run ends on its error line, like an FE run, not on a "wrote" line.
+tail -n 1 "$ERR" | grep -q "^jointhb run: .*overflow.yaml: failed: .*results so far in" ||
+  fail "last line of the failed run: $(tail -n 1 "$ERR")"
+grep -q "; wrote " "$ERR" && fail "a failed run printed the 'wrote' line: $(cat "$ERR")"
 check_consistent "$WORK/overflow" out_of_range || fail "[-8, 300]: summary.json does not match backbone.csv"
 
 sed 's/log10_amplitude: \[.*\]/log10_amplitude: [-300, -3.5]/' \
