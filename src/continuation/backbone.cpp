@@ -6,13 +6,13 @@
 
 #include <fmt/format.h>
 
-#include "jointhb/contact/harmonic_loop.hpp"
-
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <vector>
+
+#include "jointhb/contact/harmonic_loop.hpp"
 
 namespace jointhb::continuation {
 namespace {
@@ -112,14 +112,13 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
     BackbonePoint b;
     const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
     b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
+    const Eigen::VectorXd x_hat = p.x.head(epmc.balance().unknowns());  // x = q X̂
     if (!finite_outputs(b.state) ||
-        !(epmc.balance().max_slip_ratio(b.state.amplitude * p.x.head(epmc.balance().unknowns())) <=
-          contact::kMaxSlipRatio)) {
+        !(epmc.balance().max_slip_ratio(b.state.amplitude * x_hat) <= contact::kMaxSlipRatio)) {
       overflow_at = p.lambda;
       return false;
     }
-    const Eigen::Index nx = epmc.balance().unknowns();
-    b.output_amplitude = b.state.amplitude * epmc.balance().fundamental_amplitude(p.x.head(nx), options.output_dof);
+    b.output_amplitude = b.state.amplitude * epmc.balance().fundamental_amplitude(x_hat, options.output_dof);
     b.iterations = p.iterations;
     b.step = p.step;
     b.unknowns = p.x;
@@ -137,7 +136,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
         "on the last point before: narrow log10_amplitude",
         *overflow_at, contact::kMaxSlipRatio);
   }
-  if (!r.completed() && curve.reason != StopReason::out_of_range && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
+  if (!r.completed() && !overflow_at && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
     const std::string why = internal_resonance(system, epmc.balance().basis(), curve.points.back().state.omega);
     if (!why.empty()) curve.message += ". " + why;
   }

@@ -7,8 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "jointhb/contact/harmonic_loop.hpp"
-
 #include "jointhb/hb/jacobian_check.hpp"
 
 #include <algorithm>
@@ -17,6 +15,8 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+
+#include "jointhb/contact/harmonic_loop.hpp"
 
 namespace jointhb::continuation {
 namespace {
