@@ -24,7 +24,7 @@ namespace {
 using nlohmann::ordered_json;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-const std::vector<std::string> kFrfColumns = {
+const std::vector<std::string> kFeFrfColumns = {
     "level",        "force_amplitude", "omega",           "frequency_hz", "amplitude_h1", "amplitude_max",
     "dissipation",  "slipping_points", "open_points",     "newton_iterations"};
 
@@ -184,7 +184,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
   // ---- frequency responses -------------------------------------------------------------------
   if (d.frf) {
     const io::FeFrfSpec& fs = *d.frf;
-    io::CsvWriter csv(dir / "frf.csv", kFrfColumns);
+    io::CsvWriter csv(dir / "frf.csv", kFeFrfColumns);
     summary["outputs"]["frf"] = "frf.csv";
     summary["frfs"] = ordered_json::array();
     for (std::size_t level = 0; level < fs.forces.size(); ++level) {

@@ -7,11 +7,12 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::contact {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using support::kEps;
 
 // Minimum-norm solution of (I - M) x = b; directions with singular value below the threshold are
 // those in which the periodicity condition does not fix the state (sticking throughout).
@@ -24,7 +25,7 @@ PeriodicSolve periodic_solve(const Mat2& monodromy) {
   const Mat2 a = Mat2::Identity() - monodromy;
   Eigen::JacobiSVD<Mat2> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Vec2 sigma = svd.singularValues();
-  const double threshold = 1.0e-13;  // M has entries O(1): singular below round-off
+  const double threshold = kPeriodicSingular;
   PeriodicSolve r;
   r.pseudo_inverse.setZero();
   r.null_projector.setZero();

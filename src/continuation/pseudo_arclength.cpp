@@ -28,6 +28,7 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::continuation {
 namespace {
@@ -38,7 +39,7 @@ using Eigen::VectorXd;
 using support::Clock;
 using support::seconds_since;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using support::kEps;
 
 // A small Newton step alone does not prove convergence (a stagnating iteration also makes small
 // steps); it is accepted only when the residual is within three decades of the tolerance, which

@@ -24,12 +24,6 @@ std::string AssemblyOptions::validate() const {
 
 namespace {
 
-std::string element_name(const Mesh& mesh, int e) {
-  if (static_cast<std::size_t>(e) < mesh.element_ids.size())
-    return fmt::format("element {}", mesh.element_ids[static_cast<std::size_t>(e)]);
-  return fmt::format("element index {}", e);
-}
-
 // Node adjacency (sorted, including the node itself) in CSR form.
 struct NodeGraph {
   std::vector<long> offsets;  // neighbours of node i: indices [offsets[i], offsets[i+1])

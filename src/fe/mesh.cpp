@@ -1,5 +1,7 @@
 #include "jointhb/fe/mesh.hpp"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 #include <string>
 
@@ -212,6 +214,16 @@ void append(Mesh& mesh, const Mesh& other) {
     for (Face& f : faces) f.element += element_offset;
     mesh.surfaces.emplace(name, std::move(faces));
   }
+}
+
+std::string element_name(const Mesh& mesh, int e) {
+  const auto i = static_cast<std::size_t>(e);
+  std::string name = i < mesh.element_ids.size() ? fmt::format("element {}", mesh.element_ids[i])
+                                                 : fmt::format("element #{}", e);
+  const int part = i < mesh.elements.size() ? mesh.elements[i].part : -1;
+  if (part >= 0 && static_cast<std::size_t>(part) < mesh.parts.size())
+    name += " of part " + mesh.parts[static_cast<std::size_t>(part)];
+  return name;
 }
 
 }  // namespace jointhb::fe

@@ -84,18 +84,6 @@ DetRange det_range(const Mesh& mesh, int element) {
   return range;
 }
 
-// "element 17 of part BRACKET": ids come from the part's own file, so two parts may both have
-// an element 17; the part tells them apart.
-std::string element_name(const Mesh& mesh, int e) {
-  const auto i = static_cast<std::size_t>(e);
-  std::string name = i < mesh.element_ids.size() ? fmt::format("element {}", mesh.element_ids[i])
-                                                 : fmt::format("element #{}", e);
-  const int part = i < mesh.elements.size() ? mesh.elements[i].part : -1;
-  if (part >= 0 && static_cast<std::size_t>(part) < mesh.parts.size())
-    name += " of part " + mesh.parts[static_cast<std::size_t>(part)];
-  return name;
-}
-
 std::string node_name(const Mesh& mesh, int n) {
   const auto i = static_cast<std::size_t>(n);
   return n >= 0 && i < mesh.node_ids.size() ? fmt::format("node {}", mesh.node_ids[i])

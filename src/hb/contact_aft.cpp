@@ -13,8 +13,6 @@ Eigen::VectorXd stuck_force(const ContactElement& c, const Eigen::VectorXd& g) {
   return (c.reference_force + c.stiffness * (g.array() - c.reference_slip)).matrix();
 }
 
-// Same threshold as the periodic solver's pseudo-inverse: below it 1 − M is singular (sticking).
-constexpr double kSingular = 1.0e-13;
 
 }  // namespace
 
@@ -76,7 +74,7 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
     pi *= a;
   }
   Eigen::RowVectorXd start;
-  if (std::abs(1.0 - pi) > kSingular) {
+  if (std::abs(1.0 - pi) > contact::kPeriodicSingular) {
     start = acc / (1.0 - pi);
   } else {
     start = state.anchor_stiffness * e.row(0);  // anchored: t_0 = t_ref + k_0 (g_0 − g_ref)

@@ -1,5 +1,6 @@
 // AFT of one 3D contact point and of a whole interface (contact_point_aft.hpp; docs/theory.md §10).
 #include "jointhb/hb/contact_point_aft.hpp"
+#include "jointhb/contact/periodic_state.hpp"
 
 #include <fmt/format.h>
 
@@ -105,9 +106,6 @@ bool try_shortcut(const ContactPoint& point, const ContactPointReference& ref,
   return true;
 }
 
-// Same threshold as the periodic solver's pseudo-inverse (periodic_state.cpp): below it a
-// direction of I − M is singular, i.e. not fixed by periodicity (sticking), and follows the anchor.
-constexpr double kSingular = 1.0e-13;
 
 // (I − M)^+ and the projector onto its null space, as in the periodic solve.
 std::pair<contact::Mat2, contact::Mat2> periodic_inverse(const contact::Mat2& monodromy) {
@@ -116,7 +114,7 @@ std::pair<contact::Mat2, contact::Mat2> periodic_inverse(const contact::Mat2& mo
   contact::Mat2 pinv = contact::Mat2::Zero(), null = contact::Mat2::Zero();
   for (int j = 0; j < 2; ++j) {
     const Vec2 v = svd.matrixV().col(j);
-    if (svd.singularValues()(j) > kSingular) {
+    if (svd.singularValues()(j) > contact::kPeriodicSingular) {
       pinv += v * svd.matrixU().col(j).transpose() / svd.singularValues()(j);
     } else {
       null += v * v.transpose();

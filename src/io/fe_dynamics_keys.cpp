@@ -10,6 +10,7 @@
 
 #include "continuation_keys.hpp"
 #include "jointhb/io/value_checks.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::io {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 using yaml::Fields;
 using yaml::item_path;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using support::kTwoPi;
 
 // A point inside or on the model lies within about half an element diagonal of a node; farther
 // than this many largest element edges it is off the model (a typo, mm for m), and the "nearest

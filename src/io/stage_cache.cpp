@@ -79,7 +79,7 @@ static_assert(aggregate_field_count<reduction::FieldRecovery>() == 7,
 
 // ---- bytes -----------------------------------------------------------------------------------------
 
-class Writer {
+class ByteWriter {
  public:
   void u8(std::uint8_t v) { out_.push_back(static_cast<char>(v)); }
   void u32(std::uint32_t v) {
@@ -138,9 +138,9 @@ class Writer {
   std::string out_;
 };
 
-class Reader {
+class ByteReader {
  public:
-  explicit Reader(std::string_view in) : in_(in) {}
+  explicit ByteReader(std::string_view in) : in_(in) {}
 
   std::uint8_t u8() { return static_cast<std::uint8_t>(take(1)[0]); }
   std::uint32_t u32() {
@@ -177,7 +177,7 @@ class Reader {
     if constexpr (little_endian) {
       if (n > 0) std::memcpy(p, b.data(), b.size());
     } else {
-      Reader r(b);
+      ByteReader r(b);
       for (std::size_t i = 0; i < n; ++i) p[i] = r.f64();
     }
   }
@@ -275,7 +275,7 @@ std::string type_name(std::uint8_t code) {
 /// length, bytes). The count and each length are filled in when the record or field is complete.
 class RecordWriter {
  public:
-  RecordWriter(Writer& w, std::string_view type) : w_(w) {
+  RecordWriter(ByteWriter& w, std::string_view type) : w_(w) {
     w_.str(type);
     count_at_ = w_.position();
     w_.u32(0);
@@ -380,7 +380,7 @@ class RecordWriter {
     ++fields_;
   }
 
-  Writer& w_;
+  ByteWriter& w_;
   std::size_t count_at_ = 0;
   std::uint32_t fields_ = 0;
 };
@@ -410,10 +410,10 @@ class RecordReader {
     }
     throw std::runtime_error(fmt::format("{}: field '{}' missing", type_, name));
   }
-  /// The field's value get(Reader&), which must use all its bytes; a failure names the field.
+  /// The field's value get(ByteReader&), which must use all its bytes; a failure names the field.
   template <class Get>
   auto value(std::string_view name, FieldType type, Get get) {
-    Reader r(field(name, type).bytes);
+    ByteReader r(field(name, type).bytes);
     try {
       auto v = get(r);
       r.expect_end();
@@ -431,14 +431,14 @@ class RecordReader {
   }
   /// The number of items of item_size bytes that make up the rest of r (inside value(), which
   /// names the field).
-  static std::size_t items(const Reader& r, std::size_t item_size) {
+  static std::size_t items(const ByteReader& r, std::size_t item_size) {
     if (r.left() % item_size != 0)
       throw std::runtime_error(fmt::format("{} bytes, not a multiple of {}", r.left(), item_size));
     return r.left() / item_size;
   }
 
  public:
-  RecordReader(Reader& r, std::string_view type) : type_(type) {
+  RecordReader(ByteReader& r, std::string_view type) : type_(type) {
     const std::string_view found = r.str();
     if (found != type) throw std::runtime_error(fmt::format("expected a {} record, found '{}'", type, found));
     const std::uint32_t n = r.u32();
@@ -458,37 +458,37 @@ class RecordReader {
   }
 
   bool boolean(std::string_view name) {
-    return fixed(name, FieldType::boolean, 1, [](Reader& r) { return r.boolean(); });
+    return fixed(name, FieldType::boolean, 1, [](ByteReader& r) { return r.boolean(); });
   }
   int int32(std::string_view name) {
-    return fixed(name, FieldType::int32, 4, [](Reader& r) { return r.i32(); });
+    return fixed(name, FieldType::int32, 4, [](ByteReader& r) { return r.i32(); });
   }
   long int64(std::string_view name) {
-    return fixed(name, FieldType::int64, 8, [](Reader& r) { return r.i64(); });
+    return fixed(name, FieldType::int64, 8, [](ByteReader& r) { return r.i64(); });
   }
   double float64(std::string_view name) {
-    return fixed(name, FieldType::float64, 8, [](Reader& r) { return r.f64(); });
+    return fixed(name, FieldType::float64, 8, [](ByteReader& r) { return r.f64(); });
   }
   std::uint8_t enumeration(std::string_view name) {
-    return fixed(name, FieldType::enumeration, 1, [](Reader& r) { return r.u8(); });
+    return fixed(name, FieldType::enumeration, 1, [](ByteReader& r) { return r.u8(); });
   }
   std::string string(std::string_view name) { return std::string(field(name, FieldType::string).bytes); }
   Eigen::VectorXd vector(std::string_view name) {
-    return value(name, FieldType::float64_array, [&](Reader& r) {
+    return value(name, FieldType::float64_array, [&](ByteReader& r) {
       Eigen::VectorXd v(static_cast<Eigen::Index>(items(r, sizeof(double))));
       r.doubles(v.data(), static_cast<std::size_t>(v.size()));
       return v;
     });
   }
   std::vector<double> reals(std::string_view name) {
-    return value(name, FieldType::float64_array, [&](Reader& r) {
+    return value(name, FieldType::float64_array, [&](ByteReader& r) {
       std::vector<double> v(items(r, sizeof(double)));
       r.doubles(v.data(), v.size());
       return v;
     });
   }
   Eigen::MatrixXd matrix(std::string_view name) {
-    return value(name, FieldType::float64_matrix, [&](Reader& r) {
+    return value(name, FieldType::float64_matrix, [&](ByteReader& r) {
       const std::uint64_t rows = r.u64(), cols = r.u64();
       const std::uint64_t left = r.left() / sizeof(double);
       const auto limit = static_cast<std::uint64_t>(std::numeric_limits<Eigen::Index>::max());
@@ -500,21 +500,21 @@ class RecordReader {
     });
   }
   std::vector<int> integers(std::string_view name) {
-    return value(name, FieldType::int32_array, [&](Reader& r) {
+    return value(name, FieldType::int32_array, [&](ByteReader& r) {
       std::vector<int> v(items(r, 4));
       r.ints(v.data(), v.size());
       return v;
     });
   }
   std::vector<bool> flags(std::string_view name) {
-    return value(name, FieldType::boolean_array, [&](Reader& r) {
+    return value(name, FieldType::boolean_array, [&](ByteReader& r) {
       std::vector<bool> v(r.left());
       for (std::size_t i = 0; i < v.size(); ++i) v[i] = r.boolean();
       return v;
     });
   }
   std::vector<Eigen::Matrix3d> matrices3(std::string_view name) {
-    return value(name, FieldType::matrix3_array, [&](Reader& r) {
+    return value(name, FieldType::matrix3_array, [&](ByteReader& r) {
       std::vector<Eigen::Matrix3d> ms(items(r, 9 * sizeof(double)));
       for (auto& m : ms) r.doubles(m.data(), 9);
       return ms;
@@ -523,7 +523,7 @@ class RecordReader {
   /// Sets the `member` 3-vector of each of `items` (their count must match the field's).
   template <class Item>
   void vectors3(std::string_view name, std::vector<Item>& items_out, Eigen::Vector3d Item::*member) {
-    value(name, FieldType::vector3_array, [&](Reader& r) {
+    value(name, FieldType::vector3_array, [&](ByteReader& r) {
       const std::size_t n = items(r, 3 * sizeof(double));
       if (n != items_out.size())
         throw std::runtime_error(fmt::format("{} items, the record has {}", n, items_out.size()));
@@ -532,17 +532,17 @@ class RecordReader {
     });
   }
   Eigen::SparseMatrix<double> sparse(std::string_view name) {
-    return value(name, FieldType::sparse_matrix, [](Reader& r) { return r.sparse(); });
+    return value(name, FieldType::sparse_matrix, [](ByteReader& r) { return r.sparse(); });
   }
   /// A nested record: get(RecordReader&) returns its value.
   template <class Get>
   auto record(std::string_view name, std::string_view type, Get get) {
-    return value(name, FieldType::record, [&](Reader& r) { return read_record(r, type, get); });
+    return value(name, FieldType::record, [&](ByteReader& r) { return read_record(r, type, get); });
   }
   /// A list of records: get(RecordReader&) returns each item.
   template <class Get>
   auto records(std::string_view name, std::string_view type, Get get) {
-    return value(name, FieldType::record_list, [&](Reader& r) {
+    return value(name, FieldType::record_list, [&](ByteReader& r) {
       std::vector<decltype(read_record(r, type, get))> items_out(r.count(8 + type.size() + 4));
       for (auto& item : items_out) item = read_record(r, type, get);
       return items_out;
@@ -552,7 +552,7 @@ class RecordReader {
   /// item_bytes (the bytes of one item in all columns) bounds the count before get allocates.
   template <class Get>
   auto columns(std::string_view name, std::string_view type, std::size_t item_bytes, Get get) {
-    return value(name, FieldType::record_columns, [&](Reader& r) {
+    return value(name, FieldType::record_columns, [&](ByteReader& r) {
       const std::size_t count = r.count(item_bytes);
       return read_record(r, type, [&](RecordReader& rec) { return get(rec, count); });
     });
@@ -567,7 +567,7 @@ class RecordReader {
 
   /// A record from r, its value get(RecordReader&), all its fields read.
   template <class Get>
-  static auto read_record(Reader& r, std::string_view type, Get get) {
+  static auto read_record(ByteReader& r, std::string_view type, Get get) {
     RecordReader rec(r, type);
     auto v = get(rec);
     rec.finish();
@@ -582,7 +582,7 @@ class RecordReader {
 /// The payload: one top-level record and nothing after it.
 template <class Get>
 auto decode_payload(std::string_view payload, std::string_view type, Get get) {
-  Reader r(payload);
+  ByteReader r(payload);
   auto v = RecordReader::read_record(r, type, get);
   r.expect_end();
   return v;
@@ -590,7 +590,7 @@ auto decode_payload(std::string_view payload, std::string_view type, Get get) {
 
 template <class Put>
 std::string encode_payload(std::string_view type, Put put) {
-  Writer w;
+  ByteWriter w;
   {
     RecordWriter r(w, type);
     put(r);
@@ -961,7 +961,7 @@ std::optional<std::string> StageCache::read_payload(std::string_view stage, cons
     return std::nullopt;
   };
   try {
-    Reader r(bytes);
+    ByteReader r(bytes);
     if (bytes.size() < 4 || bytes.compare(0, 4, "JHBC") != 0) return bad("is not a jointhb cache file (bad magic)");
     r.u32();  // the magic
     const std::uint32_t version = r.u32();
@@ -974,7 +974,7 @@ std::optional<std::string> StageCache::read_payload(std::string_view stage, cons
     if (length > bytes.size() || bytes.size() - header != length + 8)
       return bad(fmt::format("is truncated or has trailing bytes ({} bytes, {} expected)", bytes.size(), header + length + 8));
     std::string payload = bytes.substr(header, static_cast<std::size_t>(length));
-    Reader tail(std::string_view(bytes).substr(header + static_cast<std::size_t>(length)));
+    ByteReader tail(std::string_view(bytes).substr(header + static_cast<std::size_t>(length)));
     if (tail.u64() != fnv1a64(payload)) return bad("is corrupted (checksum mismatch)");
     return payload;
   } catch (const std::exception& e) {
@@ -993,7 +993,7 @@ void StageCache::write_payload(std::string_view stage, const std::string& key, c
       warn(fmt::format("stage cache: cannot create {}: {}; {} not cached", dir_.string(), ec.message(), stage));
       return;
     }
-    Writer w;
+    ByteWriter w;
     w.u8('J'), w.u8('H'), w.u8('B'), w.u8('C');
     w.u32(stage_cache_format);
     w.str(stage);

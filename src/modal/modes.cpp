@@ -13,6 +13,7 @@
 
 #include "../support/sparse_norm.hpp"
 #include "../support/stopwatch.hpp"
+#include "../support/numeric_constants.hpp"
 
 // arpack-ng's ISO C binding (arpack/arpack.h declares these too, but also complex routines whose
 // C99 `_Complex` types ISO C++ rejects).
@@ -30,7 +31,7 @@ namespace jointhb::modal {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
+using support::kTwoPi;
 
 std::string fmt_double(double x) {
   char text[32];

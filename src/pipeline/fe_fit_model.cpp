@@ -12,11 +12,12 @@
 
 #include "../support/gmres.hpp"
 #include "jointhb/hb/interface_mode.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::pipeline {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using support::kTwoPi;
 
 // Above this many unknowns the on-curve correction is matrix-free (GMRES on the EPMC Jacobian's
 // products, preconditioned point-locally, as the damping curve itself is solved) instead of a

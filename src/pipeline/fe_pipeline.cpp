@@ -11,11 +11,12 @@
 #include "jointhb/pipeline/stage_names.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::pipeline {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using support::kTwoPi;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }

@@ -9,10 +9,11 @@
 #include <stdexcept>
 
 #include "jointhb/pipeline/fingerprint.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::pipeline {
 namespace {
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using support::kTwoPi;
 }  // namespace
 
 int default_time_samples(int harmonics) {

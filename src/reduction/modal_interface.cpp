@@ -12,6 +12,7 @@
 #include "../support/blas_gemm.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::reduction {
 
@@ -20,7 +21,7 @@ namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 using support::seconds_since;
 
-constexpr double kTwoPi = 6.283185307179586;
+using support::kTwoPi;
 
 // Columns per block of the residual solves and of Wᵀ M W.
 constexpr Eigen::Index kSolveBlock = 512;

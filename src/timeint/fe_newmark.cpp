@@ -32,6 +32,7 @@
 #include "../support/contact_tangent.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::timeint {
 namespace {
@@ -40,7 +41,7 @@ using Vec = Eigen::VectorXd;
 using SpMat = Eigen::SparseMatrix<double>;
 using support::Clock;
 using support::seconds_since;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using support::kEps;
 
 std::string excitation_problem(const FeExcitation& e, int n) {
   for (std::size_t j = 0; j < e.forces.size(); ++j) {

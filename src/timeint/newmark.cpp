@@ -31,6 +31,7 @@
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::timeint {
 namespace {
@@ -39,7 +40,7 @@ using hb::SparseMatrix;
 using Vec = Eigen::VectorXd;
 using support::Clock;
 using support::seconds_since;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using support::kEps;
 
 std::vector<double> reference_forces(const hb::DiscreteSystem& system, const Vec& x) {
   std::vector<double> f;
@@ -596,10 +597,7 @@ TransientResult integrate(const hb::DiscreteSystem& system, const hb::Excitation
 
 namespace {
 
-double group_change(double difference, double scale) {
-  if (scale > 0.0) return difference / scale;
-  return difference > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
-}
+using support::group_change;
 
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double d = 0.0;

@@ -21,6 +21,7 @@
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+#include "../support/numeric_constants.hpp"
 
 namespace jointhb::timeint {
 namespace {
@@ -29,10 +30,7 @@ using Vec = Eigen::VectorXd;
 using support::Clock;
 using support::seconds_since;
 
-double group_change(double difference, double scale) {
-  if (scale > 0.0) return difference / scale;
-  return difference > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
-}
+using support::group_change;
 
 // One period from t = 0: the end state and what the residual and the classification need.
 struct PeriodRun {

@@ -77,6 +77,9 @@
 #include "jointhb/modal/modes.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_beam_modes {
+
 namespace {
 
 using namespace jointhb::fe;
@@ -337,7 +340,7 @@ double purity(const Mode& m) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   bool ok = true;
@@ -583,3 +586,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_beam_modes

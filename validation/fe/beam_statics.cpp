@@ -50,6 +50,9 @@
 #include "study_arguments.hpp"
 #include "unit/fe/test_box.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_beam_statics {
+
 namespace {
 
 using namespace jointhb::fe;
@@ -126,7 +129,7 @@ Run solve(Clamp clamp, ElementType type, int nz, int aspect) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const std::vector<ElementType> types = {ElementType::hex8, ElementType::hex8_incompatible,
@@ -262,3 +265,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_beam_statics

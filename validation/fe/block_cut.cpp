@@ -61,6 +61,9 @@
 #include "jointhb/modal/modes.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_block_cut {
+
 namespace {
 
 using namespace jointhb::fe;
@@ -199,7 +202,7 @@ double slope(const std::vector<const Run*>& runs, double Run::*error) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int n = args.ci ? 2 : 8;
@@ -406,3 +409,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_block_cut

@@ -38,6 +38,9 @@
 #include "lap_case.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_condensed_modes {
+
 namespace {
 
 using namespace jointhb;
@@ -57,7 +60,7 @@ Eigen::VectorXd dense_frequencies_hz(const Eigen::MatrixXd& K, const Eigen::Matr
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   validation::LapCaseOptions lap;
@@ -119,3 +122,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUND VIOLATED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_condensed_modes

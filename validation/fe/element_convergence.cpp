@@ -44,6 +44,9 @@
 #include "study_arguments.hpp"
 #include "unit/fe/simplex_test_support.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_element_convergence {
+
 namespace {
 
 using namespace jointhb::fe;
@@ -112,7 +115,7 @@ bool bending_study(const std::string& prefix) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const std::vector<int> meshes = args.ci ? std::vector<int>{2, 4, 8}
@@ -161,3 +164,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "a bound was exceeded");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_element_convergence

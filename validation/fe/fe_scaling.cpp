@@ -61,6 +61,9 @@
 #include "lap_case.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_fe_scaling {
+
 namespace {
 
 using namespace jointhb;
@@ -312,7 +315,7 @@ int check(const Measurement& s, double tolerance) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   // [--ci] OUTPUT_PREFIX [--dofs N]: take --dofs N out, the rest is the shared study command line.
   long target = 10000;
   double reuse_ratio = preload::PreloadOptions{}.reuse_factor_ratio;
@@ -341,3 +344,5 @@ int main(int argc, char** argv) {
   std::printf("%s: %d bound(s) failed\n", failed == 0 ? "PASS" : "FAIL", failed);
   return failed == 0 ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_fe_scaling

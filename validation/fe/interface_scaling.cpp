@@ -54,6 +54,9 @@
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_interface_scaling {
+
 namespace {
 
 using namespace jointhb;
@@ -376,7 +379,7 @@ Row run(const Mesh& mesh, const Built& built, int harmonics, const Limits& lim, 
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   bool ci = false;
   std::string only, prefix;
   Limits lim;
@@ -469,3 +472,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "interface_scaling: all bounds met" : "interface_scaling: a bound was exceeded");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_interface_scaling

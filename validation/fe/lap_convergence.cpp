@@ -35,6 +35,9 @@
 #include "lap_hb_vs_newmark_fixture.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_lap_convergence {
+
 namespace {
 
 using namespace jointhb;
@@ -124,7 +127,7 @@ struct Run {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines of a long run
@@ -286,3 +289,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "lap_convergence: all bounds met" : "lap_convergence: a bound was exceeded");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_lap_convergence

@@ -60,6 +60,9 @@
 #include "lap_case.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_lap_damping {
+
 namespace {
 
 using namespace jointhb;
@@ -269,7 +272,7 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const double drop = 0.03;
@@ -358,3 +361,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "lap_damping: all bounds met" : "lap_damping: a bound was exceeded");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_lap_damping

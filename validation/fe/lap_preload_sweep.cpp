@@ -90,6 +90,9 @@
 #include "lap_case.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_lap_preload_sweep {
+
 namespace {
 
 using namespace jointhb;
@@ -605,7 +608,7 @@ void check_sweep(const std::vector<Level>& levels, const std::vector<double>& bo
 }
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const MeshSize nominal = args.ci ? MeshSize{20, 6, 2} : MeshSize{40, 12, 2};
@@ -729,3 +732,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_lap_preload_sweep

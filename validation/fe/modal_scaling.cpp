@@ -21,7 +21,10 @@
 
 #include "jointhb/modal/modes.hpp"
 
-int main(int argc, char** argv) {
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_modal_scaling {
+
+int run(int argc, char** argv) {
   int nx = 47, ny = 46, nz = 46, count = 20;
   if (argc >= 2 && std::strcmp(argv[1], "--ci") == 0) {
     nx = ny = nz = 12;  // ctest's smoke run (validation/fe/CMakeLists.txt): 1728 DOFs
@@ -81,3 +84,5 @@ int main(int argc, char** argv) {
   const bool ok = result.termination == jointhb::Termination::converged && worst_elastic < 1e-8;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
+
+}  // namespace jointhb_study_fe_modal_scaling

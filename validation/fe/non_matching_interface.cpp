@@ -54,6 +54,9 @@
 #include "jointhb/modal/modes.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
+namespace jointhb_study_fe_non_matching_interface {
+
 namespace {
 
 using namespace jointhb::fe;
@@ -189,7 +192,7 @@ Errors errors(const Quantities& q, const Quantities& ref) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int big_n = args.ci ? 4 : 8;
@@ -276,3 +279,5 @@ int main(int argc, char** argv) {
   std::printf("%s\n", ok ? "all bounds met" : "BOUNDS EXCEEDED");
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_fe_non_matching_interface

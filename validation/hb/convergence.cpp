@@ -54,6 +54,9 @@
 
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_convergence {
+
 namespace {
 
 using namespace study;
@@ -387,7 +390,7 @@ std::vector<RuntimeRow> study_runtime(const Case& c, const std::vector<int>& hs,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -643,3 +646,5 @@ int main(int argc, char** argv) {
              seconds_b, seconds - seconds_a - seconds_b);
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_convergence

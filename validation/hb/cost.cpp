@@ -35,6 +35,9 @@
 
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_cost {
+
 namespace {
 
 using namespace study;
@@ -197,7 +200,7 @@ Measurement measure(const Model& m, int h, int n, const VectorXd* guess,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -304,3 +307,5 @@ int main(int argc, char** argv) {
              seconds_since(start));
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_cost

@@ -34,6 +34,9 @@
 #include "jointhb/timeint/den_hartog.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_den_hartog {
+
 namespace {
 
 using namespace jointhb;
@@ -105,7 +108,7 @@ Solution solve(double kappa, double r, double omega, int harmonics, int samples,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
@@ -160,3 +163,5 @@ int main(int argc, char** argv) {
       harmonics, samples, r, slopes.c_str(), failures);
   return failures == 0 ? 0 : 1;
 }
+
+}  // namespace jointhb_study_hb_den_hartog

@@ -45,6 +45,9 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_epmc_closed_form {
+
 namespace {
 
 using namespace jointhb;
@@ -247,7 +250,7 @@ double worst_over(const Run& r, const std::vector<double> Run::*errors, double f
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
@@ -333,3 +336,5 @@ int main(int argc, char** argv) {
       summary.c_str(), quad_err, failures);
   return failures == 0 ? 0 : 1;
 }
+
+}  // namespace jointhb_study_hb_epmc_closed_form

@@ -45,6 +45,9 @@
 #include "jointhb/continuation/backbone.hpp"
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_epmc_convergence {
+
 namespace {
 
 using namespace study;
@@ -338,7 +341,7 @@ void study_curves(const Model& m, bool ci, Csv& csv, Scorecard& score,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -389,3 +392,5 @@ int main(int argc, char** argv) {
   fmt::print("total {:.2f} s\n", seconds_since(start));
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_epmc_convergence

@@ -66,6 +66,9 @@
 #include "jointhb/timeint/ring_down.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_epmc_ring_down {
+
 namespace {
 
 using namespace jointhb;
@@ -215,7 +218,7 @@ struct Stats {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
@@ -376,3 +379,5 @@ int main(int argc, char** argv) {
               cases.size(), harmonics, steps, failures ? "FAILED" : "PASSED", failures);
   return failures ? 1 : 0;
 }
+
+}  // namespace jointhb_study_hb_epmc_ring_down

@@ -31,6 +31,9 @@
 #include "jointhb/continuation/frf.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_frf_peaks_on_backbone {
+
 namespace {
 
 using namespace jointhb;
@@ -95,7 +98,7 @@ double interpolate_log(const std::vector<double>& q, const std::vector<double>& 
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
@@ -197,3 +200,5 @@ int main(int argc, char** argv) {
       worst, failures);
   return failures == 0 ? 0 : 1;
 }
+
+}  // namespace jointhb_study_hb_frf_peaks_on_backbone

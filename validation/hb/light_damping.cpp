@@ -81,6 +81,9 @@
 #include "jointhb/timeint/newmark.hpp"
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_light_damping {
+
 namespace {
 
 using namespace study;
@@ -850,7 +853,7 @@ struct Tally {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -1201,3 +1204,5 @@ int main(int argc, char** argv) {
       newmark_table.path());
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_light_damping

@@ -45,6 +45,9 @@
 
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_linear_limit {
+
 namespace {
 
 using namespace study;
@@ -264,7 +267,7 @@ Deviation gaul_mayer_curve(const Model& m, double force, int harmonics, int samp
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -392,3 +395,5 @@ int main(int argc, char** argv) {
              args.prefix, seconds_since(start));
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_linear_limit

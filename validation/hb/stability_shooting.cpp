@@ -28,6 +28,9 @@
 #include "study_arguments.hpp"
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_stability_shooting {
+
 namespace {
 
 using namespace jointhb;
@@ -94,7 +97,7 @@ double matched_radius(const Eigen::VectorXcd& hill, const Eigen::VectorXcd& shoo
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int steps = args.ci ? 4096 : 16384;
@@ -242,3 +245,5 @@ int main(int argc, char** argv) {
   const bool ok = compared > 0 && agree == decided && median <= bound && worst_refined <= 2e-3;
   return ok ? 0 : 1;
 }
+
+}  // namespace jointhb_study_hb_stability_shooting

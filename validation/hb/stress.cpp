@@ -40,6 +40,9 @@
 
 #include "study_common.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_stress {
+
 namespace {
 
 using namespace study;
@@ -289,7 +292,7 @@ Outcome run(const Scenario& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const Arguments args = parse_arguments(argc, argv);
   if (!args.ok) return 2;
   Scorecard score;
@@ -407,3 +410,5 @@ int main(int argc, char** argv) {
              table.path(), seconds_since(start));
   return score.finish();
 }
+
+}  // namespace jointhb_study_hb_stress

@@ -43,6 +43,9 @@
 #include "jointhb/timeint/newmark.hpp"
 #include "study_arguments.hpp"
 
+// The study is one function of the multi-call program jointhb_validate_hb (CMakeLists.txt).
+namespace jointhb_study_hb_time_domain {
+
 namespace {
 
 using namespace jointhb;
@@ -182,7 +185,7 @@ TiPoint time_integration(const System& s, const hb::Excitation& e, double omega,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const study::Arguments args = study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
@@ -246,3 +249,5 @@ int main(int argc, char** argv) {
       points, frequencies, n_coarse, n_fine, worst_x1, worst_amax, worst_w, failures);
   return failures == 0 ? 0 : 1;
 }
+
+}  // namespace jointhb_study_hb_time_domain

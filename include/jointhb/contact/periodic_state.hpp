@@ -27,6 +27,11 @@
 
 namespace jointhb::contact {
 
+/// Singular values of I − M (M the period map's monodromy, entries O(1)) below this are round-off:
+/// that direction is not fixed by periodicity (the contact sticks) and follows the anchor. Used by
+/// the periodic solve and by the harmonic balance's AFT of the same laws.
+inline constexpr double kPeriodicSingular = 1.0e-13;
+
 /// A periodic tangential path: slip and law parameters at each sample.
 struct PeriodicPath {
   std::vector<Vec2> slip;                ///< g_T(t_i) [m], N ≥ 2 samples

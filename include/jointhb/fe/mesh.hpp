@@ -132,4 +132,9 @@ struct Mesh {
 /// std::invalid_argument naming the clash). Indices of `other` are shifted. No nodes are merged.
 void append(Mesh& mesh, const Mesh& other);
 
+/// How messages name element index `e`: "element 17 of part BRACKET" (ids come from each part's own
+/// file, so two parts may both have an element 17; the part tells them apart), or "element #e"
+/// when the mesh carries no id for it.
+[[nodiscard]] std::string element_name(const Mesh& mesh, int e);
+
 }  // namespace jointhb::fe

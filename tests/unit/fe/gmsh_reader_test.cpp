@@ -126,7 +126,7 @@ $Elements
 $EndElements
 )";
 
-::testing::AssertionResult reports(const std::string& contents, int line, const std::string& text) {
+::testing::AssertionResult msh_reports(const std::string& contents, int line, const std::string& text) {
   const TempFile file(".msh", contents);
   std::string message;
   try {
@@ -198,48 +198,48 @@ TEST(GmshReader, ReordersHex20MidEdgeNodesToAbaqus) {
 }
 
 TEST(GmshReader, RefusesOtherFormatsByName) {
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "4.1 0 8", "2.2 0 8"), 2, "MSH version 2.2"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "4.1 0 8", "4.1 1 8"), 2, "binary MSH files"));
-  EXPECT_TRUE(reports("$Nodes\n$EndNodes\n", 1, "first section must be $MeshFormat"));
-  EXPECT_TRUE(reports("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PartitionedEntities\n", 4,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "4.1 0 8", "2.2 0 8"), 2, "MSH version 2.2"));
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "4.1 0 8", "4.1 1 8"), 2, "binary MSH files"));
+  EXPECT_TRUE(msh_reports("$Nodes\n$EndNodes\n", 1, "first section must be $MeshFormat"));
+  EXPECT_TRUE(msh_reports("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PartitionedEntities\n", 4,
                       "partitioned meshes"));
 }
 
 TEST(GmshReader, RefusesPyramidsAndCompleteQuadraticElementsAndStrayQuadrangles) {
   // kCubeHex8: node tags 15-18 on lines 26-29; surface block header 37, its quadrangle 38;
   // volume block header 39, its hexahedron 40.
-  EXPECT_TRUE(reports(replaced(replaced(kCubeHex8, "3 1 5 1\n", "3 1 7 1\n"),
+  EXPECT_TRUE(msh_reports(replaced(replaced(kCubeHex8, "3 1 5 1\n", "3 1 7 1\n"),
                                "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15"),
                       39, "type 7 (5-node pyramid) in volume 1 is not supported"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "3 1 5 1\n", "3 1 13 1\n"), 39, "18-node prism"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "3 16 17 18 15", "3 11 12 17 18"), 38,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "3 1 5 1\n", "3 1 13 1\n"), 39, "18-node prism"));
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "3 16 17 18 15", "3 11 12 17 18"), 38,
                       "quadrangle 3 of physical surface 'top' is not a face of any volume "
                       "element"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 1 1\n"), 37,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 1 1\n"), 37,
                       "type 1 (2-node line) in physical surface 'top'"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 2 1\n"), 38,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "2 6 3 1\n", "2 6 2 1\n"), 38,
                       "element 3 (type 2 (3-node triangle)) has 4 nodes"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17 99"),
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17 99"),
                       40, "element 7: unknown node 99"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17"),
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "7 11 12 13 14 15 16 17 18", "7 11 12 13 14 15 16 17"),
                       40, "element 7 (type 5 (8-node hexahedron)) has 7 nodes"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "15\n16\n", "12\n16\n"), 26,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "15\n16\n", "12\n16\n"), 26,
                       "node 12 defined twice (first at line 18)"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "1 1 1 1 1 0\n$End", "1 1 1 2 1 2 0\n$End"), 39,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "1 1 1 1 1 0\n$End", "1 1 1 2 1 2 0\n$End"), 39,
                       "volume 1 is in the physical volumes 'block' and 'volume_2'"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "0 1 0\n2 6", "0 x 0\n2 6"), 24, "'x' is not a finite"));
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "0 1 0\n2 6", "0 x 0\n2 6"), 24, "'x' is not a finite"));
   EXPECT_TRUE(
-      reports(replaced(kCubeHex8, "$EndElements\n", ""), 40, "file ends where $EndElements"));
+      msh_reports(replaced(kCubeHex8, "$EndElements\n", ""), 40, "file ends where $EndElements"));
 }
 
 TEST(GmshReader, RefusesHeadersThatDisagreeWithTheirBlocks) {
   // Issue 20, item 7: a $Nodes header claiming more nodes than its blocks hold was accepted.
   // kCubeHex8: the $Nodes header on line 15, the $Elements header on line 36.
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 100 11 18"), 15,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 100 11 18"), 15,
                       "the $Nodes header declares 100 nodes, its 2 blocks hold 8"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 7 11 18"), 15,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "$Nodes\n2 8 11 18", "$Nodes\n2 7 11 18"), 15,
                       "declares 7 nodes, its 2 blocks hold 8"));
-  EXPECT_TRUE(reports(replaced(kCubeHex8, "$Elements\n2 2 3 7", "$Elements\n2 5 3 7"), 36,
+  EXPECT_TRUE(msh_reports(replaced(kCubeHex8, "$Elements\n2 2 3 7", "$Elements\n2 5 3 7"), 36,
                       "the $Elements header declares 5 elements, its 2 blocks hold 2"));
 }
 

@@ -9,12 +9,14 @@
 
 #include "jointhb/fe/inp_reader.hpp"
 #include "jointhb/fe/mesh_file_error.hpp"
+#include "unit/fe/inp_reports.hpp"
 #include "unit/io/temp_file.hpp"
 
 namespace jointhb::fe {
 namespace {
 
 using io::testing::TempFile;
+using testing::inp_reports;
 
 // Two unit cubes along x (C3D8, nodes 1-12) in two parts A and B, with sets and surfaces; lines
 // 1-24.
@@ -66,22 +68,6 @@ InpResult read(const std::string& text, const InpOptions& options = {}) {
   return read_inp(file.path(), options);
 }
 
-::testing::AssertionResult reports(const std::string& text, int line, const std::string& part,
-                                   const InpOptions& options = {}) {
-  const TempFile file(".inp", text);
-  std::string message;
-  try {
-    (void)read_inp(file.path(), options);
-    return ::testing::AssertionFailure() << "no exception";
-  } catch (const MeshFileError& e) {
-    message = e.what();
-  }
-  const std::string position = fmt::format("{}:{}: ", file.path().string(), line);
-  if (message.rfind(position, 0) != 0 || message.find(part) == std::string::npos)
-    return ::testing::AssertionFailure() << "got: " << message;
-  return ::testing::AssertionSuccess();
-}
-
 TEST(InpPhysics, MaterialsComeFromTheSections) {
   const InpResult r = read(kDeck + kMaterials);
   ASSERT_EQ(r.mesh.parts, (std::vector<std::string>{"A", "B"}));
@@ -103,18 +89,18 @@ TEST(InpPhysics, MaterialsComeFromTheSections) {
 }
 
 TEST(InpPhysics, MaterialErrorsNameTheLine) {
-  EXPECT_TRUE(reports(kDeck + "*SOLID SECTION, ELSET=A, MATERIAL=NONE\n", 25, "unknown material 'NONE'"));
-  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "material 'S' has no *DENSITY"));
-  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.7\n*DENSITY\n1\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "poissons_ratio"));
-  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2, 20.\n1e9, 0.2, 100.\n", 28, "temperature-dependent"));
-  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC, TYPE=ORTHOTROPIC\n1,2,3,4,5,6,7,8,9\n", 26, "only isotropic"));
-  EXPECT_TRUE(reports(kDeck + "*ELASTIC\n1e9, 0.2\n", 25, "*ELASTIC outside a *MATERIAL"));
-  EXPECT_TRUE(reports(kDeck + "*MATERIAL, NAME=S\n*MATERIAL, NAME=s\n", 26, "defined twice (first at line 25)"));
+  EXPECT_TRUE(inp_reports(kDeck + "*SOLID SECTION, ELSET=A, MATERIAL=NONE\n", 25, "unknown material 'NONE'"));
+  EXPECT_TRUE(inp_reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "material 'S' has no *DENSITY"));
+  EXPECT_TRUE(inp_reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.7\n*DENSITY\n1\n*SOLID SECTION, ELSET=A, MATERIAL=S\n", 25, "poissons_ratio"));
+  EXPECT_TRUE(inp_reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2, 20.\n1e9, 0.2, 100.\n", 28, "temperature-dependent"));
+  EXPECT_TRUE(inp_reports(kDeck + "*MATERIAL, NAME=S\n*ELASTIC, TYPE=ORTHOTROPIC\n1,2,3,4,5,6,7,8,9\n", 26, "only isotropic"));
+  EXPECT_TRUE(inp_reports(kDeck + "*ELASTIC\n1e9, 0.2\n", 25, "*ELASTIC outside a *MATERIAL"));
+  EXPECT_TRUE(inp_reports(kDeck + "*MATERIAL, NAME=S\n*MATERIAL, NAME=s\n", 26, "defined twice (first at line 25)"));
   // One material per part: a section over one element of a two-element part.
-  EXPECT_TRUE(reports(kDeck + "*ELSET, ELSET=ONE\n1\n*ELEMENT, TYPE=C3D8, ELSET=A\n3, 2, 9, 10, 3, 6, 11, 12, 7\n"
+  EXPECT_TRUE(inp_reports(kDeck + "*ELSET, ELSET=ONE\n1\n*ELEMENT, TYPE=C3D8, ELSET=A\n3, 2, 9, 10, 3, 6, 11, 12, 7\n"
                               "*MATERIAL, NAME=S\n*ELASTIC\n1e9, 0.2\n*DENSITY\n1\n*SOLID SECTION, ELSET=ONE, MATERIAL=S\n",
                       34, "part 'A' has elements with and without a *SOLID SECTION"));
-  EXPECT_TRUE(reports(kDeck + kMaterials + "*SOLID SECTION, ELSET=A, MATERIAL=ALU\n", 40, "element 1 already has a section (line 37)"));
+  EXPECT_TRUE(inp_reports(kDeck + kMaterials + "*SOLID SECTION, ELSET=A, MATERIAL=ALU\n", 40, "element 1 already has a section (line 37)"));
 }
 
 TEST(InpPhysics, BoundaryConditionsInAllTheirForms) {
@@ -145,13 +131,13 @@ LEFT, 2
   EXPECT_NE(r.constraint_labels[5].find(":50"), std::string::npos) << r.constraint_labels[5];
 
   const std::string base = kDeck + kMaterials;  // 39 lines
-  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 1, 3, 0.001\n", 41, "prescribed displacement of 0.001 is not supported"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY\nNOPE, 1, 3\n", 41, "unknown node set 'NOPE'"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY\n99, 1, 3\n", 41, "unknown node 99"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 7\n", 41, "DOF '7' must be an integer 1..6"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY\nLEFT, 3, 1\n", 41, "last DOF 1 < first DOF 3"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY, AMPLITUDE=RAMP\nLEFT, 1, 3\n", 40, "AMPLITUDE=RAMP"));
-  EXPECT_TRUE(reports(base + "*BOUNDARY, TYPE=VELOCITY\nLEFT, 1, 3\n", 40, "TYPE=VELOCITY is not supported"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY\nLEFT, 1, 3, 0.001\n", 41, "prescribed displacement of 0.001 is not supported"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY\nNOPE, 1, 3\n", 41, "unknown node set 'NOPE'"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY\n99, 1, 3\n", 41, "unknown node 99"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY\nLEFT, 7\n", 41, "DOF '7' must be an integer 1..6"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY\nLEFT, 3, 1\n", 41, "last DOF 1 < first DOF 3"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY, AMPLITUDE=RAMP\nLEFT, 1, 3\n", 40, "AMPLITUDE=RAMP"));
+  EXPECT_TRUE(inp_reports(base + "*BOUNDARY, TYPE=VELOCITY\nLEFT, 1, 3\n", 40, "TYPE=VELOCITY is not supported"));
 }
 
 TEST(InpPhysics, ConcentratedAndPressureLoads) {
@@ -179,21 +165,21 @@ B, P1, 2.0e5
   EXPECT_NE(r.loads.pressures[1].label.find(":48"), std::string::npos) << r.loads.pressures[1].label;
 
   const std::string base = kDeck + kMaterials;
-  EXPECT_TRUE(reports(base + "*CLOAD\n9, 1, 1.\n*CLOAD\nRIGHT, 1, 2.\n", 43, "node 9 DOF 1 already loaded at line 41"));
-  EXPECT_TRUE(reports(base + "*CLOAD\n9, 5, 1.\n", 41, "a moment (DOF 5)"));
-  EXPECT_TRUE(reports(base + "*CLOAD\n9, 1, abc\n", 41, "'abc' is not a finite number"));
-  EXPECT_TRUE(reports(base + "*CLOAD, FOLLOWER\n9, 1, 1.\n", 40, "parameter FOLLOWER of *CLOAD is not supported"));
-  EXPECT_TRUE(reports(base + "*DSLOAD\nTOP, TRVEC, 1., 1., 0., 0.\n", 41, "*DSLOAD data must be"));
-  EXPECT_TRUE(reports(base + "*DSLOAD\nTOP, PNU, 1.\n", 41, "load type 'PNU' is not supported"));
-  EXPECT_TRUE(reports(base + "*DSLOAD\nNOSURF, P, 1.\n", 41, "unknown surface 'NOSURF'"));
-  EXPECT_TRUE(reports(base + "*DLOAD\nA, GRAV, 9.81, 0., 0., -1.\n", 41, "*DLOAD data must be"));
-  EXPECT_TRUE(reports(base + "*DLOAD\nA, BZ, 9.81\n", 41, "load type 'BZ' is not supported"));
-  EXPECT_TRUE(reports(base + "*STEP\n*STATIC\n*END STEP\n*STEP\n", 43, "a second *STEP (the first is at line 40)"));
+  EXPECT_TRUE(inp_reports(base + "*CLOAD\n9, 1, 1.\n*CLOAD\nRIGHT, 1, 2.\n", 43, "node 9 DOF 1 already loaded at line 41"));
+  EXPECT_TRUE(inp_reports(base + "*CLOAD\n9, 5, 1.\n", 41, "a moment (DOF 5)"));
+  EXPECT_TRUE(inp_reports(base + "*CLOAD\n9, 1, abc\n", 41, "'abc' is not a finite number"));
+  EXPECT_TRUE(inp_reports(base + "*CLOAD, FOLLOWER\n9, 1, 1.\n", 40, "parameter FOLLOWER of *CLOAD is not supported"));
+  EXPECT_TRUE(inp_reports(base + "*DSLOAD\nTOP, TRVEC, 1., 1., 0., 0.\n", 41, "*DSLOAD data must be"));
+  EXPECT_TRUE(inp_reports(base + "*DSLOAD\nTOP, PNU, 1.\n", 41, "load type 'PNU' is not supported"));
+  EXPECT_TRUE(inp_reports(base + "*DSLOAD\nNOSURF, P, 1.\n", 41, "unknown surface 'NOSURF'"));
+  EXPECT_TRUE(inp_reports(base + "*DLOAD\nA, GRAV, 9.81, 0., 0., -1.\n", 41, "*DLOAD data must be"));
+  EXPECT_TRUE(inp_reports(base + "*DLOAD\nA, BZ, 9.81\n", 41, "load type 'BZ' is not supported"));
+  EXPECT_TRUE(inp_reports(base + "*STEP\n*STATIC\n*END STEP\n*STEP\n", 43, "a second *STEP (the first is at line 40)"));
 }
 
 TEST(InpPhysics, CardsThatChangeThePhysicsStopUnlessIgnored) {
   const std::string deck = kDeck + kMaterials + "*SURFACE, NAME=BOT\nA, S1\n*EQUATION\n2\n2, 1, 1., 9, 1, -1.\n*DAMPING, ALPHA=2.0\n";
-  EXPECT_TRUE(reports(deck, 42, "card *EQUATION changes the physics and is not supported; to run without it, list it in the case under ignore_cards"));
+  EXPECT_TRUE(inp_reports(deck, 42, "card *EQUATION changes the physics and is not supported; to run without it, list it in the case under ignore_cards"));
   InpOptions options;
   options.ignore_cards = {"*Equation", "DAMPING"};
   const InpResult r = read(deck, options);
@@ -208,7 +194,7 @@ TEST(InpPhysics, CardsThatChangeThePhysicsStopUnlessIgnored) {
   ASSERT_EQ(untied.skipped_cards.size(), 1u);
   EXPECT_EQ(untied.skipped_cards[0].keyword, "*TIE");
   // A card jointhb does not know at all stops too, and can be ignored the same way.
-  EXPECT_TRUE(reports(kDeck + "*FANCY CARD, X=1\n", 25, "card *FANCY CARD is not supported"));
+  EXPECT_TRUE(inp_reports(kDeck + "*FANCY CARD, X=1\n", 25, "card *FANCY CARD is not supported"));
   options.ignore_cards = {"*fancy  card"};
   EXPECT_EQ(read(kDeck + "*FANCY CARD, X=1\n", options).skipped_cards.size(), 1u);
 }
@@ -230,21 +216,21 @@ TEST(InpPhysics, TiesNameTheirSlaveAndMasterSurfaces) {
   EXPECT_EQ(r.ties[1].tied_nodes, (std::vector<int>{0, 3, 4, 7}));
   EXPECT_TRUE(r.ignored_cards.size() == 1u && r.skipped_cards.empty());  // *EXPANSION only
 
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nNOPE, TOP\n", 43, "*TIE 'T': unknown slave surface 'NOPE'"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, NOPE\n", 43, "*TIE 'T': unknown master surface 'NOPE'"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT\n", 43, "*TIE 'T' data must be 'slave surface, master surface', got 'BOT'"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT,\n", 43, "*TIE 'T' data must be 'slave surface, master surface'"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\n", 42, "one data line 'slave surface, master surface' expected, got 0"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, TOP\nTOP, BOT\n", 44, "one data line 'slave surface, master surface' expected, got 2"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, bot\n", 43, "the slave and master surfaces are the same ('BOT')"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T, CONSTRAINT RATIO=0.1\nBOT, TOP\n", 42,
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nNOPE, TOP\n", 43, "*TIE 'T': unknown slave surface 'NOPE'"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT, NOPE\n", 43, "*TIE 'T': unknown master surface 'NOPE'"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT\n", 43, "*TIE 'T' data must be 'slave surface, master surface', got 'BOT'"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT,\n", 43, "*TIE 'T' data must be 'slave surface, master surface'"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\n", 42, "one data line 'slave surface, master surface' expected, got 0"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT, TOP\nTOP, BOT\n", 44, "one data line 'slave surface, master surface' expected, got 2"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT, bot\n", 43, "the slave and master surfaces are the same ('BOT')"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T, CONSTRAINT RATIO=0.1\nBOT, TOP\n", 42,
                       "parameter CONSTRAINT RATIO of *TIE is not supported (supported: NAME, POSITION TOLERANCE, ADJUST, TIED NSET, TYPE)"));
-  EXPECT_TRUE(reports(base + "*TIE\nBOT, TOP\n", 42, "*TIE needs the parameter NAME="));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T, ADJUST=MAYBE\nBOT, TOP\n", 42, "*TIE, ADJUST=MAYBE: must be YES or NO"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T, POSITION TOLERANCE=-1\nBOT, TOP\n", 42, "POSITION TOLERANCE=-1: must be a number >= 0"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T, TYPE=CYCLIC\nBOT, TOP\n", 42, "*TIE, TYPE=CYCLIC: must be SURFACE TO SURFACE or NODE TO SURFACE"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T, TIED NSET=NOPE\nBOT, TOP\n", 42, "unknown node set 'NOPE'"));
-  EXPECT_TRUE(reports(base + "*TIE, NAME=T\nBOT, TOP\n*TIE, NAME=t\nTOP, BOT\n", 44, "*TIE 't' defined twice (first at line 42)"));
+  EXPECT_TRUE(inp_reports(base + "*TIE\nBOT, TOP\n", 42, "*TIE needs the parameter NAME="));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T, ADJUST=MAYBE\nBOT, TOP\n", 42, "*TIE, ADJUST=MAYBE: must be YES or NO"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T, POSITION TOLERANCE=-1\nBOT, TOP\n", 42, "POSITION TOLERANCE=-1: must be a number >= 0"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T, TYPE=CYCLIC\nBOT, TOP\n", 42, "*TIE, TYPE=CYCLIC: must be SURFACE TO SURFACE or NODE TO SURFACE"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T, TIED NSET=NOPE\nBOT, TOP\n", 42, "unknown node set 'NOPE'"));
+  EXPECT_TRUE(inp_reports(base + "*TIE, NAME=T\nBOT, TOP\n*TIE, NAME=t\nTOP, BOT\n", 44, "*TIE 't' defined twice (first at line 42)"));
 }
 
 }  // namespace

@@ -9,12 +9,14 @@
 #include "jointhb/fe/box_mesh.hpp"
 #include "jointhb/fe/mesh_checks.hpp"
 #include "jointhb/fe/mesh_file_error.hpp"
+#include "unit/fe/inp_reports.hpp"
 #include "unit/io/temp_file.hpp"
 
 namespace jointhb::fe {
 namespace {
 
 using io::testing::TempFile;
+using testing::inp_reports;
 
 // Two C3D8 elements side by side along x (nodes 1-12), with sets, a surface and cards to skip.
 const char* const kTwoBricks = R"(*HEADING
@@ -68,23 +70,6 @@ std::string message_of(const std::string& contents) {
     return e.what();
   }
   return "no exception";
-}
-
-// True when `message` starts with "<temp file>:<line>:" and contains `text`.
-::testing::AssertionResult reports(const std::string& contents, int line, const std::string& text) {
-  const TempFile file(".inp", contents);
-  std::string message;
-  try {
-    (void)read_inp(file.path());
-    return ::testing::AssertionFailure() << "no exception";
-  } catch (const MeshFileError& e) {
-    message = e.what();
-  }
-  const std::string position = fmt::format("{}:{}: ", file.path().string(), line);
-  if (message.rfind(position, 0) != 0 || message.find(text) == std::string::npos) {
-    return ::testing::AssertionFailure() << "got: " << message;
-  }
-  return ::testing::AssertionSuccess();
 }
 
 TEST(InpReader, ReadsNodesElementsSetsAndSurfaces) {
@@ -210,42 +195,42 @@ const std::string kNodes =
     "*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n";
 
 TEST(InpReader, ErrorsNameFileLineAndEntity) {
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 17\n", 11,
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 17\n", 11,
                       "element 1: unknown node 17"));
-  EXPECT_TRUE(reports(kNodes + "3, 5, 5, 5\n", 10, "node 3 defined twice (first at line 4)"));
-  EXPECT_TRUE(reports(kNodes + "9, 1.0, abc, 0\n", 10, "node 9: coordinate 'abc'"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n1,1,2,3,4,5,6,7,8\n", 12,
+  EXPECT_TRUE(inp_reports(kNodes + "3, 5, 5, 5\n", 10, "node 3 defined twice (first at line 4)"));
+  EXPECT_TRUE(inp_reports(kNodes + "9, 1.0, abc, 0\n", 10, "node 9: coordinate 'abc'"));
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n1,1,2,3,4,5,6,7,8\n", 12,
                       "element 1 defined twice (first at line 11)"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D20\n1,1,2,3,4,5,6,7,8,\n", 11,
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D20\n1,1,2,3,4,5,6,7,8,\n", 11,
                       "element 1: 8 node numbers, C3D20 needs 20"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8,9\n", 11,
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8,9\n", 11,
                       "more than 8 node numbers"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,x\n", 11,
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,x\n", 11,
                       "element 1: 'x' is not an integer"));
 }
 
 TEST(InpReader, UnsupportedCardsAndParametersStop) {
   const std::string element = "*ELEMENT, TYPE=C3D8, ELSET=B\n1,1,2,3,4,5,6,7,8\n";
-  EXPECT_TRUE(reports(kNodes + "*Element, type=C3D10M\n1, 1, 2, 3, 5\n", 10,
+  EXPECT_TRUE(inp_reports(kNodes + "*Element, type=C3D10M\n1, 1, 2, 3, 5\n", 10,
                       "element type C3D10M is not supported"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=S4\n1, 1, 2, 3, 4\n", 10, "element type S4"));
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=S4\n1, 1, 2, 3, 4\n", 10, "element type S4"));
   EXPECT_TRUE(
-      reports("*NODE\n1, 0, 0, 0\n*NGEN, NSET=LINE\n1, 10, 1\n", 3, "card *NGEN is not supported"));
-  EXPECT_TRUE(reports("*INCLUDE, INPUT=mesh.inp\n", 1, "card *INCLUDE is not supported"));
-  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S, TYPE=NODE\n1\n", 12,
+      inp_reports("*NODE\n1, 0, 0, 0\n*NGEN, NSET=LINE\n1, 10, 1\n", 3, "card *NGEN is not supported"));
+  EXPECT_TRUE(inp_reports("*INCLUDE, INPUT=mesh.inp\n", 1, "card *INCLUDE is not supported"));
+  EXPECT_TRUE(inp_reports(kNodes + element + "*SURFACE, NAME=S, TYPE=NODE\n1\n", 12,
                       "TYPE=NODE is not supported"));
   EXPECT_TRUE(
-      reports(kNodes + element + "*SURFACE, NAME=S\nNOPE, S1\n", 13, "unknown element set 'NOPE'"));
-  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S\nB, S7\n", 13,
+      inp_reports(kNodes + element + "*SURFACE, NAME=S\nNOPE, S1\n", 13, "unknown element set 'NOPE'"));
+  EXPECT_TRUE(inp_reports(kNodes + element + "*SURFACE, NAME=S\nB, S7\n", 13,
                       "face label 'S7' is not one of S1..S6"));
-  EXPECT_TRUE(reports(kNodes + element + "*SURFACE, NAME=S\nB\n", 13, "got 'B'"));
-  EXPECT_TRUE(reports(kNodes + element + "*NSET, NSET=N\n1, 99\n", 13, "unknown node 99"));
+  EXPECT_TRUE(inp_reports(kNodes + element + "*SURFACE, NAME=S\nB\n", 13, "got 'B'"));
+  EXPECT_TRUE(inp_reports(kNodes + element + "*NSET, NSET=N\n1, 99\n", 13, "unknown node 99"));
   EXPECT_TRUE(
-      reports(kNodes + element + "*ELSET, ELSET=E, GENERATE\n1, 3\n", 13, "unknown element 2"));
-  EXPECT_TRUE(reports(kNodes + "*NODE, SYSTEM=C\n9, 1, 0, 0\n", 10, "SYSTEM=C is not supported"));
-  EXPECT_TRUE(reports(kNodes + "*ELEMENT, TYPE=C3D8, INPUT=e.inp\n", 10,
+      inp_reports(kNodes + element + "*ELSET, ELSET=E, GENERATE\n1, 3\n", 13, "unknown element 2"));
+  EXPECT_TRUE(inp_reports(kNodes + "*NODE, SYSTEM=C\n9, 1, 0, 0\n", 10, "SYSTEM=C is not supported"));
+  EXPECT_TRUE(inp_reports(kNodes + "*ELEMENT, TYPE=C3D8, INPUT=e.inp\n", 10,
                       "parameter INPUT of *ELEMENT is not supported"));
-  EXPECT_TRUE(reports("1, 0, 0, 0\n", 1, "data line before the first keyword"));
+  EXPECT_TRUE(inp_reports("1, 0, 0, 0\n", 1, "data line before the first keyword"));
   const std::string no_elements = message_of(kNodes);
   EXPECT_NE(no_elements.find("no elements"), std::string::npos) << no_elements;
 }
@@ -332,16 +317,16 @@ TEST(InpReader, AssembliesOfTranslatedAndRotatedInstances) {
 
 TEST(InpReader, AssemblyErrorsAreNamed) {
   const std::string part = "*PART, NAME=A\n" + kNodes + "*ELEMENT, TYPE=C3D8\n1,1,2,3,4,5,6,7,8\n*END PART\n";
-  EXPECT_TRUE(reports(part + "*PART, NAME=a\n*END PART\n", 14, "*PART 'a' defined twice (first at line 1)"));
-  EXPECT_TRUE(reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=B\n", 15, "part 'B', which is not defined"));
-  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n0., 0.\n", 15, "the translation line must have 3 numbers"));
-  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n0, 0, 0\n1, 1, 1, 1, 1, 1, 90.\n", 16, "the rotation axis points a and b coincide"));
-  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n*END INSTANCE\n*INSTANCE, NAME=a-1, PART=A\n", 16,
+  EXPECT_TRUE(inp_reports(part + "*PART, NAME=a\n*END PART\n", 14, "*PART 'a' defined twice (first at line 1)"));
+  EXPECT_TRUE(inp_reports(part + "*ASSEMBLY, NAME=X\n*INSTANCE, NAME=A-1, PART=B\n", 15, "part 'B', which is not defined"));
+  EXPECT_TRUE(inp_reports(part + "*INSTANCE, NAME=A-1, PART=A\n0., 0.\n", 15, "the translation line must have 3 numbers"));
+  EXPECT_TRUE(inp_reports(part + "*INSTANCE, NAME=A-1, PART=A\n0, 0, 0\n1, 1, 1, 1, 1, 1, 90.\n", 16, "the rotation axis points a and b coincide"));
+  EXPECT_TRUE(inp_reports(part + "*INSTANCE, NAME=A-1, PART=A\n*END INSTANCE\n*INSTANCE, NAME=a-1, PART=A\n", 16,
                       "*INSTANCE 'a-1' defined twice"));
-  EXPECT_TRUE(reports(part + "*INSTANCE, NAME=A-1, PART=A\n*NODE\n99, 0, 0, 0\n", 15, "*NODE inside *INSTANCE 'A-1'"));
-  EXPECT_TRUE(reports(part + "*NSET, NSET=N, INSTANCE=Z-1\n1\n", 14,
+  EXPECT_TRUE(inp_reports(part + "*INSTANCE, NAME=A-1, PART=A\n*NODE\n99, 0, 0, 0\n", 15, "*NODE inside *INSTANCE 'A-1'"));
+  EXPECT_TRUE(inp_reports(part + "*NSET, NSET=N, INSTANCE=Z-1\n1\n", 14,
                       "refers to instance 'Z-1', which is not defined"));
-  EXPECT_TRUE(reports("*PART, NAME=A\n" + kNodes, 1, "*PART 'A' has no *END PART"));
+  EXPECT_TRUE(inp_reports("*PART, NAME=A\n" + kNodes, 1, "*PART 'A' has no *END PART"));
 }
 
 TEST(InpReader, EmptyAndMissingFilesAreNamed) {

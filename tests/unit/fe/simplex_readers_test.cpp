@@ -209,7 +209,7 @@ TEST(SimplexVtk, CellTypesAndWedgeNodeOrder) {
 }
 }
 
-bool reports(const std::string& text, int line, const std::string& what) {
+bool parse_reports(const std::string& text, int line, const std::string& what) {
   try {
     (void)parse_inp(text, "m.inp");
   } catch (const MeshFileError& e) {
@@ -223,9 +223,9 @@ bool reports(const std::string& text, int line, const std::string& what) {
 
 TEST(SimplexReaders, InpRefusesFacesTheElementDoesNotHave) {
   const std::string nodes = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n";
-  EXPECT_TRUE(reports(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=S\n1, S5\n", 9,
+  EXPECT_TRUE(parse_reports(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=S\n1, S5\n", 9,
                       "element 1 is a C3D4 with faces S1..S4, not S5"));
-  EXPECT_TRUE(reports(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3\n", 7,
+  EXPECT_TRUE(parse_reports(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3\n", 7,
                       "element 1: 3 node numbers, C3D4 needs 4"));
   const InpResult r =
       parse_inp(nodes + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=S\n1, S4\n", "m.inp");

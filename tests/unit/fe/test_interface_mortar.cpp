@@ -87,7 +87,7 @@ VectorXd consistent_loads(const fe::Mesh& mesh, const std::string& surface) {
   return load;
 }
 
-constexpr std::array<fe::InterfaceIntegration, 2> kRules = {fe::InterfaceIntegration::nodal,
+constexpr std::array<fe::InterfaceIntegration, 2> kIntegrationRules = {fe::InterfaceIntegration::nodal,
                                                             fe::InterfaceIntegration::gauss};
 
 bool quadratic(fe::ElementType t) {
@@ -100,7 +100,7 @@ TEST(InterfaceFaces, TriangularFacesGiveTheAreaFrameAndRigidInvariance) {
   for (fe::ElementType type : {fe::ElementType::tet4, fe::ElementType::tet10, fe::ElementType::wedge6,
                                fe::ElementType::wedge15}) {
     const fe::Mesh mesh = stacked(type, {2, 3, 1}, type, {2, 3, 1});
-    for (fe::InterfaceIntegration rule : kRules) {
+    for (fe::InterfaceIntegration rule : kIntegrationRules) {
       if (quadratic(type) && rule == fe::InterfaceIntegration::nodal) continue;
       const fe::Interface itf = fe::build_interface(mesh, joint(rule, fe::InterfaceMeshes::matching));
       SCOPED_TRACE(std::string(fe::abaqus_name(type)) + " " + fe::to_string(rule));
@@ -148,7 +148,7 @@ TEST(InterfaceFaces, NodalIntegrationOfQuadraticFacesIsRefused) {
 TEST(InterfaceMortar, CoincidentMeshesGiveTheMatchingInterface) {
   for (fe::ElementType type : {fe::ElementType::hex8, fe::ElementType::tet4, fe::ElementType::hex20}) {
     const fe::Mesh mesh = stacked(type, {3, 2, 1}, type, {3, 2, 1});
-    for (fe::InterfaceIntegration rule : kRules) {
+    for (fe::InterfaceIntegration rule : kIntegrationRules) {
       if (quadratic(type) && rule == fe::InterfaceIntegration::nodal) continue;
       SCOPED_TRACE(std::string(fe::abaqus_name(type)) + " " + fe::to_string(rule));
       const fe::Interface m = fe::build_interface(mesh, joint(rule, fe::InterfaceMeshes::matching));
@@ -199,7 +199,7 @@ TEST(InterfaceMortar, PatchTestUniformTractionGivesConsistentLoadsOnBothMeshes) 
     const fe::Mesh mesh = stacked(pr.lower, pr.lower_div, pr.upper, pr.upper_div);
     const VectorXd below = consistent_loads(mesh, "lower.zmax");
     const VectorXd above = consistent_loads(mesh, "upper.zmin");
-    for (fe::InterfaceIntegration rule : kRules) {
+    for (fe::InterfaceIntegration rule : kIntegrationRules) {
       if (quadratic(pr.lower) && rule == fe::InterfaceIntegration::nodal) continue;
       SCOPED_TRACE(std::string(fe::abaqus_name(pr.lower)) + "/" + fe::abaqus_name(pr.upper) + " " +
                    fe::to_string(rule));

@@ -10,26 +10,26 @@
 namespace jointhb::fe {
 namespace {
 
-Material steel() { return {"steel", 210e9, 0.3, 7850.0}; }
+Material steel_material() { return {"steel_material", 210e9, 0.3, 7850.0}; }
 
 TEST(Material, ValidateNamesTheField) {
-  EXPECT_EQ(steel().validate(), "");
-  Material m = steel();
+  EXPECT_EQ(steel_material().validate(), "");
+  Material m = steel_material();
   m.youngs_modulus = 0.0;
   EXPECT_NE(m.validate().find("youngs_modulus"), std::string::npos);
-  m = steel();
+  m = steel_material();
   m.poissons_ratio = 0.5;
   EXPECT_NE(m.validate().find("poissons_ratio"), std::string::npos);
   m.poissons_ratio = -1.0;
   EXPECT_NE(m.validate().find("poissons_ratio"), std::string::npos);
-  m = steel();
+  m = steel_material();
   m.density = -1.0;
   EXPECT_NE(m.validate().find("density"), std::string::npos);
   EXPECT_THROW((void)elasticity_matrix(m), std::invalid_argument);
 }
 
 TEST(Material, ElasticityMatrixIsHookesLaw) {
-  const Material m = steel();
+  const Material m = steel_material();
   const Matrix6d d = elasticity_matrix(m);
   EXPECT_TRUE(d.isApprox(d.transpose(), 0.0));
   // Uniaxial stress σ_xx = E ε_xx with lateral strains −ν ε_xx (D⁻¹ = compliance).

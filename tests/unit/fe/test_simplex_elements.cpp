@@ -25,7 +25,7 @@ using testing::element_coordinates;
 using testing::patch_test;
 using testing::steel;
 
-const ElementType kTypes[] = {ElementType::tet4, ElementType::tet10, ElementType::wedge6,
+const ElementType kElementTypes[] = {ElementType::tet4, ElementType::tet10, ElementType::wedge6,
                               ElementType::wedge15};
 
 // A point strictly inside the reference element.
@@ -272,7 +272,7 @@ TEST_P(Simplex, CentreStrainOfALinearFieldIsExact) {
   EXPECT_LT((e - expected).cwiseAbs().maxCoeff(), 1e-15);
 }
 
-INSTANTIATE_TEST_SUITE_P(Types, Simplex, ::testing::ValuesIn(kTypes),
+INSTANTIATE_TEST_SUITE_P(Types, Simplex, ::testing::ValuesIn(kElementTypes),
                          [](const auto& p) { return std::string(abaqus_name(p.param)); });
 
 // ∫ ξ^i η^j ζ^k over the reference tetrahedron = i! j! k! / (i + j + k + 3)!.

@@ -28,7 +28,7 @@ std::string bolted_case(const std::string& head) {
 )";
 }
 
-std::string error_of(const std::string& head) {
+std::string bolt_error_of(const std::string& head) {
   try {
     (void)parse_fe_case(bolted_case(head), "bolts.yaml");
   } catch (const InputError& e) {
@@ -55,23 +55,23 @@ TEST(FeCaseBolts, InnerRadiusSelectsAnAnnulus) {
 
 TEST(FeCaseBolts, InnerRadiusOutsideItsRangeIsOneLineNamingTheKey) {
   const std::string at_radius =
-      error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.008}");
+      bolt_error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.008}");
   EXPECT_NE(
       at_radius.find("key 'model.bolts[0].head.inner_radius': must be < radius = 0.008, got 0.008"),
       std::string::npos)
       << at_radius;
   EXPECT_EQ(at_radius.find('\n'), std::string::npos) << at_radius;
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: -0.001}")
+  EXPECT_NE(bolt_error_of("{surface: upper.zmax, radius: 0.008, inner_radius: -0.001}")
                 .find("key 'model.bolts[0].head.inner_radius': must be >= 0"),
             std::string::npos);
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.01}")
+  EXPECT_NE(bolt_error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.01}")
                 .find("must be < radius = 0.008, got 0.01"),
             std::string::npos);
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.0079}")
+  EXPECT_NE(bolt_error_of("{surface: upper.zmax, radius: 0.008, inner_radius: 0.0079}")
                 .find("no face has its centre between head_inner_radius = 0.0079 m and head_radius "
                       "= 0.008 m"),
             std::string::npos);
-  EXPECT_NE(error_of("{surface: upper.zmax, radius: 0.008, inner: 0.004}")
+  EXPECT_NE(bolt_error_of("{surface: upper.zmax, radius: 0.008, inner: 0.004}")
                 .find("key 'model.bolts[0].head.inner': unknown key"),
             std::string::npos);
 }

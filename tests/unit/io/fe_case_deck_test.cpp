@@ -16,6 +16,7 @@
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
+#include "unit/io/temp_file.hpp"
 
 namespace jointhb::io {
 namespace {
@@ -23,23 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A directory of its own for the case and its deck, removed afterwards.
-struct CaseDir {
-  fs::path dir;
-  CaseDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / fmt::format("jointhb-{}-{}", ::getpid(), info->name());
-    fs::create_directories(dir);
-  }
-  ~CaseDir() {
-    std::error_code ignored;
-    fs::remove_all(dir, ignored);
-  }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(dir / name) << text; }
-  [[nodiscard]] FeCase read(const std::string& yaml) const {
-    write("case.yaml", yaml);
-    return read_fe_case(dir / "case.yaml");
-  }
-};
+using testing::CaseDir;
 
 // A steel cantilever 100 × 10 × 10 mm of 10 × 1 × 1 C3D8I elements as a deck, clamped at x = 0 by
 // *BOUNDARY (when `clamp`) and loaded by a *CLOAD at its tip.

@@ -24,7 +24,7 @@ std::string lap_case(const std::string& contact) {
 )";
 }
 
-std::string error_of(const std::string& contact) {
+std::string law_error_of(const std::string& contact) {
   try {
     (void)parse_fe_case(lap_case(contact), "laws.yaml");
   } catch (const InputError& e) {
@@ -58,17 +58,17 @@ TEST(FeCaseLaws, EachLawReachesTheContactPoint) {
 }
 
 TEST(FeCaseLaws, InconsistentLawKeysAreNamed) {
-  EXPECT_NE(error_of("{normal_stiffness: 1.0e13, pressure: 1.0e6, mu: 0.2, law: jenkins}")
+  EXPECT_NE(law_error_of("{normal_stiffness: 1.0e13, pressure: 1.0e6, mu: 0.2, law: jenkins}")
                 .find("key 'model.interfaces[0].contact.pressure': belongs to the exponential normal law"),
             std::string::npos);
-  EXPECT_NE(error_of("{mu: 0.2, law: jenkins}").find("needs the normal law"), std::string::npos);
-  EXPECT_NE(error_of("{normal_stiffness: 1.0e13, law: frictionless, mu: 0.3}")
+  EXPECT_NE(law_error_of("{mu: 0.2, law: jenkins}").find("needs the normal law"), std::string::npos);
+  EXPECT_NE(law_error_of("{normal_stiffness: 1.0e13, law: frictionless, mu: 0.3}")
                 .find("contact.mu': a frictionless contact has no tangential law"),
             std::string::npos);
-  EXPECT_NE(error_of("{normal_stiffness: 1.0e13, law: jenkins}").find("contact.mu': required"), std::string::npos);
-  EXPECT_NE(error_of("{pressure: 1.0e6, decay: 2.0e5, cutoff_gap: -1.0e-6, mu: 0.3, law: jenkins}").find("contact.cutoff_gap"),
+  EXPECT_NE(law_error_of("{normal_stiffness: 1.0e13, law: jenkins}").find("contact.mu': required"), std::string::npos);
+  EXPECT_NE(law_error_of("{pressure: 1.0e6, decay: 2.0e5, cutoff_gap: -1.0e-6, mu: 0.3, law: jenkins}").find("contact.cutoff_gap"),
             std::string::npos);
-  EXPECT_NE(error_of("{normal_stiffness: 1.0e13, law: coulomb, mu: 0.3}").find("contact.law"), std::string::npos);
+  EXPECT_NE(law_error_of("{normal_stiffness: 1.0e13, law: coulomb, mu: 0.3}").find("contact.law"), std::string::npos);
 }
 
 }  // namespace

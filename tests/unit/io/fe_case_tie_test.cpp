@@ -15,38 +15,14 @@
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
+#include "unit/io/temp_file.hpp"
 
 namespace jointhb::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CaseDir {
-  fs::path dir;
-  CaseDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / fmt::format("jointhb-{}-{}", ::getpid(), info->name());
-    fs::create_directories(dir);
-  }
-  ~CaseDir() {
-    std::error_code ignored;
-    fs::remove_all(dir, ignored);
-  }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(dir / name) << text; }
-  [[nodiscard]] FeCase read(const std::string& yaml) const {
-    write("case.yaml", yaml);
-    return read_fe_case(dir / "case.yaml");
-  }
-  // The one-line message of the InputError that reading `yaml` throws.
-  [[nodiscard]] std::string error(const std::string& yaml) const {
-    try {
-      (void)read(yaml);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "no error";
-  }
-};
+using testing::CaseDir;
 
 // A steel part BAR, 0.05 × 0.02 × 0.01 m of 5 × 2 × 1 C3D8I (`whole`: 0.1 m of 10 × 2 × 1), with
 // surfaces LEFT (x = 0) and RIGHT and node set ROOT (x = 0), as the *PART of a deck.

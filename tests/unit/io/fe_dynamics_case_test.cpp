@@ -32,9 +32,9 @@ const std::string kModel = R"(model:
 analysis:
 )";  // analysis entries follow from line 12
 
-std::string with(const std::string& analysis) { return kModel + analysis; }
+std::string with_analysis(const std::string& analysis) { return kModel + analysis; }
 
-InputError error_of(const std::string& text) {
+InputError dynamics_error_of(const std::string& text) {
   try {
     (void)parse_fe_case(text, "case.yaml");
   } catch (const InputError& e) {
@@ -45,14 +45,14 @@ InputError error_of(const std::string& text) {
 }
 
 void expect_error(const std::string& analysis, int line, const std::string& key, const std::string& constraint) {
-  const InputError e = error_of(with(analysis));
+  const InputError e = dynamics_error_of(with_analysis(analysis));
   EXPECT_EQ(e.line(), line) << e.what();
   EXPECT_EQ(e.key(), key) << e.what();
   EXPECT_NE(e.constraint().find(constraint), std::string::npos) << e.what();
 }
 
 TEST(io_FeDynamics, ValidCaseGivesTheSettingsAndTheNearestNodes) {
-  const FeCase c = parse_fe_case(with(R"(  damping: {ratio: 0.01, frequency_hz: 900}
+  const FeCase c = parse_fe_case(with_analysis(R"(  damping: {ratio: 0.01, frequency_hz: 900}
   reduction: {cutoff_hz: 20000}
   excitation: {point: [0.0601, 0.0099, 0.008], direction: [0, 0, 2]}
   outputs: [{name: tip, point: [0.06, 0.01, 0.008], direction: [1, 0, 0]}, {name: far, point: [0, 0, 0]}]
@@ -93,7 +93,7 @@ TEST(io_FeDynamics, ValidCaseGivesTheSettingsAndTheNearestNodes) {
 }
 
 TEST(io_FeDynamics, DefaultsAndTheDriveOutput) {
-  const FeCase c = parse_fe_case(with("  excitation: {point: [0.06, 0.01, 0.008]}\n  nonlinear_modes: {}\n"), "case.yaml");
+  const FeCase c = parse_fe_case(with_analysis("  excitation: {point: [0.06, 0.01, 0.008]}\n  nonlinear_modes: {}\n"), "case.yaml");
   ASSERT_TRUE(c.dynamics && c.dynamics->nonlinear_modes);
   EXPECT_EQ(c.dynamics->cutoff_factor, 20.0);
   EXPECT_EQ(c.dynamics->damping_ratio, 0.0);
@@ -150,7 +150,7 @@ TEST(io_FeDynamics, PointsOffTheModelAreRefused) {
                "must lie on the model (within 2 x its longest element edge = 0.02 m of a node), but lies 172 m from the nearest node");
   expect_error("  nonlinear_modes: {}\n  outputs: [{name: tip, point: [0.06, 0.01, 0.5]}]\n", 13,
                "analysis.outputs[0].point", "lies 0.492 m from the nearest node");
-  const FeCase c = parse_fe_case(with("  nonlinear_modes: {}\n  excitation: {point: [0.06, 0.01, 0.025]}\n"), "case.yaml");
+  const FeCase c = parse_fe_case(with_analysis("  nonlinear_modes: {}\n  excitation: {point: [0.06, 0.01, 0.025]}\n"), "case.yaml");
   EXPECT_NEAR(c.dynamics->excitation.distance, 0.017, 1e-12);
 }
 
@@ -168,7 +168,7 @@ TEST(io_FeDynamics, ModesThatCannotExistAreRefusedBeforeAnyStage) {
   expect_error("  modes: {count: 6}\n" + drive + "  frf: {frequency_hz: [900, 1000], force: 1}\n", 12,
                "analysis.modes.count", "must leave at least one elastic mode");
   // The last elastic mode there is still accepted.
-  const FeCase c = parse_fe_case(with("  modes: {count: 12}\n" + drive + "  nonlinear_modes: {mode: 6}\n"), "case.yaml");
+  const FeCase c = parse_fe_case(with_analysis("  modes: {count: 12}\n" + drive + "  nonlinear_modes: {mode: 6}\n"), "case.yaml");
   EXPECT_EQ(c.dynamics->nonlinear_modes->modes, std::vector<int>{6});
 }
 
@@ -187,7 +187,7 @@ TEST(io_FeDynamics, TheBuiltInDefaultCaseIsTheLapDampingCurve) {
 // Identification parameters of an FE case (pipeline/fe_pipeline.hpp): the names offered, the
 // values set exactly, and which stage keys a value enters.
 TEST(io_FeFitParameters, NamesValuesAndStageKeys) {
-  const std::string text = with("  damping: {ratio: 0.005}\n  nonlinear_modes: {mode: 1}\n");
+  const std::string text = with_analysis("  damping: {ratio: 0.005}\n  nonlinear_modes: {mode: 1}\n");
   const FeCase base = parse_fe_case(text, "case.yaml");
   pipeline::FePipeline p(base, base);
   EXPECT_EQ(p.parameter_names(),

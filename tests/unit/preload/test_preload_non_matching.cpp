@@ -41,7 +41,7 @@ std::string stacked_case(const std::string& upper_element, const std::string& up
 )";
 }
 
-std::string error_of(const std::string& text) {
+std::string preload_error_of(const std::string& text) {
   try {
     (void)io::parse_fe_case(text, "stack.yaml");
   } catch (const io::InputError& e) {
@@ -82,13 +82,13 @@ TEST(PreloadNonMatching, UniformPressureThroughANonMatchingInterfaceIsExact) {
 }
 
 TEST(PreloadNonMatching, MeshesKeyChoosesTheConstructionAndNamesErrors) {
-  const std::string without = error_of(stacked_case("C3D8", "[3, 3, 1]", ""));
+  const std::string without = preload_error_of(stacked_case("C3D8", "[3, 3, 1]", ""));
   EXPECT_NE(without.find("matching meshes are required"), std::string::npos) << without;
   EXPECT_NE(without.find("set meshes: non-matching"), std::string::npos) << without;
   const io::FeCase automatic = io::parse_fe_case(stacked_case("C3D8", "[3, 3, 1]", ", meshes: automatic"), "stack.yaml");
   EXPECT_EQ(automatic.interfaces[0].geometry.meshes, fe::InterfaceMeshes::non_matching);
   const io::FeCase same = io::parse_fe_case(stacked_case("C3D8", "[2, 2, 1]", ", meshes: automatic"), "stack.yaml");
   EXPECT_EQ(same.interfaces[0].geometry.meshes, fe::InterfaceMeshes::matching);
-  const std::string bad = error_of(stacked_case("C3D8", "[3, 3, 1]", ", meshes: mortar"));
+  const std::string bad = preload_error_of(stacked_case("C3D8", "[3, 3, 1]", ", meshes: mortar"));
   EXPECT_NE(bad.find("model.interfaces[0].meshes"), std::string::npos) << bad;
 }

@@ -18,23 +18,24 @@
 #include "jointhb/fe/assembly.hpp"
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
+#include "unit/test_constants.hpp"
 
 namespace {
 
 using namespace jointhb;
 namespace rd = jointhb::reduction;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using test_constants::kTwoPi;
 
-struct Lap {
+struct PatchLap {
   io::FeCase c;
   preload::PreloadModel model;
   preload::PreloadResult preload;
   hb::InterfaceModel interface;
 };
 
-const Lap& lap() {
-  static const std::unique_ptr<Lap> instance = [] {
-    auto l = std::make_unique<Lap>();
+const PatchLap& patch_lap() {
+  static const std::unique_ptr<PatchLap> instance = [] {
+    auto l = std::make_unique<PatchLap>();
     validation::LapCaseOptions o;
     o.nx = 20, o.ny = 6, o.nz = 1;
     l->c = io::parse_fe_case(validation::lap_case_yaml(o), "lap.yaml");
@@ -65,9 +66,9 @@ double relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 // and traction. Merging them (patches smaller than the node spacing) is exact: the same damping
 // curve with a third of the gap unknowns.
 TEST(ContactPatches, CoincidentNodalPointsMergeExactly) {
-  const hb::InterfaceModel& fine = lap().interface;
-  const rd::ContactPatchResult r = rd::merge_contact_patches(fine, lap().model, {.size = 0.0});
-  EXPECT_EQ(rd::merge_contact_patches(fine, lap().model, {.size = 1e-6}).patches, 63);
+  const hb::InterfaceModel& fine = patch_lap().interface;
+  const rd::ContactPatchResult r = rd::merge_contact_patches(fine, patch_lap().model, {.size = 0.0});
+  EXPECT_EQ(rd::merge_contact_patches(fine, patch_lap().model, {.size = 1e-6}).patches, 63);
   EXPECT_EQ(fine.num_points(), 192);
   EXPECT_EQ(r.patches, 63);  // (8 + 1) × (6 + 1) node pairs of the 40 × 30 mm overlap
   for (int p = 0; p < fine.num_points(); ++p) {
@@ -99,8 +100,8 @@ TEST(ContactPatches, CoincidentNodalPointsMergeExactly) {
 }
 
 TEST(ContactPatches, PatchesKeepTheStaticForceAndTheVirtualWork) {
-  const hb::InterfaceModel& fine = lap().interface;
-  const rd::ContactPatchResult r = rd::merge_contact_patches(fine, lap().model, {.size = 0.01});
+  const hb::InterfaceModel& fine = patch_lap().interface;
+  const rd::ContactPatchResult r = rd::merge_contact_patches(fine, patch_lap().model, {.size = 0.01});
   ASSERT_LT(r.patches, fine.num_points() / 8);  // 40 × 30 mm overlap, 10 mm patches: 4 × 3
   EXPECT_EQ(r.patches, 12);
   EXPECT_NEAR(r.model.areas.sum(), fine.areas.sum(), 1e-15);
@@ -140,8 +141,8 @@ TEST(ContactPatches, PatchesKeepTheStaticForceAndTheVirtualWork) {
 TEST(ContactPatches, LinearLimitOfTheDampingCurveIsTheFineOne) {
   // At small amplitude N_c → 0: the patch model is the fine linear model (same modes, residual
   // terms and damping), whatever the patch size. Reference: the exactly merged node pairs.
-  const rd::ContactPatchResult exact = rd::merge_contact_patches(lap().interface, lap().model, {.size = 0.0});
-  const rd::ContactPatchResult r = rd::merge_contact_patches(lap().interface, lap().model, {.size = 0.01});
+  const rd::ContactPatchResult exact = rd::merge_contact_patches(patch_lap().interface, patch_lap().model, {.size = 0.0});
+  const rd::ContactPatchResult r = rd::merge_contact_patches(patch_lap().interface, patch_lap().model, {.size = 0.01});
   continuation::InterfaceBackboneOptions o;
   o.mode.balance.harmonics = 1;
   o.mode.balance.time_samples = 32;
@@ -151,7 +152,7 @@ TEST(ContactPatches, LinearLimitOfTheDampingCurveIsTheFineOne) {
   const auto b = continuation::trace_interface_backbone(r.model, o);
   ASSERT_FALSE(a.points.empty());
   ASSERT_FALSE(b.points.empty());
-  const double linear = std::sqrt(lap().interface.omega2[lap().interface.rigid_modes]);
+  const double linear = std::sqrt(patch_lap().interface.omega2[patch_lap().interface.rigid_modes]);
   const double df = std::abs(b.points.front().state.omega / a.points.front().state.omega - 1.0);
   const double dz = std::abs(b.points.front().state.damping_ratio / a.points.front().state.damping_ratio - 1.0);
   std::printf("q = 1e-10: 10 mm patches vs node pairs: frequency %.1e, damping %.1e (both within %.1e of the "
@@ -163,18 +164,18 @@ TEST(ContactPatches, LinearLimitOfTheDampingCurveIsTheFineOne) {
 }
 
 TEST(ContactPatches, RejectsBadSizeAndMixedFrames) {
-  EXPECT_THROW((void)rd::merge_contact_patches(lap().interface, lap().model, {.size = -1.0}), std::invalid_argument);
-  EXPECT_THROW((void)rd::merge_contact_patches(lap().interface, lap().model, {.size = NAN}), std::invalid_argument);
-  preload::PreloadModel tilted = lap().model;
+  EXPECT_THROW((void)rd::merge_contact_patches(patch_lap().interface, patch_lap().model, {.size = -1.0}), std::invalid_argument);
+  EXPECT_THROW((void)rd::merge_contact_patches(patch_lap().interface, patch_lap().model, {.size = NAN}), std::invalid_argument);
+  preload::PreloadModel tilted = patch_lap().model;
   tilted.interfaces[0].geometry.points[5].frame = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
   try {
-    (void)rd::merge_contact_patches(lap().interface, tilted, {.size = 0.01});
+    (void)rd::merge_contact_patches(patch_lap().interface, tilted, {.size = 0.01});
     ADD_FAILURE() << "no error for a patch with mixed frames";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("different local frames"), std::string::npos) << e.what();
   }
   // Coincident points with different frames are not merged (their gaps differ): one more point.
-  EXPECT_EQ(rd::merge_contact_patches(lap().interface, tilted, {.size = 0.0}).patches, 64);
+  EXPECT_EQ(rd::merge_contact_patches(patch_lap().interface, tilted, {.size = 0.0}).patches, 64);
 }
 
 }  // namespace

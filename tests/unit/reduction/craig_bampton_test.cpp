@@ -14,6 +14,7 @@
 #include "jointhb/fe/box_mesh.hpp"
 #include "jointhb/fe/interface.hpp"
 #include "jointhb/reduction/craig_bampton.hpp"
+#include "unit/test_constants.hpp"
 
 namespace fe = jointhb::fe;
 namespace rd = jointhb::reduction;
@@ -21,7 +22,7 @@ using SpMat = Eigen::SparseMatrix<double>;
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
+using test_constants::kTwoPi;
 
 struct Blocks {
   fe::Mesh mesh;

@@ -19,6 +19,7 @@
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
+#include "unit/test_constants.hpp"
 
 namespace {
 
@@ -27,7 +28,7 @@ namespace rd = jointhb::reduction;
 using SpMat = Eigen::SparseMatrix<double>;
 using Complex = std::complex<double>;
 using CVec = Eigen::VectorXcd;
-constexpr double kTwoPi = 6.283185307179586;
+using test_constants::kTwoPi;
 
 int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
   int best = 0;
@@ -37,7 +38,7 @@ int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
 }
 
 // The preloaded lap, built once for every test of the suite.
-struct Lap {
+struct ModalLap {
   io::FeCase c;
   preload::PreloadModel model;
   preload::PreloadResult preload;
@@ -46,9 +47,9 @@ struct Lap {
   SpMat K, M, G;  // all DOFs (free-free), G stacked over the interfaces
 };
 
-const Lap& lap() {
-  static const std::unique_ptr<Lap> instance = [] {
-    auto l = std::make_unique<Lap>();
+const ModalLap& modal_lap() {
+  static const std::unique_ptr<ModalLap> instance = [] {
+    auto l = std::make_unique<ModalLap>();
     validation::LapCaseOptions o;
     o.nx = 20;
     o.ny = 6;
@@ -95,7 +96,7 @@ rd::ModalInterfaceResult build(double cutoff_hz, double a = 0.0, double b = 0.0)
   rd::ModalInterfaceOptions o = options(cutoff_hz);
   o.rayleigh_mass = a;
   o.rayleigh_stiffness = b;
-  return rd::build_modal_interface(lap().model, lap().preload, lap().load, lap().outputs, o);
+  return rd::build_modal_interface(modal_lap().model, modal_lap().preload, modal_lap().load, modal_lap().outputs, o);
 }
 
 // The first elastic mode [Hz] of the lap (from a cheap build).
@@ -127,7 +128,7 @@ CVec direct_solve(const preload::PreloadModel& model, const preload::PreloadResu
 }
 
 CVec direct_solve(double Omega, double a, double b, const Eigen::VectorXd& f) {
-  return direct_solve(lap().model, lap().preload, Omega, a, b, f);
+  return direct_solve(modal_lap().model, modal_lap().preload, Omega, a, b, f);
 }
 
 struct Prediction {
@@ -186,11 +187,11 @@ struct Errors {
 };
 
 Errors errors(const Prediction& p, const CVec& u) {
-  const CVec g = lap().G.cast<Complex>() * u;
+  const CVec g = modal_lap().G.cast<Complex>() * u;
   Errors e;
   e.gaps = (p.gaps - g).norm() / g.norm();
-  for (std::size_t k = 0; k < lap().outputs.size(); ++k) {
-    const Complex exact = lap().outputs[k].functional.cast<Complex>().dot(u);
+  for (std::size_t k = 0; k < modal_lap().outputs.size(); ++k) {
+    const Complex exact = modal_lap().outputs[k].functional.cast<Complex>().dot(u);
     e.outputs = std::max(e.outputs, std::abs(p.outputs[static_cast<Eigen::Index>(k)] - exact) / std::abs(exact));
   }
   return e;
@@ -199,8 +200,8 @@ Errors errors(const Prediction& p, const CVec& u) {
 }  // namespace
 
 TEST(ModalInterface, PreloadConverges) {
-  ASSERT_TRUE(lap().preload.status().ok()) << lap().preload.message;
-  EXPECT_TRUE(lap().model.constraints.empty());  // free-free: the dynamics keep every DOF
+  ASSERT_TRUE(modal_lap().preload.status().ok()) << modal_lap().preload.message;
+  EXPECT_TRUE(modal_lap().model.constraints.empty());  // free-free: the dynamics keep every DOF
 }
 
 TEST(ModalInterface, ValidateAcceptsTheBuiltModelAndNamesCorruptedFields) {
@@ -208,7 +209,7 @@ TEST(ModalInterface, ValidateAcceptsTheBuiltModelAndNamesCorruptedFields) {
   const hb::InterfaceModel& m = r.model;
   std::printf("[          ] %s\n", r.brief().c_str());
   EXPECT_EQ(m.validate(), "");
-  EXPECT_EQ(m.num_points(), lap().model.interfaces[0].geometry.num_points());
+  EXPECT_EQ(m.num_points(), modal_lap().model.interfaces[0].geometry.num_points());
   EXPECT_EQ(m.num_modes(), r.kept_modes);
 
   auto rejects = [&](const char* field, auto corrupt) {
@@ -242,14 +243,14 @@ TEST(ModalInterface, RejectsInvalidOptionsAndSizesNamingTheField) {
   o = options(1000.0);
   o.initial_count = 0;
   try {
-    (void)rd::build_modal_interface(lap().model, lap().preload, lap().load, lap().outputs, o);
+    (void)rd::build_modal_interface(modal_lap().model, modal_lap().preload, modal_lap().load, modal_lap().outputs, o);
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("initial_count"), std::string::npos) << e.what();
   }
   rd::ModalLoad short_load{"short", Eigen::VectorXd::Zero(5)};
   try {
-    (void)rd::build_modal_interface(lap().model, lap().preload, short_load, lap().outputs, options(1000.0));
+    (void)rd::build_modal_interface(modal_lap().model, modal_lap().preload, short_load, modal_lap().outputs, options(1000.0));
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("load.force"), std::string::npos) << e.what();
@@ -257,7 +258,7 @@ TEST(ModalInterface, RejectsInvalidOptionsAndSizesNamingTheField) {
   // A shift above the rigid-body modes of a free-free model: K_t − sM is not positive definite.
   o = options(1000.0);
   o.modal.shift = 1.0e4;
-  EXPECT_THROW((void)rd::build_modal_interface(lap().model, lap().preload, lap().load, lap().outputs, o),
+  EXPECT_THROW((void)rd::build_modal_interface(modal_lap().model, modal_lap().preload, modal_lap().load, modal_lap().outputs, o),
                std::runtime_error);
 }
 
@@ -267,7 +268,7 @@ TEST(ModalInterface, CoincidentPointsShareTheirResidualTerms) {
   const rd::ModalInterfaceResult r = build(2000.0);
   EXPECT_EQ(r.model.num_points(), 192);
   EXPECT_EQ(r.distinct_gap_rows, 3 * 63);
-  const Eigen::MatrixXd G = Eigen::MatrixXd(lap().G);
+  const Eigen::MatrixXd G = Eigen::MatrixXd(modal_lap().G);
   int pairs = 0;
   for (int p = 0; p < 192; ++p)
     for (int q = p + 1; q < 192; ++q)
@@ -317,11 +318,11 @@ TEST(ModalInterface, ReceptanceMatchesDirectSolveAndConvergesWithTheCutoff) {
   // 8 f1 to 1.9e-4 at 16 f1) while the worst error over all quantities falls by 4 orders.
   const std::vector<double> cutoffs{4.0 * f1, 8.0 * f1, 16.0 * f1, 32.0 * f1, 64.0 * f1};
   std::vector<CVec> u_load, u_force;
-  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(lap().G.rows(), -1.0, 2.0).array().sin();  // interface forces
+  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(modal_lap().G.rows(), -1.0, 2.0).array().sin();  // interface forces
   q *= 1e3;
-  const Eigen::VectorXd f_interface = lap().G.transpose() * q;
+  const Eigen::VectorXd f_interface = modal_lap().G.transpose() * q;
   for (double ratio : ratios) {
-    u_load.push_back(direct_solve(ratio * w1, a, b, lap().load.force));
+    u_load.push_back(direct_solve(ratio * w1, a, b, modal_lap().load.force));
     u_force.push_back(direct_solve(ratio * w1, a, b, f_interface));
   }
   std::vector<double> worst, worst_zeroth;
@@ -356,7 +357,7 @@ TEST(ModalInterface, ReceptanceMatchesDirectSolveAndConvergesWithTheCutoff) {
 // With user constraints (the lower plate clamped at x = 0) the dynamics use the free DOFs only:
 // no rigid-body modes, and the output at a clamped DOF is exactly 0.
 TEST(ModalInterface, ClampedLapUsesTheFreeDofsAndMatchesTheDirectSolve) {
-  const Lap& l = lap();
+  const ModalLap& l = modal_lap();
   preload::PreloadModel clamped = l.model;
   fe::FixedNodes end;
   for (int i = 0; i < l.c.mesh.num_nodes(); ++i)
@@ -420,17 +421,17 @@ TEST(ModalInterface, FieldRecoveryMatchesTheDirectSolveAndConvergesWithTheCutoff
   const double f1 = first_elastic_hz(), w1 = kTwoPi * f1, Omega = 0.9 * w1;
   const double zeta = 0.01, a = zeta * w1, b = zeta / w1;
   const hb::FourierBasis basis(1, 8);
-  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(lap().G.rows(), -1.0, 2.0).array().sin();
+  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(modal_lap().G.rows(), -1.0, 2.0).array().sin();
   q *= 1e3;  // interface forces A N (cos part)
-  const Eigen::MatrixXd u_load = coefficients(direct_solve(Omega, a, b, lap().load.force));
-  const Eigen::MatrixXd u_force = coefficients(direct_solve(Omega, a, b, -(lap().G.transpose() * q).eval()));
+  const Eigen::MatrixXd u_load = coefficients(direct_solve(Omega, a, b, modal_lap().load.force));
+  const Eigen::MatrixXd u_force = coefficients(direct_solve(Omega, a, b, -(modal_lap().G.transpose() * q).eval()));
   std::vector<double> worst;
   for (double cutoff : {4.0 * f1, 16.0 * f1, 64.0 * f1}) {
     rd::ModalInterfaceOptions o = options(cutoff);
     o.rayleigh_mass = a;
     o.rayleigh_stiffness = b;
     o.keep_field_recovery = true;
-    const rd::ModalInterfaceResult r = rd::build_modal_interface(lap().model, lap().preload, lap().load, lap().outputs, o);
+    const rd::ModalInterfaceResult r = rd::build_modal_interface(modal_lap().model, modal_lap().preload, modal_lap().load, modal_lap().outputs, o);
     const hb::InterfaceModel& m = r.model;
     ASSERT_FALSE(r.recovery.empty());
     ASSERT_EQ(r.recovery.points(), m.num_points());
@@ -448,7 +449,7 @@ TEST(ModalInterface, FieldRecoveryMatchesTheDirectSolveAndConvergesWithTheCutoff
                 "forces %.2e\n", cutoff / f1, m.num_modes(), e1, e2);
     worst.push_back(std::max(e1, e2));
     // a merge of the coincident points (exact, T-31) gives the same field for the same forces
-    const rd::ContactPatchResult merged = rd::merge_contact_patches(m, lap().model, {.size = 0.0});
+    const rd::ContactPatchResult merged = rd::merge_contact_patches(m, modal_lap().model, {.size = 0.0});
     const rd::FieldRecovery fm = r.recovery.merged(merged.patch_of_point, merged.point_weights, merged.patches);
     Eigen::MatrixXd an_c = Eigen::MatrixXd::Zero(3, 3 * merged.patches);
     for (int c = 0; c < merged.patches; ++c) an_c.row(1).segment(3 * c, 3) << 1e3 * std::sin(c), 2e3, -5e2 * c;

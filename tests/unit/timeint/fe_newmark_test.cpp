@@ -30,7 +30,7 @@ namespace fe = jointhb::fe;
 namespace {
 
 // Two 100 × 30 × 4 mm aluminium plates overlapping by 40 mm, two M5 bolts at 5 kN, free-free.
-std::string lap_yaml(const std::string& divisions) {
+std::string newmark_lap_yaml(const std::string& divisions) {
   std::string yaml = R"(model:
   type: fe
   materials:
@@ -59,7 +59,7 @@ std::string lap_yaml(const std::string& divisions) {
   return yaml;
 }
 
-struct Lap {
+struct NewmarkLap {
   jointhb::io::FeCase c;
   pl::PreloadModel model;
   pl::PreloadResult preload;
@@ -68,9 +68,9 @@ struct Lap {
 
 // constant_kt > 0: the constant tangential stiffness model k_T = constant_kt instead of
 // k_T = 0.8 λ p_N.
-std::unique_ptr<Lap> make_lap(const std::string& divisions, double constant_kt = 0.0) {
-  auto p = std::make_unique<Lap>();
-  std::string yaml = lap_yaml(divisions);
+std::unique_ptr<NewmarkLap> make_lap(const std::string& divisions, double constant_kt = 0.0) {
+  auto p = std::make_unique<NewmarkLap>();
+  std::string yaml = newmark_lap_yaml(divisions);
   if (constant_kt > 0.0) {
     const std::string ratio = "stiffness_ratio: 0.8";
     yaml.replace(yaml.find(ratio), ratio.size(), "kt: " + std::to_string(constant_kt));
@@ -93,8 +93,8 @@ std::unique_ptr<Lap> make_lap(const std::string& divisions, double constant_kt =
 }
 
 // 10 mm elements: 792 DOFs, 44 interface points.
-const Lap& lap() {
-  static const std::unique_ptr<Lap> l = make_lap("[10, 3, 2]");
+const NewmarkLap& newmark_lap() {
+  static const std::unique_ptr<NewmarkLap> l = make_lap("[10, 3, 2]");
   return *l;
 }
 
@@ -107,7 +107,7 @@ int node_at(const fe::Mesh& mesh, double x, double y, double z) {
 
 // The linear FRF of the stuck tangent, X = (K_t − ω²M + iωb K_t)⁻¹ F at one DOF (full model,
 // i.e. modal superposition over all modes with the same Rayleigh damping).
-std::complex<double> stuck_frf(const Lap& l, int dof, int out, double force, double omega,
+std::complex<double> stuck_frf(const NewmarkLap& l, int dof, int out, double force, double omega,
                                double b) {
   using C = std::complex<double>;
   const Eigen::SparseMatrix<double>& k = l.preload.dynamic_stiffness;
@@ -123,7 +123,7 @@ std::complex<double> stuck_frf(const Lap& l, int dof, int out, double force, dou
 }  // namespace
 
 TEST(FeNewmark, PreloadConverged) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok()) << l.preload.message;
   EXPECT_GT(l.omega1, 2.0 * std::numbers::pi * 100.0);
 }
@@ -132,7 +132,7 @@ TEST(FeNewmark, PreloadConverged) {
 // rule's steady state under e^{iΩt} is exactly the FRF at the warped Ω̃ = (2/Δt) tan(ΩΔt/2);
 // against the FRF at Ω the error falls like Δt² (ratio 4 for N = 32 → 64).
 TEST(FeNewmark, StuckLimitMatchesLinearResponseWithDtSquaredWarping) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
   const int tip = node_at(l.c.mesh, 0.0, 0.0, 0.0);
   const int dof = 3 * tip + 2;
@@ -181,7 +181,7 @@ TEST(FeNewmark, StuckLimitMatchesLinearResponseWithDtSquaredWarping) {
 // trapezoidal contact work; with the exact increments' dissipation up to the trapezoidal rule's
 // O(Δt²) at the stick/slip transitions.
 TEST(FeNewmark, EnergyBalanceOverAPeriodWithMicroslip) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
   const int tip = node_at(l.c.mesh, 0.0, 0.0, 0.0);
   const int dof = 3 * tip + 2;
@@ -258,7 +258,7 @@ TEST(FeNewmark, PreloadedTangentialStiffnessChangesNothingForAConstantLaw) {
 // stuck limit, while at a microslip force it is visible. The frozen laws are the preloaded
 // stiffnesses.
 TEST(FeNewmark, PreloadedTangentialStiffnessKeepsTheStuckLimit) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
   const int dof = 3 * node_at(l.c.mesh, 0.0, 0.0, 0.0) + 2;
   const double omega = 0.9 * l.omega1;
@@ -320,7 +320,7 @@ Eigen::MatrixXd rigid_body_modes(const fe::Mesh& mesh) {
 // A suddenly applied, self-equilibrated static pair (±F along the line of its two nodes) on the
 // free-free lap: the assembly vibrates but its rigid-body motion stays zero.
 TEST(FeNewmark, SelfEquilibratedStaticLoadGivesNoRigidBodyDrift) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
   const int n = l.c.mesh.num_dofs();
   const int a = node_at(l.c.mesh, 0.0, 0.0, 0.0), b = node_at(l.c.mesh, 0.1, 0.0, 0.0);
@@ -360,7 +360,7 @@ TEST(FeNewmark, SelfEquilibratedStaticLoadGivesNoRigidBodyDrift) {
 }
 
 TEST(FeNewmark, BadInputThrowsNamingTheField) {
-  const Lap& l = lap();
+  const NewmarkLap& l = newmark_lap();
   const int n = l.c.mesh.num_dofs();
   const auto throws_with = [](const auto& call, const std::string& field) {
     try {

@@ -122,8 +122,8 @@ class CoulombOscillator {
   double t_ = 0.0, x_ = 0.0, v_ = 0.0, s_ = 0.0;
 };
 
-constexpr double kMass = 1.0;
-constexpr double kStiffness = 4.0 * pi * pi;  // ω_n = 2π
+constexpr double kOscillatorMass = 1.0;
+constexpr double kOscillatorStiffness = 4.0 * pi * pi;  // ω_n = 2π
 constexpr double kForce = 1.0;
 
 double omega_of(double beta) { return beta * 2.0 * pi; }
@@ -141,7 +141,7 @@ const std::vector<Case> kCases = {{0.6, 0.3}, {0.8, 0.5}, {1.2, 0.6},
 std::vector<CoulombOscillator::Stop> exact_steady_period(double beta, double r, int max_periods) {
   const double omega = omega_of(beta);
   const double period = 2 * pi / omega;
-  CoulombOscillator exact(kMass, kStiffness, r * kForce, kForce, omega);
+  CoulombOscillator exact(kOscillatorMass, kOscillatorStiffness, r * kForce, kForce, omega);
   exact.start_at_rest(0.0, 0.0);
   std::vector<CoulombOscillator::Stop> stops;
   while (true) {
@@ -161,12 +161,12 @@ std::vector<CoulombOscillator::Stop> exact_steady_period(double beta, double r, 
 
 hb::DiscreteSystem jenkins_oscillator(double r, double kappa) {
   hb::DiscreteSystem sys;
-  sys.mass = Eigen::MatrixXd::Constant(1, 1, kMass).sparseView();
-  sys.stiffness = Eigen::MatrixXd::Constant(1, 1, kStiffness).sparseView();
+  sys.mass = Eigen::MatrixXd::Constant(1, 1, kOscillatorMass).sparseView();
+  sys.stiffness = Eigen::MatrixXd::Constant(1, 1, kOscillatorStiffness).sparseView();
   hb::ContactElement e;
   e.friction_coefficient = 1.0;
   e.normal_force = r * kForce;
-  e.stiffness = kappa * kStiffness;
+  e.stiffness = kappa * kOscillatorStiffness;
   sys.contacts.push_back(e);
   return sys;
 }
@@ -178,11 +178,11 @@ TEST(DenHartog, ClosedFormIsAnExactPeriodicMotion) {
   // must stop again at t = (φ + jπ)/ω, x = (-1)^j X0, without sticking.
   for (const auto& c : kCases) {
     const double omega = omega_of(c.beta);
-    const auto d = ti::den_hartog(kMass, kStiffness, c.r * kForce, kForce, omega);
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, c.r * kForce, kForce, omega);
     ASSERT_TRUE(d.non_stop) << "beta " << c.beta << ": " << d.message;
     EXPECT_GT(d.phase, 0.0);  // the displacement lags the force
     EXPECT_LT(d.phase, pi);
-    CoulombOscillator exact(kMass, kStiffness, c.r * kForce, kForce, omega);
+    CoulombOscillator exact(kOscillatorMass, kOscillatorStiffness, c.r * kForce, kForce, omega);
     exact.start_at_rest(d.phase / omega, d.amplitude);
     double worst_x = 0.0, worst_t = 0.0;
     for (int j = 1; j <= 6; ++j) {
@@ -215,7 +215,7 @@ TEST(DenHartog, RegimeFlagAgreesWithTheExactSteadyMotionFromRest) {
       {0.38, 0.12, R::extra_stops},     {0.36, 0.08, R::extra_stops},
       {1.5, 0.8, R::no_real_amplitude}, {0.35, 0.3, R::no_real_amplitude}};
   for (const auto& c : cases) {
-    const auto d = ti::den_hartog(kMass, kStiffness, c.r * kForce, kForce, omega_of(c.beta));
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, c.r * kForce, kForce, omega_of(c.beta));
     EXPECT_EQ(d.regime, c.regime) << "beta " << c.beta << " r " << c.r << ": " << d.message;
     const auto period = exact_steady_period(c.beta, c.r, 500);
     ASSERT_FALSE(period.empty()) << "beta " << c.beta << " r " << c.r << ": no steady motion";
@@ -244,7 +244,7 @@ TEST(DenHartog, NewmarkWithStiffJenkinsConvergesToTheClosedForm) {
   // leaving the O(1/κ) term and the time-step error (measured ≤ 3e-4).
   for (const auto& c : kCases) {
     const double omega = omega_of(c.beta);
-    const auto d = ti::den_hartog(kMass, kStiffness, c.r * kForce, kForce, omega);
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, c.r * kForce, kForce, omega);
     const Eigen::VectorXd exact = d.coefficients(1);
     ti::State start;  // on the exact orbit, the slider sliding with the velocity
     start.displacement = Eigen::VectorXd::Constant(1, d.displacement(0.0));
@@ -283,7 +283,7 @@ TEST(DenHartog, NewmarkWithStiffJenkinsConvergesToTheClosedForm) {
 TEST(DenHartog, FourierCoefficientsAndEnergyIdentity) {
   for (const auto& c : kCases) {
     const double omega = omega_of(c.beta);
-    const auto d = ti::den_hartog(kMass, kStiffness, c.r * kForce, kForce, omega);
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, c.r * kForce, kForce, omega);
     const int harmonics = 7, samples = 4096;
     const Eigen::VectorXd analytic = d.coefficients(harmonics);
     Eigen::VectorXd dft = Eigen::VectorXd::Zero(2 * harmonics + 1);
@@ -321,19 +321,19 @@ TEST(DenHartog, FourierCoefficientsAndEnergyIdentity) {
 
 TEST(DenHartog, FrictionFreeAndResonanceLimits) {
   for (double beta : {0.3, 0.5, 0.9, 1.1, 2.0}) {
-    const auto d = ti::den_hartog(kMass, kStiffness, 0.0, kForce, omega_of(beta));
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, 0.0, kForce, omega_of(beta));
     ASSERT_TRUE(d.non_stop) << d.message;
-    const double linear = kForce / kStiffness / std::abs(1 - beta * beta);
+    const double linear = kForce / kOscillatorStiffness / std::abs(1 - beta * beta);
     EXPECT_NEAR(d.amplitude, linear, 1e-14 * linear);
     EXPECT_NEAR(d.first_harmonic_amplitude, linear, 1e-13 * linear);
     EXPECT_NEAR(d.phase, beta < 1 ? 0.0 : pi, 1e-15);
   }
   // Den Hartog's resonance result: bounded motion needs r < π/4 as β → 1.
   for (double beta : {1.0 - 1e-5, 1.0 + 1e-5}) {
-    const auto d = ti::den_hartog(kMass, kStiffness, 0.5, kForce, omega_of(beta));
+    const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, 0.5, kForce, omega_of(beta));
     EXPECT_NEAR(d.boundary_friction_ratio, pi / 4, 1e-4);
   }
-  const auto at_resonance = ti::den_hartog(kMass, kStiffness, 0.5, kForce, omega_of(1.0));
+  const auto at_resonance = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, 0.5, kForce, omega_of(1.0));
   EXPECT_EQ(at_resonance.regime, ti::DenHartogRegime::singular_frequency);
   EXPECT_FALSE(at_resonance.non_stop);
   EXPECT_EQ(at_resonance.amplitude, 0.0);
@@ -343,7 +343,7 @@ TEST(DenHartog, NeverNanAndValidation) {
   for (int i = 0; i <= 400; ++i) {
     const double beta = 0.1 + 0.01 * i;
     for (double r : {0.0, 1e-3, 0.1, 0.5, 0.9, 1.0, 2.0}) {
-      const auto d = ti::den_hartog(kMass, kStiffness, r * kForce, kForce, omega_of(beta));
+      const auto d = ti::den_hartog(kOscillatorMass, kOscillatorStiffness, r * kForce, kForce, omega_of(beta));
       for (double v : {d.magnification, d.friction_function, d.boundary_friction_ratio,
                        d.formula_amplitude, d.amplitude, d.phase, d.first_harmonic_amplitude,
                        d.dissipation_per_cycle, d.displacement(0.3), d.velocity(0.3)}) {

@@ -13,6 +13,7 @@
 #include "jointhb/contact/periodic_state.hpp"
 #include "jointhb/timeint/newmark.hpp"
 #include "jointhb/timeint/ring_down.hpp"
+#include "unit/timeint/linear_systems.hpp"
 
 namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
@@ -22,24 +23,8 @@ using Complex = std::complex<double>;
 
 namespace {
 
-hb::SparseMatrix sparse(const Eigen::MatrixXd& d) { return d.sparseView(); }
-
-hb::DiscreteSystem linear_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& c,
-                                 const Eigen::MatrixXd& k) {
-  hb::DiscreteSystem s;
-  s.mass = sparse(m);
-  s.damping = sparse(c);
-  s.stiffness = sparse(k);
-  return s;
-}
-
-// One DOF: m = 1, ω_n = 2π, damping ratio ζ.
-hb::DiscreteSystem one_dof(double zeta) {
-  const double k = 4.0 * pi * pi;
-  return linear_system(Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::MatrixXd::Constant(1, 1, 2 * zeta * 2 * pi),
-                       Eigen::MatrixXd::Constant(1, 1, k));
-}
+using jointhb::test_systems::linear_system;
+using jointhb::test_systems::one_dof;
 
 hb::Excitation cosine_force(int dof, double amplitude, int harmonic = 1) {
   hb::Excitation e;

@@ -10,6 +10,7 @@
 
 #include "jointhb/contact/closed_forms.hpp"
 #include "jointhb/timeint/ring_down.hpp"
+#include "unit/timeint/linear_systems.hpp"
 
 namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
@@ -18,22 +19,10 @@ using std::numbers::pi;
 
 namespace {
 
-hb::DiscreteSystem linear_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& c,
-                                 const Eigen::MatrixXd& k) {
-  hb::DiscreteSystem s;
-  s.mass = m.sparseView();
-  s.damping = c.sparseView();
-  s.stiffness = k.sparseView();
-  return s;
-}
+using jointhb::test_systems::linear_system;
+using jointhb::test_systems::one_dof;
 
 constexpr double kSpring = 4.0 * pi * pi;  // m = 1, ω_n = 2π
-
-hb::DiscreteSystem one_dof(double zeta) {
-  return linear_system(Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::MatrixXd::Constant(1, 1, 2.0 * zeta * 2.0 * pi),
-                       Eigen::MatrixXd::Constant(1, 1, kSpring));
-}
 
 ti::RingDownOptions options(double q0, int steps) {
   ti::RingDownOptions o;
@@ -43,13 +32,13 @@ ti::RingDownOptions options(double q0, int steps) {
   return o;
 }
 
-struct Errors {
+struct RingDownErrors {
   double omega = 0.0;  // max |ω - ω_d| / ω_d
   double zeta = 0.0;   // max |ζ - ζ_exact| / ζ_exact
 };
 
-Errors linear_errors(const ti::RingDownResult& r, double omega_d, double zeta) {
-  Errors e;
+RingDownErrors linear_errors(const ti::RingDownResult& r, double omega_d, double zeta) {
+  RingDownErrors e;
   for (const auto& c : r.cycles) {
     e.omega = std::max(e.omega, std::abs(c.omega - omega_d) / omega_d);
     e.zeta = std::max(e.zeta, std::abs(c.damping_ratio - zeta) / zeta);
@@ -69,7 +58,7 @@ TEST(RingDownLinear, OneDofViscousGivesDampedFrequencyAndDampingRatio) {
   ASSERT_EQ(r.reason, ti::RingDownReason::decayed) << r.message;
   // ln(1000)/(2πζ) ≈ 55 cycles; the first maximum located is the one after t = 0.
   EXPECT_GE(r.cycles.size(), 50U);
-  const Errors corrected = linear_errors(r, omega_d, zeta);
+  const RingDownErrors corrected = linear_errors(r, omega_d, zeta);
   std::printf("[ring-down] 1 DOF, N = 256, corrected: max rel. error ω %.2e, ζ %.2e\n",
               corrected.omega, corrected.zeta);
   EXPECT_LT(corrected.omega, 1e-9);
@@ -88,7 +77,7 @@ TEST(RingDownLinear, OneDofViscousGivesDampedFrequencyAndDampingRatio) {
   for (const int steps : {64, 128, 256}) {
     o.steps_per_period = steps;
     const auto raw = ti::ring_down(system, o);
-    const Errors e = linear_errors(raw, omega_d, zeta);
+    const RingDownErrors e = linear_errors(raw, omega_d, zeta);
     std::printf(
         "[ring-down] 1 DOF, N = %3d, raw: max rel. error ω %.3e, ζ %.3e%s\n", steps, e.omega,
         e.zeta,
@@ -120,7 +109,7 @@ TEST(RingDownLinear, SecondModeOfTwoDofsGivesItsOwnFrequencyAndDamping) {
   auto r = ti::ring_down(system, o);
   ASSERT_EQ(r.reason, ti::RingDownReason::decayed) << r.message;
   EXPECT_NEAR(r.linear_omega, omega[1], 1e-9 * omega[1]);
-  Errors e = linear_errors(r, omega[1] * std::sqrt(1.0 - 0.03 * 0.03), 0.03);
+  RingDownErrors e = linear_errors(r, omega[1] * std::sqrt(1.0 - 0.03 * 0.03), 0.03);
   std::printf("[ring-down] 2 DOF modal, mode 2: max rel. error ω %.2e, ζ %.2e\n", e.omega, e.zeta);
   EXPECT_LT(e.omega, 1e-8);
   EXPECT_LT(e.zeta, 1e-7);
