@@ -102,10 +102,14 @@ class FeCaseReader {
   };
   std::vector<DeckTie> deck_ties_;
 
+  // A positive physical number (moduli, densities, stiffnesses, pressures, lengths): > 0 and of a
+  // magnitude doubles can multiply (check_magnitude: [1e-100, 1e100], as for discrete models;
+  // issue 20, item 3).
   double positive(const Fields& f, const char* name) const {
     const YAML::Node v = f.find(name)->value;
     const double x = reader_.number(v, f.path_of(name));
     reader_.check(v, f.path_of(name), check_positive(x));
+    reader_.check(v, f.path_of(name), check_magnitude(x));
     return x;
   }
   double positive_or(const Fields& f, const char* name, double fallback) const {
@@ -531,6 +535,7 @@ class FeCaseReader {
       o.axial_stiffness = positive(f, "stiffness");
       const YAML::Node p = f.find("preload")->value;
       o.preload = reader_.number(p, f.path_of("preload"));
+      reader_.check(p, f.path_of("preload"), check_magnitude(o.preload));
       reader_.check(p, f.path_of("preload"), check_non_negative(o.preload));
       try {
         c.bolts.push_back(preload::build_bolt(c.mesh, o));

@@ -603,12 +603,12 @@ class DiscreteModel {
     for (const auto& p : r.points) bifurcation.append(hb::to_string(p.bifurcation));
     d["bifurcation"] = bifurcation;
     const auto extremum = [](const continuation::FrfExtremum& e) {
-      py::dict x;
-      x["omega"] = e.omega;
-      x["amplitude_h1"] = e.amplitude_h1;
-      x["error_bound"] = e.value_bound;
-      x["refined"] = e.refined;
-      return x;
+      py::dict out;
+      out["omega"] = e.omega;
+      out["amplitude_h1"] = e.amplitude_h1;
+      out["error_bound"] = e.value_bound;
+      out["refined"] = e.refined;
+      return out;
     };
     if (r.peak) d["peak"] = extremum(*r.peak);
     py::list folds;

@@ -25,14 +25,18 @@ tail -n 1 "$ERR" | grep -q "^jointhb run: .*preload.yaml: failed: preload: prelo
   fail "last line: $(tail -n 1 "$ERR")"
 [ "$(summary_status "$WORK/preload/summary.json")" = failed ] || fail "summary.json status of the failed preload"
 echo "ok: failed preload -> $(tail -n 1 "$ERR")"
-# A preload whose residual overflows (p_N0 = 1e300 Pa) fails as a stage, named as such, with its
-# files and summary.json written (issue 20, item 5), and no nan anywhere.
+# p_N0 = 1e300 Pa is refused at its key (issue 20, item 3: its products leave the range of
+# doubles; before the bound it ended in a non-finite preload residual). At the edge of the range,
+# 1e100 Pa, the preload fails numerically as a stage, named as such, with its files and
+# summary.json written (item 5), and no nan anywhere.
 sed 's/pressure: 1.0e6 /pressure: 1.0e300 /' "$SOURCE_DIR/cases/05-bolted-lap/case.yaml" >"$WORK/huge_pressure.yaml"
-run_capture run "$WORK/huge_pressure.yaml" -o "$WORK/huge_pressure" --no-cache
-[ "$STATUS" -eq 1 ] || fail "pressure 1e300 exited $STATUS, expected 1"
-tail -n 1 "$ERR" | grep -q "failed: preload: .*the residual is not finite" || fail "pressure 1e300: $(tail -n 1 "$ERR")"
-[ "$(summary_status "$WORK/huge_pressure/summary.json")" = failed ] || fail "summary.json status of the overflowing preload"
-grep -q '^1,0.25,0,0,-1,0$' "$WORK/huge_pressure/preload_steps.csv" || fail "preload_steps.csv: $(cat "$WORK/huge_pressure/preload_steps.csv")"
-grep -qi nan "$WORK/huge_pressure"/*.csv "$WORK/huge_pressure/summary.json" "$ERR" && fail "nan in the outputs of pressure 1e300"
-echo "ok: pressure 1e300 -> $(tail -n 1 "$ERR" | cut -c1-120)"
+refused huge_pressure "contact.pressure': magnitude must lie in \[1e-100, 1e+100\]" run "$WORK/huge_pressure.yaml" --no-cache
+sed 's/pressure: 1.0e6 /pressure: 1.0e100 /' "$SOURCE_DIR/cases/05-bolted-lap/case.yaml" >"$WORK/edge_pressure.yaml"
+run_capture run "$WORK/edge_pressure.yaml" -o "$WORK/edge_pressure" --no-cache
+[ "$STATUS" -eq 1 ] || fail "pressure 1e100 exited $STATUS, expected 1"
+tail -n 1 "$ERR" | grep -q "failed: preload: preload step 1/4" || fail "pressure 1e100: $(tail -n 1 "$ERR")"
+[ "$(summary_status "$WORK/edge_pressure/summary.json")" = failed ] || fail "summary.json status of the failed preload"
+grep -q '^1,0.25,0,0,[0-9.e+]*,0$' "$WORK/edge_pressure/preload_steps.csv" || fail "preload_steps.csv: $(cat "$WORK/edge_pressure/preload_steps.csv")"
+grep -qi nan "$WORK/edge_pressure"/*.csv "$WORK/edge_pressure/summary.json" "$ERR" && fail "nan in the outputs of pressure 1e100"
+echo "ok: pressure 1e100 -> $(tail -n 1 "$ERR" | cut -c1-120)"
 finish

@@ -429,7 +429,10 @@ int run(int argc, char** argv) {
                    csv_number(r.s.residual), csv_number(r.s.phase)});
     }
     std::string fitted;
-    for (int f : s.fitted) fitted += (fitted.empty() ? "" : " ") + std::to_string(f);
+    for (int f : s.fitted) {
+      if (!fitted.empty()) fitted += ' ';
+      fitted += std::to_string(f);
+    }
     table_ref.row({c.name, fmt::format("{}", h_ref), fmt::format("{}", samples_ref),
                    csv_number(s.reference.amplitude), csv_number(s.reference.dissipation),
                    csv_number(s.reference.fourier), csv_number(s.floor_amplitude),

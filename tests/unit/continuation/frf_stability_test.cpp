@@ -31,7 +31,7 @@ hb::DiscreteSystem jenkins_oscillator(double kt0, double slip_force, double c) {
   return s;
 }
 
-hb::Excitation tone(double amplitude) {
+hb::Excitation force_at_dof0(double amplitude) {
   hb::Excitation e;
   e.forces.push_back({0, amplitude, 1});
   return e;
@@ -99,7 +99,7 @@ FrfOptions options(double w0, double w1, int harmonics) {
 TEST(FrfStability, LinearPeakIsLocatedToTheClosedFormWithinItsBound) {
   // |X| = F / √((1 − Ω²)² + (cΩ)²): maximum at Ω² = 1 − c²/2, of F / (c √(1 − c²/4)).
   const double c = 0.02, f = 0.01;
-  const FrfCurve curve = trace_frf(jenkins_oscillator(0.0, 0.0, c), tone(f), options(0.5, 1.5, 3));
+  const FrfCurve curve = trace_frf(jenkins_oscillator(0.0, 0.0, c), force_at_dof0(f), options(0.5, 1.5, 3));
   ASSERT_TRUE(curve.completed()) << curve.message;
   ASSERT_TRUE(curve.peak && curve.peak->refined) << (curve.peak ? curve.peak->message : "");
   const double omega = std::sqrt(1.0 - c * c / 2.0);
@@ -121,7 +121,7 @@ TEST(FrfStability, FoldsAgreeWithTheAmplitudeParametrisationAndCarryHillMultipli
   // makes a well-defined test problem: Hill's method on its Jacobian sees ρ = +1 at each fold and
   // the stretch between them unstable.
   const hb::DiscreteSystem s = jenkins_oscillator(3.0, 0.1, 1e-4);
-  const hb::Excitation e = tone(0.1);
+  const hb::Excitation e = force_at_dof0(0.1);
   FrfOptions o = options(0.5, 4.0, 5);
   o.stability_method = StabilityMethod::hill;
   const FrfCurve curve = trace_frf(s, e, o);
@@ -176,7 +176,7 @@ TEST(FrfStability, ATurnWithoutAMultiplierCrossingIsAReversalNotAFold) {
   const hb::DiscreteSystem s = jenkins_oscillator(0.3, 0.1, 1e-4);
   FrfOptions o = options(0.5, 2.0 * std::sqrt(1.3), 5);
   o.time_samples = 1024;
-  const FrfCurve curve = trace_frf(s, tone(0.00464158883361278), o);
+  const FrfCurve curve = trace_frf(s, force_at_dof0(0.00464158883361278), o);
   int reversals = 0;
   for (const auto& p : curve.points) {
     ASSERT_TRUE(p.stability_known);

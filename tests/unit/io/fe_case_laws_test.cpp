@@ -71,5 +71,24 @@ TEST(FeCaseLaws, InconsistentLawKeysAreNamed) {
   EXPECT_NE(law_error_of("{normal_stiffness: 1.0e13, law: coulomb, mu: 0.3}").find("contact.law"), std::string::npos);
 }
 
+// Issue 20, item 3 for FE cases: positive physical numbers outside [1e-100, 1e100] are refused at
+// their key (their products leave the range of doubles), the edges of the range are accepted.
+TEST(FeCaseLaws, PhysicalNumbersOutsideTheRangeOfDoublesAreRefusedAtTheirKey) {
+  const std::string huge = law_error_of("{pressure: 1.0e300, decay: 2.0e5, mu: 0.3, law: gaul-mayer}");
+  EXPECT_NE(huge.find("key 'model.interfaces[0].contact.pressure': magnitude must lie in [1e-100, 1e+100]"),
+            std::string::npos) << huge;
+  const std::string tiny = law_error_of("{pressure: 1.0e6, decay: 2.0e5, mu: 1.0e-120, law: gaul-mayer}");
+  EXPECT_NE(tiny.find("contact.mu': magnitude must lie in"), std::string::npos) << tiny;
+  EXPECT_EQ(law_error_of("{pressure: 1.0e100, decay: 1.0e-100, mu: 0.3, law: gaul-mayer}"), "no error");
+  std::string modulus = lap_case("{pressure: 1.0e6, decay: 2.0e5, mu: 0.3, law: gaul-mayer}");
+  modulus.replace(modulus.find("70.0e9"), 6, "7.0e200");
+  try {
+    (void)parse_fe_case(modulus, "laws.yaml");
+    ADD_FAILURE() << "youngs_modulus 7e200 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("youngs_modulus': magnitude must lie in"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace jointhb::io

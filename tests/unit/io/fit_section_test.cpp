@@ -54,7 +54,7 @@ TEST(io_FitSection, ReadsParametersTargetsAndOptions) {
       "-backbone.csv",
       "# comment\namplitude,frequency_hz,damping_ratio,weight,sigma_damping_ratio\n"
       "1e-6,17.2,0.0015,2,1e-4\n2e-5,17.1,0.004,1,2e-4\n");
-  const TempFile frf("-frf.csv", "frequency_hz,amplitude\n15,1e-5\n16,2e-5\n17,5e-5\n");
+  const TempFile frf_file("-frf.csv", "frequency_hz,amplitude\n15,1e-5\n16,2e-5\n17,5e-5\n");
   const TempFile modal("-modal.csv", "mode,frequency_hz,damping_ratio\n2,41.6,0.002\n");
   const std::string text = case_with(
       "  parameters:\n"
@@ -67,7 +67,7 @@ TEST(io_FitSection, ReadsParametersTargetsAndOptions) {
       backbone.path().filename().string() +
       ", use: [damping_ratio], weight: 3}\n"
       "    - {type: frf, level: 1, file: " +
-      frf.path().string() +
+      frf_file.path().string() +
       "}\n"
       "    - {type: modal, file: " +
       modal.path().string() +

@@ -303,20 +303,14 @@ TEST(ShootingJenkins, StuckContactBesideASlippingOneIsEliminated) {
   // Two DOFs: a Jenkins contact to ground at DOF 0 that slips, and one between the DOFs (with a
   // reference state) that cannot: the second is eliminated (TI-25), the monodromy is 5 × 5
   // (x, ẋ, F_0), the orbit is the cycled steady state's, whose slider is the same.
-  auto sys = two_dof();
+  auto sys = two_dof_with_stuck_link();
   hb::ContactElement ground;
   ground.law = "jenkins";
   ground.dof_a = 0;
   ground.friction_coefficient = 0.5;
   ground.normal_force = 1.0;
   ground.stiffness = 20.0 * 4.0 * pi * pi;
-  hb::ContactElement link = ground;
-  link.dof_b = 1;
-  link.normal_force = 1e6;
-  link.stiffness = 50.0;
-  link.reference_force = 0.3;
-  link.reference_slip = 0.01;
-  sys.contacts = {ground, link};
+  sys.contacts.insert(sys.contacts.begin(), ground);
   const auto ex = two_dof_forcing();
   const double omega = 2 * pi * 0.9;
   const int steps = 1024;
