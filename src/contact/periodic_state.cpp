@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+
 #include "../support/numeric_constants.hpp"
 
 namespace jointhb::contact {

@@ -28,6 +28,7 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+
 #include "../support/numeric_constants.hpp"
 
 namespace jointhb::continuation {

@@ -13,7 +13,6 @@ Eigen::VectorXd stuck_force(const ContactElement& c, const Eigen::VectorXd& g) {
   return (c.reference_force + c.stiffness * (g.array() - c.reference_slip)).matrix();
 }
 
-
 }  // namespace
 
 ContactAftResult evaluate_contact(const ContactElement& element, const contact::TangentialLaw& law,

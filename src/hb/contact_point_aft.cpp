@@ -1,6 +1,5 @@
 // AFT of one 3D contact point and of a whole interface (contact_point_aft.hpp; docs/theory.md §10).
 #include "jointhb/hb/contact_point_aft.hpp"
-#include "jointhb/contact/periodic_state.hpp"
 
 #include <fmt/format.h>
 
@@ -10,6 +9,8 @@
 #include <exception>
 #include <stdexcept>
 #include <utility>
+
+#include "jointhb/contact/periodic_state.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -105,7 +106,6 @@ bool try_shortcut(const ContactPoint& point, const ContactPointReference& ref,
   if (jacobian) r.jacobian = shortcut_jacobian(basis, k, s.normal_stiffness);
   return true;
 }
-
 
 // (I − M)^+ and the projector onto its null space, as in the periodic solve.
 std::pair<contact::Mat2, contact::Mat2> periodic_inverse(const contact::Mat2& monodromy) {

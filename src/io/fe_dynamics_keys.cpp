@@ -10,6 +10,7 @@
 
 #include "continuation_keys.hpp"
 #include "jointhb/io/value_checks.hpp"
+
 #include "../support/numeric_constants.hpp"
 
 namespace jointhb::io {

@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../support/numeric_constants.hpp"
 #include "../support/sparse_norm.hpp"
 #include "../support/stopwatch.hpp"
-#include "../support/numeric_constants.hpp"
 
 // arpack-ng's ISO C binding (arpack/arpack.h declares these too, but also complex routines whose
 // C99 `_Complex` types ISO C++ rejects).

@@ -11,8 +11,8 @@
 #include <numbers>
 
 #include "../support/gmres.hpp"
-#include "jointhb/hb/interface_mode.hpp"
 #include "../support/numeric_constants.hpp"
+#include "jointhb/hb/interface_mode.hpp"
 
 namespace jointhb::pipeline {
 namespace {

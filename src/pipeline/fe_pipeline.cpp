@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -11,15 +10,16 @@
 #include "jointhb/pipeline/stage_names.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
+
 #include "../support/numeric_constants.hpp"
+#include "../support/stopwatch.hpp"
 
 namespace jointhb::pipeline {
 namespace {
 
+using support::Clock;
 using support::kTwoPi;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using support::seconds_since;
 
 bool all_finite(std::initializer_list<double> values) {
   for (const double v : values)

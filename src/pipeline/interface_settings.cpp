@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "jointhb/pipeline/fingerprint.hpp"
+
 #include "../support/numeric_constants.hpp"
 
 namespace jointhb::pipeline {

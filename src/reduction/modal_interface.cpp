@@ -10,9 +10,9 @@
 #include <stdexcept>
 
 #include "../support/blas_gemm.hpp"
+#include "../support/numeric_constants.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
-#include "../support/numeric_constants.hpp"
 
 namespace jointhb::reduction {
 

@@ -30,9 +30,9 @@
 
 #include "period_harmonics.hpp"
 #include "../support/contact_tangent.hpp"
+#include "../support/numeric_constants.hpp"
 #include "../support/stopwatch.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
-#include "../support/numeric_constants.hpp"
 
 namespace jointhb::timeint {
 namespace {

@@ -31,6 +31,7 @@
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+
 #include "../support/numeric_constants.hpp"
 
 namespace jointhb::timeint {

@@ -10,7 +10,7 @@
 namespace jointhb::fe {
 namespace {
 
-Material steel_material() { return {"steel_material", 210e9, 0.3, 7850.0}; }
+Material steel_material() { return {"steel", 210e9, 0.3, 7850.0}; }
 
 TEST(Material, ValidateNamesTheField) {
   EXPECT_EQ(steel_material().validate(), "");
