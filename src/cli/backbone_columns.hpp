@@ -2,6 +2,7 @@
 // The columns of backbone.csv, one schema for discrete and finite-element damping curves
 // (docs/cli.md "Damping-curve outputs"): a script reads both with the same names.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,19 @@ inline const std::vector<std::string> kBackboneColumns = {
     "slipping_points",       // contact points slipping during the cycle
     "open_points",           // contact points open throughout the cycle
     "newton_iterations",     // corrector iterations of the point
-    "step"};                 // arclength step that reached the point
+    "step",                  // arclength step that reached the point
+    // Estimated relative errors of Ω and ζ (continuation/error_estimate.hpp, docs/theory.md §13):
+    // harmonic truncation (T-41) and time sampling (T-42), signed; empty where not computed
+    // (error_estimate: false, a failed estimate, and every finite-element curve)
+    "omega_error_truncation", "omega_error_aliasing", "damping_error_truncation",
+    "damping_error_aliasing"};
+
+/// The fields of the error columns of kBackboneColumns, empty (nullopt) when not computed.
+inline std::vector<std::optional<double>> backbone_error_fields(bool known, double omega_truncation,
+                                                                double omega_aliasing, double damping_truncation,
+                                                                double damping_aliasing) {
+  if (!known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
+  return {omega_truncation, omega_aliasing, damping_truncation, damping_aliasing};
+}
 
 }  // namespace jointhb::cli

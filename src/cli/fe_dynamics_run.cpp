@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "backbone_columns.hpp"
 #include "cli_support.hpp"
@@ -136,10 +138,14 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       const auto on_point = [&](const pipeline::BackbonePoint& s) {
         const double slip_fraction =
             s.contact_points > 0 ? static_cast<double>(s.slipping_points) / s.contact_points : 0.0;
-        csv.write_row({static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
-                       s.damping_ratio, s.dissipation, s.viscous_dissipation, s.damping_ratio_energy, slip_fraction,
-                       static_cast<double>(s.slipping_points), static_cast<double>(s.open_points),
-                       static_cast<double>(s.newton_iterations), s.step});
+        // The error columns stay empty: the estimates are computed for discrete curves only.
+        std::vector<std::optional<double>> row = {
+            static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
+            s.damping_ratio, s.dissipation, s.viscous_dissipation, s.damping_ratio_energy, slip_fraction,
+            static_cast<double>(s.slipping_points), static_cast<double>(s.open_points),
+            static_cast<double>(s.newton_iterations), s.step};
+        for (const auto& field : backbone_error_fields(false, 0.0, 0.0, 0.0, 0.0)) row.push_back(field);
+        csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rmode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d   ", mode, s.amplitude,
                        s.frequency_hz, s.damping_ratio, s.slipping_points, points);

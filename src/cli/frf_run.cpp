@@ -25,12 +25,39 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// The numeric columns of frf.csv; with stability, "stable" (1, 0; −1 where Hill's method failed)
+// The numeric columns of frf.csv (the four error columns empty where the estimate is not computed:
+// error_estimate: false or a failed estimate); with stability, "stable" (1, 0; −1 where Hill's method failed)
 // and "max_floquet_multiplier" (max |ρ|; −1 where unknown) follow, and the word column
 // "bifurcation" (hb::to_string(Bifurcation)) ends every row.
 const std::vector<std::string> kFrfColumns = {
     "level",       "force_amplitude",   "omega", "frequency_hz", "amplitude_h1", "amplitude_max",
-    "dissipation", "newton_iterations", "step",  "fold"};
+    "dissipation", "newton_iterations", "step",  "fold",
+    // Estimated relative errors (continuation/error_estimate.hpp, docs/theory.md §13), signed:
+    // harmonic truncation (T-41) and time sampling (T-42) of amplitude_h1 and amplitude_max
+    "amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
+    "amplitude_max_error_aliasing"};
+
+// The worst |estimate| of each source over the known points of a curve (summary.json).
+struct WorstErrors {
+  int known = 0;
+  double first_truncation = 0.0, first_aliasing = 0.0;    // Ω (damping curve), amplitude_h1 (FRF)
+  double second_truncation = 0.0, second_aliasing = 0.0;  // ζ (damping curve), amplitude_max (FRF)
+  void add(bool point_known, const continuation::ErrorPair& first, const continuation::ErrorPair& second) {
+    if (!point_known) return;
+    ++known;
+    first_truncation = std::max(first_truncation, std::abs(first.truncation));
+    first_aliasing = std::max(first_aliasing, std::abs(first.aliasing));
+    second_truncation = std::max(second_truncation, std::abs(second.truncation));
+    second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
+  }
+  // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.
+  [[nodiscard]] Json json(const char* first, const char* second) const {
+    const auto value = [&](double v) { return known > 0 ? Json(v) : Json(nullptr); };
+    return {{"points_known", known},
+            {first, {{"truncation", value(first_truncation)}, {"aliasing", value(first_aliasing)}}},
+            {second, {{"truncation", value(second_truncation)}, {"aliasing", value(second_aliasing)}}}};
+  }
+};
 
 std::vector<std::string> frf_columns(bool stability) {
   std::vector<std::string> columns = kFrfColumns;
@@ -119,6 +146,7 @@ Json inputs_json(const io::DiscreteCase& c) {
                      {"harmonic_selection", selection_name(f.selection)},
                      {"periodic_tolerance", f.periodic_tolerance},
                      {"check_jacobian", f.check_jacobian},
+                     {"error_estimate", f.error_estimate},
                      {"stability", f.stability == continuation::Stability::automatic ? "auto"
                                    : f.stability == continuation::Stability::always  ? "true"
                                                                                      : "false"},
@@ -141,6 +169,7 @@ Json inputs_json(const io::DiscreteCase& c) {
         {"time_samples", b.mode.time_samples},
         {"harmonic_selection", selection_name(b.mode.selection)},
         {"periodic_tolerance", b.mode.periodic_tolerance},
+        {"error_estimate", b.error_estimate},
         {"continuation",
          {{"initial_step", b.continuation.initial_step},
           {"min_step", b.continuation.min_step},
@@ -231,11 +260,15 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
     j["jacobian_check_error"] = curve.jacobian_check_error;
     j["jacobian_check_omega"] = curve.jacobian_check_omega;
   }
+  WorstErrors worst;
+  for (const auto& p : curve.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
+  j["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
   j["seconds"] = {{"aft", curve.timings.aft},
                   {"assembly", curve.timings.assembly},
                   {"linear_solve", curve.timings.linear_solve},
                   {"stability", curve.timings.stability},
                   {"refinement", curve.timings.refinement},
+                  {"error_estimate", curve.timings.error_estimate},
                   {"total", curve.timings.total}};
   return j;
 }
@@ -307,16 +340,20 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       for (double v : {p.omega, p.amplitude_h1, p.amplitude_max, p.dissipation}) {
         require_finite_result("frf point", v);
       }
-      std::vector<double> row = {static_cast<double>(l), force, p.omega,
-                                 p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
-                                 p.amplitude_max, p.dissipation,
-                                 static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
+      std::vector<std::optional<double>> row = {static_cast<double>(l), force, p.omega,
+                                                p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
+                                                p.amplitude_max, p.dissipation,
+                                                static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
+      for (const double v : {p.error.amplitude_h1.truncation, p.error.amplitude_h1.aliasing,
+                             p.error.amplitude_max.truncation, p.error.amplitude_max.aliasing}) {
+        row.push_back(p.error.known ? std::optional<double>(v) : std::nullopt);
+      }
       if (stability) {
         row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
         row.push_back(p.stability_known ? p.max_multiplier : -1.0);
       }
       const std::string bifurcation = hb::to_string(p.bifurcation);
-      csv.write_row(row, std::span<const std::string>(&bifurcation, 1));
+      csv.write_row(std::span<const std::optional<double>>(row), std::span<const std::string>(&bifurcation, 1));
       written.push_back(p);
       ++outcome.rows;
       if (progress) {
@@ -367,17 +404,26 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     continuation::BackboneOptions options = *c.nonlinear_modes;
     options.mode.mode = mode;
     Json points = Json::array();
+    WorstErrors worst;  // over the rows written (the curve's points are lost when an error ends it)
     const auto on_point = [&](const continuation::BackbonePoint& p) {
       const hb::NonlinearModeState& s = p.state;
       for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
         require_finite_result("backbone point", v);
       }
       // Discrete contacts carry a constant normal force: none is ever open.
-      csv.write_row({static_cast<double>(mode), s.amplitude, p.output_amplitude, s.omega,
-                     s.omega / (2.0 * std::numbers::pi), s.damping_ratio, s.dissipation,
-                     s.viscous_dissipation, s.damping_ratio_energy, s.slip_fraction,
-                     static_cast<double>(s.slipping_points), 0.0,
-                     static_cast<double>(p.iterations), p.step});
+      std::vector<std::optional<double>> row = {
+          static_cast<double>(mode), s.amplitude, p.output_amplitude, s.omega,
+          s.omega / (2.0 * std::numbers::pi), s.damping_ratio, s.dissipation,
+          s.viscous_dissipation, s.damping_ratio_energy, s.slip_fraction,
+          static_cast<double>(s.slipping_points), 0.0,
+          static_cast<double>(p.iterations), p.step};
+      const continuation::BackboneError& e = p.error;
+      for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
+                                                     e.damping.truncation, e.damping.aliasing)) {
+        row.push_back(field);
+      }
+      csv.write_row(std::span<const std::optional<double>>(row));
+      worst.add(e.known, e.omega, e.damping);
       points.push_back({{"amplitude", s.amplitude},
                         {"omega", s.omega},
                         {"frequency_hz", s.omega / (2.0 * std::numbers::pi)},
@@ -422,7 +468,9 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
          {"newton_iterations", curve.newton_iterations},
          {"rejected_steps", curve.rejected_steps},
          {"seconds", curve.seconds},
+         {"error_estimate", worst.json("omega", "damping")},
          {"curve", points}});
+    if (!lost) entry["error_estimate"]["seconds"] = curve.error_seconds;
     summary["backbones"].push_back(std::move(entry));
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",

@@ -84,6 +84,17 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   c.state_scale[epmc.unknowns() - 2] = epmc.linear_omega();
   c.state_scale[epmc.unknowns() - 1] = 0.1 * epmc.linear_omega();
 
+  // The finer residuals of the error estimates (error_estimate.hpp); none when the H + 2 basis
+  // cannot be built (the points then carry error.known = false).
+  std::optional<BackboneErrorEstimator> estimator;
+  if (options.error_estimate) {
+    try {
+      estimator.emplace(system, options.mode);
+    } catch (const std::invalid_argument&) {
+      estimator.reset();
+    }
+  }
+
   // The last evaluation's contact results are kept so that an accepted point's diagnostics cost
   // no extra evaluation when the corrector ended on it (as in trace_frf).
   hb::NonlinearModeResidual::Evaluation last;
@@ -122,6 +133,11 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
     b.iterations = p.iterations;
     b.step = p.step;
     b.unknowns = p.x;
+    if (estimator) {
+      const auto estimate_start = support::Clock::now();
+      b.error = estimator->estimate(epmc, p.x, p.lambda);
+      curve.error_seconds += support::seconds_since(estimate_start);
+    }
     curve.points.push_back(b);
     return on_point ? on_point(b) : true;
   };

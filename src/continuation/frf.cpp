@@ -410,6 +410,16 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
                           "stability: true to compute it",
                           system.dofs(), kAutomaticStabilityDofs);
   }
+  // The finer balances of the error estimates (error_estimate.hpp); none when the H + 2 basis
+  // cannot be built (the points then carry error.known = false).
+  std::optional<FrfErrorEstimator> estimator;
+  if (options.error_estimate) {
+    try {
+      estimator.emplace(system, excitation, balance_options(options));
+    } catch (const std::invalid_argument&) {
+      estimator.reset();
+    }
+  }
   std::optional<hb::FloquetResult> previous_floquet;
   std::vector<Eigen::VectorXd> tangents;  // of the accepted points, to locate folds and the peak
   curve.kept_harmonics = basis.orders();
@@ -452,6 +462,11 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
       previous_floquet = std::move(floquet);
     } else if (p.fold) {
       f.bifurcation = hb::Bifurcation::fold;
+    }
+    if (estimator) {
+      const auto estimate_start = Clock::now();
+      f.error = estimator->estimate(balance, p.x, p.lambda, options.output_dof);
+      curve.timings.error_estimate += seconds_since(estimate_start);
     }
     if (options.refine_extrema) tangents.push_back(p.tangent);
     if (options.check_jacobian) {

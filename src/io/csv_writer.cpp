@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace jointhb::io {
 
@@ -33,6 +34,11 @@ CsvWriter::CsvWriter(std::filesystem::path path, std::vector<std::string> column
 void CsvWriter::write_row(std::span<const double> values) { write_row(values, {}); }
 
 void CsvWriter::write_row(std::span<const double> values, std::span<const std::string> labels) {
+  const std::vector<std::optional<double>> known(values.begin(), values.end());
+  write_row(std::span<const std::optional<double>>(known), labels);
+}
+
+void CsvWriter::write_row(std::span<const std::optional<double>> values, std::span<const std::string> labels) {
   if (values.size() + labels.size() != columns_.size()) {
     throw std::invalid_argument("CsvWriter: row of " + std::to_string(values.size() + labels.size()) +
                                 " values for " + std::to_string(columns_.size()) + " columns in '" +
@@ -45,7 +51,7 @@ void CsvWriter::write_row(std::span<const double> values, std::span<const std::s
     }
   }
   for (std::size_t i = 0; i < values.size(); ++i) {
-    if (!std::isfinite(values[i])) {
+    if (values[i] && !std::isfinite(*values[i])) {
       throw std::invalid_argument("CsvWriter: column '" + columns_[i] + "' of '" + path_.string() +
                                   "' is not finite");
     }
@@ -54,11 +60,12 @@ void CsvWriter::write_row(std::span<const double> values, std::span<const std::s
   std::string line;
   char buffer[32];
   for (std::size_t i = 0; i < values.size(); ++i) {
-    std::snprintf(buffer, sizeof buffer, "%.17g", values[i]);
     if (i) line += ',';
+    if (!values[i]) continue;  // empty field: not known
+    std::snprintf(buffer, sizeof buffer, "%.17g", *values[i]);
     line += buffer;
   }
-  for (const std::string& label : labels) line += (line.empty() ? "" : ",") + label;
+  for (std::size_t j = 0; j < labels.size(); ++j) line += (values.empty() && j == 0 ? "" : ",") + labels[j];
   line += '\n';
   out_ << line;
   flush_or_throw();

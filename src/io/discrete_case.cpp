@@ -622,7 +622,7 @@ class DiscreteCaseReader {
         node, path,
         {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
          "periodic_tolerance", "check_jacobian", "stability", "stability_method",
-         "continuation"});
+         "error_estimate", "continuation"});
     continuation::FrfOptions o;
 
     const auto* omega = f.find("omega");
@@ -654,6 +654,7 @@ class DiscreteCaseReader {
       selection_node_ = *selection;
     }
     read_flag(f, "check_jacobian", o.check_jacobian);
+    read_flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     if (const auto* stability = f.find("stability")) {  // Hill's method at every point
       const std::string key = f.path_of("stability");
       const std::string value = reader_.text(stability->value, key);
@@ -679,7 +680,8 @@ class DiscreteCaseReader {
                                                      const std::string& path, int n) {
     const Fields f = reader_.fields(node, path,
                                     {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
-                                     "harmonic_selection", "periodic_tolerance", "continuation"});
+                                     "harmonic_selection", "periodic_tolerance", "error_estimate",
+                                     "continuation"});
     continuation::BackboneOptions o;
     modes_.clear();
     if (const auto* mode = f.find("mode")) {
@@ -730,6 +732,7 @@ class DiscreteCaseReader {
     }
     read_harmonics(f, o.mode.harmonics, o.mode.time_samples);
     read_selection(f, o.mode.selection, o.mode.periodic_tolerance);
+    read_flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

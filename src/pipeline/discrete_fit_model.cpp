@@ -99,6 +99,7 @@ PredictedCurve predict_backbone(const DiscreteProblem& c, const Target& target) 
       options.log10_amplitude_end = needed;
     }
   }
+  options.error_estimate = false;  // a fit uses the points alone: the estimates would cost for nothing
   const continuation::BackboneCurve curve = continuation::trace_backbone(c.system, options);
   std::vector<double> lambda;
   for (const auto& p : curve.points) {
@@ -160,11 +161,12 @@ PredictedCurve predict_frf(const DiscreteProblem& c, const Target& target) {
         fmt::format("level {} does not exist (the case has {})", target.level, c.levels.size());
     return out;
   }
-  // A fit compares amplitudes at the targets' frequencies: stability and the located extrema
-  // would cost an eigenproblem or a monodromy per point of every evaluation for nothing.
+  // A fit compares amplitudes at the targets' frequencies: stability, the located extrema and the
+  // error estimates would cost an eigenproblem or a monodromy per point of every evaluation for nothing.
   continuation::FrfOptions options = *c.frf;
   options.stability = continuation::Stability::never;
   options.refine_extrema = false;
+  options.error_estimate = false;  // nor the error estimates (continuation/error_estimate.hpp)
   const hb::Excitation& level = c.levels[static_cast<std::size_t>(target.level)];
   const continuation::FrfCurve curve = continuation::trace_frf(c.system, level, options);
   std::vector<double> omega, amplitude;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/nonlinear_mode.hpp"
 
@@ -24,6 +25,9 @@ struct BackboneOptions {
     o.residual_tolerance = 1e-12;
     return o;
   }();
+  /// Error estimates of every accepted point (continuation/error_estimate.hpp, docs/theory.md
+  /// §13): one Jacobian at H + 2, one at H and a residual at 2 N_t per point
+  bool error_estimate = true;
   [[nodiscard]] std::string validate(int dofs) const;
 };
 
@@ -33,6 +37,7 @@ struct BackbonePoint {
   double output_amplitude = 0.0;  ///< |fundamental| of options.output_dof: q √(â₁² + b̂₁²) [m]
   int iterations = 0;
   double step = 0.0;
+  BackboneError error;       ///< estimated relative errors of Ω and ζ (with error_estimate)
   Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ)
 };
 
@@ -45,6 +50,7 @@ struct BackboneCurve {
   double linear_omega = 0.0;          ///< ω of the followed linear mode (contacts stuck)
   double linear_damping_ratio = 0.0;  ///< φᵀCφ / (2ω)
   double seconds = 0.0;
+  double error_seconds = 0.0;  ///< of the error estimates (included in seconds)
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

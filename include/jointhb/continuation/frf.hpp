@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
@@ -67,6 +68,9 @@ struct FrfOptions {
   hb::OrbitMonodromyOptions monodromy;  ///< the monodromy's settings
   /// Folds and the resonance peak located between accepted points (docs/stability.md §3)
   bool refine_extrema = true;
+  /// Error estimates of every accepted point (continuation/error_estimate.hpp, docs/theory.md
+  /// §13): one Jacobian at H + 2, one at H and a residual at 2 N_t per point
+  bool error_estimate = true;
   Options continuation;         ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
@@ -93,6 +97,7 @@ struct FrfPoint {
   /// multiplier that crossed the unit circle)
   hb::Bifurcation bifurcation = hb::Bifurcation::none;
   Eigen::VectorXcd multipliers;  ///< the 2n multipliers, |ρ| descending (empty when not known)
+  FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
   Eigen::VectorXd coefficients;  ///< X: harmonic coefficients of all DOFs (hb/fourier.hpp order)
 };
 
@@ -118,6 +123,7 @@ struct FrfTimings {
   double linear_solve = 0.0;  ///< factorisations and solves [s]
   double stability = 0.0;     ///< Hill's method at the accepted points [s]
   double refinement = 0.0;    ///< location of folds and the peak [s]
+  double error_estimate = 0.0;  ///< error estimates of the accepted points [s] (their AFT included)
   double total = 0.0;
 };
 

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,10 @@ class CsvWriter {
   /// others numbers. Throws std::invalid_argument as write_row does, and for a label that is empty
   /// or holds a comma, quote, line break or space.
   void write_row(std::span<const double> values, std::span<const std::string> labels);
+
+  /// As above, with an empty field for a value that is not known (std::nullopt), e.g. an output
+  /// that one kind of run does not compute: still never a NaN.
+  void write_row(std::span<const std::optional<double>> values, std::span<const std::string> labels = {});
 
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
   [[nodiscard]] const std::vector<std::string>& columns() const { return columns_; }
