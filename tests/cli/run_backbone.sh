@@ -48,6 +48,16 @@ for c in s["curves"]:
     wb = om[i] + t * (om[i + 1] - om[i])
     assert abs(w - wb) < 0.01 * wb, (a, w, wb)
     print(f"ok: FRF peak at {w:.3f} rad/s, backbone {wb:.3f} rad/s ({(w - wb) / wb:+.1e})")
+# Error estimates (docs/theory.md §13): a number in every row, the worst in summary.json; H = 7,
+# N_t = 128: below 1 % everywhere, and not zero once the joint slips.
+cols = ["omega_error_truncation", "omega_error_aliasing", "damping_error_truncation", "damping_error_aliasing"]
+e = b["error_estimate"]
+assert e["points_known"] == len(rows), e
+for out, (t, a) in (("omega", cols[:2]), ("damping", cols[2:])):
+    vt = [abs(float(r[t])) for r in rows]
+    va = [abs(float(r[a])) for r in rows]
+    assert e[out]["truncation"] == max(vt) and e[out]["aliasing"] == max(va), (out, e[out])
+    assert 1e-8 < max(vt) < 1e-2 and 1e-8 < max(va) < 1e-2, (out, max(vt), max(va))
 print(f"ok: {len(rows)} backbone points, f {om[0] / 2 / math.pi:.3f} -> "
       f"{om[-1] / 2 / math.pi:.3f} Hz, peak damping {peak:.3f}")
 PY

@@ -61,6 +61,49 @@ assert 0 < worst < 1e-4, worst
 print(f"ok: Jacobian vs central differences, worst {worst:.1e}")
 PY
 
+# Error estimates (docs/theory.md §13): on by default, a number in every row's four error columns,
+# the worst per curve in summary.json; error_estimate: false leaves the columns empty (never nan);
+# a value other than true/false is refused on one line naming the key.
+"$PYTHON" - "$WORK/out/frf.csv" "$WORK/out/summary.json" <<'PY' || fail "error estimates"
+import csv, json, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+cols = ["amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
+        "amplitude_max_error_aliasing"]
+assert all(c in s["columns"]["frf"] for c in cols), s["columns"]["frf"]
+assert s["inputs"]["frf"]["error_estimate"] is True
+for c in s["curves"]:
+    mine = [r for r in rows if int(float(r["level"])) == c["level"]]
+    e = c["error_estimate"]
+    assert e["points_known"] == len(mine), (e["points_known"], len(mine))
+    for out, (t, a) in (("amplitude_h1", cols[:2]), ("amplitude_max", cols[2:])):
+        vt = [abs(float(r[t])) for r in mine]
+        va = [abs(float(r[a])) for r in mine]
+        assert all(math.isfinite(v) for v in vt + va)
+        assert e[out]["truncation"] == max(vt) and e[out]["aliasing"] == max(va), (out, e[out])
+        # H = 7, N_t = 128 on a two-DOF Jenkins case: percent-level at worst, not zero
+        assert 0 < max(vt) < 0.1 and 0 < max(va) < 0.1, (out, max(vt), max(va))
+    assert c["seconds"]["error_estimate"] > 0
+print("ok: error estimates in frf.csv and summary.json, worst "
+      f"{max(c['error_estimate']['amplitude_h1']['truncation'] for c in s['curves']):.1e} (truncation), "
+      f"{max(c['error_estimate']['amplitude_h1']['aliasing'] for c in s['curves']):.1e} (aliasing)")
+PY
+sed 's/output_dof: 1/output_dof: 1\n    error_estimate: false/' "$CASE" >"$WORK/noest.yaml"
+run_capture run "$WORK/noest.yaml" -o "$WORK/noest"
+[ "$STATUS" -eq 0 ] || fail "error_estimate: false run exited $STATUS: $(cat "$ERR")"
+grep -qi nan "$WORK/noest/frf.csv" && fail "frf.csv of error_estimate: false contains nan"
+"$PYTHON" - "$WORK/noest/frf.csv" "$WORK/noest/summary.json" <<'PY' || fail "error_estimate: false"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+s = json.load(open(sys.argv[2]))
+assert rows and all(r[c] == "" for r in rows for c in r if "_error_" in c), rows[0]
+assert all(c["error_estimate"]["points_known"] == 0 and c["error_estimate"]["amplitude_h1"]["truncation"] is None
+           for c in s["curves"]), s["curves"][0]["error_estimate"]
+print(f"ok: error_estimate: false: {len(rows)} rows with empty error columns")
+PY
+sed 's/output_dof: 1/output_dof: 1\n    error_estimate: maybe/' "$CASE" >"$WORK/badest.yaml"
+refused badest "badest.yaml:[0-9]*:[0-9]*: key 'analysis.frf.error_estimate'" run "$WORK/badest.yaml"
+
 # Set-up errors: one line, exit 2, no output directory.
 sed 's/amplitude: \[0.05, 0.5, 1.5\]/amplitude: [0.05, 0.5, 1.5], harmonic: 9/' "$CASE" >"$WORK/h9.yaml"
 expect_bad_input run "$WORK/h9.yaml" -o "$WORK/none"
