@@ -12,7 +12,8 @@ namespace jointhb::continuation {
 namespace {
 
 // δ = −J⁻¹ R (dense LU with partial pivoting), nullopt when J is singular or δ not finite.
-std::optional<Eigen::VectorXd> estimate_newton_step(const Eigen::MatrixXd& j, const Eigen::VectorXd& r) {
+std::optional<Eigen::VectorXd> estimate_newton_step(const Eigen::MatrixXd& j,
+                                                    const Eigen::VectorXd& r) {
   if (j.rows() != r.size() || j.cols() != r.size()) return std::nullopt;
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(j);
   Eigen::VectorXd step = -lu.solve(r);
@@ -22,9 +23,10 @@ std::optional<Eigen::VectorXd> estimate_newton_step(const Eigen::MatrixXd& j, co
 
 // 1 on the rows of `to` (DOF-major coefficients of `dofs` DOFs) whose harmonic `from` keeps, 0 on
 // the new ones: the transfer of ones.
-Eigen::VectorXd estimate_kept_rows(const hb::FourierBasis& from, const hb::FourierBasis& to, int dofs) {
-  return hb::transfer_coefficients(from, to, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(dofs) * from.size()),
-                                   dofs);
+Eigen::VectorXd estimate_kept_rows(const hb::FourierBasis& from, const hb::FourierBasis& to,
+                                   int dofs) {
+  return hb::transfer_coefficients(
+      from, to, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(dofs) * from.size()), dofs);
 }
 
 // (after − before)/|before|, or after − before where before = 0.
@@ -34,11 +36,13 @@ double estimate_relative(double after, double before) {
 }
 
 // The relative changes of Ω and ζ = ξ/(2Ω) from EPMC unknowns y (…, Ω, ξ) to y + δ.
-std::pair<double, double> estimate_mode_changes(const Eigen::VectorXd& y, const Eigen::VectorXd& step) {
+std::pair<double, double> estimate_mode_changes(const Eigen::VectorXd& y,
+                                                const Eigen::VectorXd& step) {
   const Eigen::Index n = y.size();
   const double omega = y[n - 2], xi = y[n - 1];
   const double omega1 = omega + step[n - 2], xi1 = xi + step[n - 1];
-  return {estimate_relative(omega1, omega), estimate_relative(xi1 / (2.0 * omega1), xi / (2.0 * omega))};
+  return {estimate_relative(omega1, omega),
+          estimate_relative(xi1 / (2.0 * omega1), xi / (2.0 * omega))};
 }
 
 hb::NonlinearModeOptions estimate_mode_options(hb::NonlinearModeOptions o, bool finer) {
@@ -62,9 +66,11 @@ hb::HarmonicBalanceOptions estimate_balance_options(hb::HarmonicBalanceOptions o
 }
 
 // |fundamental| and max_t |x(t)| of DOF `dof` of coefficients x of balance b.
-std::pair<double, double> estimate_frf_outputs(const hb::HarmonicBalance& b, const Eigen::VectorXd& x, int dof) {
+std::pair<double, double> estimate_frf_outputs(const hb::HarmonicBalance& b,
+                                               const Eigen::VectorXd& x, int dof) {
   const hb::FourierBasis& basis = b.basis();
-  return {b.fundamental_amplitude(x, dof), basis.peak_magnitude(x.segment(b.index(dof, 0), basis.size()))};
+  return {b.fundamental_amplitude(x, dof),
+          basis.peak_magnitude(x.segment(b.index(dof, 0), basis.size()))};
 }
 
 }  // namespace
@@ -80,8 +86,8 @@ BackboneErrorEstimator::BackboneErrorEstimator(const hb::DiscreteSystem& system,
     : finer_(system, estimate_mode_options(options, true)),
       sampled_(system, estimate_mode_options(options, false)) {}
 
-BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& base, const Eigen::VectorXd& y,
-                                               double lambda) const {
+BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& base,
+                                               const Eigen::VectorXd& y, double lambda) const {
   BackboneError e;
   const Eigen::Index nb = base.balance().unknowns();
   const int dofs = base.balance().system().dofs();
@@ -93,12 +99,14 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
   hb::NonlinearModeResidual::Evaluation ev;
   finer_.evaluate(yf, lambda, true, ev);
   if (!ev.ok) return e;
-  // The rows of the new harmonics alone (T-41): the others hold the tolerance and, where N_t' > N_t,
-  // the sampling change that (T-42) estimates; the amplitude and phase rows involve harmonic 1 only.
+  // The rows of the new harmonics alone (T-41): the others hold the tolerance and, where N_t' >
+  // N_t, the sampling change that (T-42) estimates; the amplitude and phase rows involve harmonic 1
+  // only.
   const Eigen::Index nf = finer_.balance().unknowns();
   Eigen::VectorXd r_new = Eigen::VectorXd::Zero(ev.residual.size());
   r_new.head(nf) = ev.residual.head(nf).cwiseProduct(
-      Eigen::VectorXd::Ones(nf) - estimate_kept_rows(base.balance().basis(), finer_.balance().basis(), dofs));
+      Eigen::VectorXd::Ones(nf) -
+      estimate_kept_rows(base.balance().basis(), finer_.balance().basis(), dofs));
   const std::optional<Eigen::VectorXd> truncation = estimate_newton_step(ev.d_state, r_new);
   if (!truncation) return e;
   // (T-42): the residual with 2 N_t samples, the step with the N_t Jacobian.
@@ -115,13 +123,14 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
   return e;
 }
 
-FrfErrorEstimator::FrfErrorEstimator(const hb::DiscreteSystem& system, const hb::Excitation& excitation,
+FrfErrorEstimator::FrfErrorEstimator(const hb::DiscreteSystem& system,
+                                     const hb::Excitation& excitation,
                                      const hb::HarmonicBalanceOptions& options)
     : finer_(system, excitation, estimate_balance_options(options, true)),
       sampled_(system, excitation, estimate_balance_options(options, false)) {}
 
-FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eigen::VectorXd& x, double omega,
-                                     int dof) const {
+FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eigen::VectorXd& x,
+                                     double omega, int dof) const {
   FrfError e;
   const auto [h1, peak] = estimate_frf_outputs(base, x, dof);
   // (T-41) at fixed Ω.
@@ -142,7 +151,8 @@ FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eige
   sampled_.evaluate(x, omega, false, fine);
   base.evaluate(x, omega, true, jac);
   if (!fine.ok || !jac.ok) return e;
-  const std::optional<Eigen::VectorXd> aliasing = estimate_newton_step(jac.d_coefficients, fine.residual);
+  const std::optional<Eigen::VectorXd> aliasing =
+      estimate_newton_step(jac.d_coefficients, fine.residual);
   if (!aliasing) return e;
   const auto [h1_a, peak_a] = estimate_frf_outputs(base, x + *aliasing, dof);
   e.amplitude_h1 = {estimate_relative(h1_t, h1), estimate_relative(h1_a, h1)};
@@ -157,8 +167,9 @@ namespace {
 // Newton at fixed parameter with step halving: `evaluate(y, jacobian)` returns {R, J, ok};
 // converged when the scaled residual norm ‖R‖∞/scale ≤ tolerance.
 template <class Evaluate>
-std::optional<Eigen::VectorXd> estimate_newton_solve(const Evaluate& evaluate, Eigen::VectorXd y, double tolerance,
-                                                     double scale, int iterations) {
+std::optional<Eigen::VectorXd> estimate_newton_solve(const Evaluate& evaluate, Eigen::VectorXd y,
+                                                     double tolerance, double scale,
+                                                     int iterations) {
   auto [r, j, ok] = evaluate(y, true);
   if (!ok) return std::nullopt;
   for (int it = 0; it < iterations; ++it) {
@@ -187,18 +198,20 @@ std::optional<Eigen::VectorXd> estimate_newton_solve(const Evaluate& evaluate, E
     }
     if (!moved) return std::nullopt;
   }
-  return r.template lpNorm<Eigen::Infinity>() <= tolerance * scale ? std::optional<Eigen::VectorXd>(y)
-                                                                    : std::nullopt;
+  return r.template lpNorm<Eigen::Infinity>() <= tolerance * scale
+             ? std::optional<Eigen::VectorXd>(y)
+             : std::nullopt;
 }
 
 }  // namespace
 
-std::optional<Eigen::VectorXd> solve_mode_at(const hb::NonlinearModeResidual& r, Eigen::VectorXd y, double lambda,
-                                             double tolerance, int iterations) {
+std::optional<Eigen::VectorXd> solve_mode_at(const hb::NonlinearModeResidual& r, Eigen::VectorXd y,
+                                             double lambda, double tolerance, int iterations) {
   const auto evaluate = [&](const Eigen::VectorXd& at, bool jacobian) {
     hb::NonlinearModeResidual::Evaluation ev;
     r.evaluate(at, lambda, jacobian, ev);
-    return std::tuple<Eigen::VectorXd, Eigen::MatrixXd, bool>{std::move(ev.residual), std::move(ev.d_state), ev.ok};
+    return std::tuple<Eigen::VectorXd, Eigen::MatrixXd, bool>{std::move(ev.residual),
+                                                              std::move(ev.d_state), ev.ok};
   };
   // R̂'s scale is the stiffness seen by the mode, ω² (as in trace_backbone); the amplitude and
   // phase rows are O(1) and polished by the last step.
@@ -206,13 +219,14 @@ std::optional<Eigen::VectorXd> solve_mode_at(const hb::NonlinearModeResidual& r,
   return estimate_newton_solve(evaluate, std::move(y), tolerance, scale, iterations);
 }
 
-std::optional<Eigen::VectorXd> solve_balance_at(const hb::HarmonicBalance& b, Eigen::VectorXd x, double omega,
-                                                double tolerance, double scale, int iterations) {
+std::optional<Eigen::VectorXd> solve_balance_at(const hb::HarmonicBalance& b, Eigen::VectorXd x,
+                                                double omega, double tolerance, double scale,
+                                                int iterations) {
   const auto evaluate = [&](const Eigen::VectorXd& at, bool jacobian) {
     hb::HarmonicBalanceEvaluation ev;
     b.evaluate(at, omega, jacobian, ev);
-    return std::tuple<Eigen::VectorXd, Eigen::MatrixXd, bool>{std::move(ev.residual), std::move(ev.d_coefficients),
-                                                              ev.ok};
+    return std::tuple<Eigen::VectorXd, Eigen::MatrixXd, bool>{std::move(ev.residual),
+                                                              std::move(ev.d_coefficients), ev.ok};
   };
   return estimate_newton_solve(evaluate, std::move(x), tolerance, scale, iterations);
 }

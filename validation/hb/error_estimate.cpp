@@ -52,7 +52,7 @@ namespace reference = jointhb::error_reference;
 // 0.37–3.3, aliasing at H ≤ 3 0.14–2.3)
 constexpr double kTruncationFactor = 5.0;
 constexpr double kAliasingFactor = 10.0;
-constexpr double kAbove = 1e-8;      // true errors below this are round-off/tolerance level
+constexpr double kAbove = 1e-8;  // true errors below this are round-off/tolerance level
 
 struct Model {
   std::string name;
@@ -96,28 +96,33 @@ struct Row {
 };
 
 // Writes one row per output and scores it.
-void score_rows(const std::string& where, const std::vector<Row>& rows, int h, int samples, bool slipping_jenkins,
-                Csv& csv, Scorecard& score, std::vector<std::string>& summary) {
-  const auto ratio = [](double estimate, double truth) { return truth != 0.0 ? estimate / truth : 0.0; };
+void score_rows(const std::string& where, const std::vector<Row>& rows, int h, int samples,
+                bool slipping_jenkins, Csv& csv, Scorecard& score,
+                std::vector<std::string>& summary) {
+  const auto ratio = [](double estimate, double truth) {
+    return truth != 0.0 ? estimate / truth : 0.0;
+  };
   bool alias_large = false;
   for (const Row& r : rows) {
     const double total = r.estimate.truncation + r.estimate.aliasing;
     csv.row({csv_text(where), csv_text(r.output), std::to_string(h), std::to_string(samples),
              csv_number(r.estimate.truncation), csv_number(r.truth.truncation),
-             csv_number(ratio(r.estimate.truncation, r.truth.truncation)), csv_number(r.estimate.aliasing),
-             csv_number(r.truth.aliasing), csv_number(ratio(r.estimate.aliasing, r.truth.aliasing)),
-             csv_number(total), csv_number(r.truth.total), csv_number(ratio(total, r.truth.total))});
-    summary.push_back(fmt::format("  {:<34} {:<13} H={} N_t={:<4} trunc {:>10.2e}/{:>10.2e} = {:>6.2f}   "
-                                  "alias {:>10.2e}/{:>10.2e} = {:>6.2f}",
-                                  where, r.output, h, samples, r.estimate.truncation, r.truth.truncation,
-                                  ratio(r.estimate.truncation, r.truth.truncation), r.estimate.aliasing,
-                                  r.truth.aliasing, ratio(r.estimate.aliasing, r.truth.aliasing)));
+             csv_number(ratio(r.estimate.truncation, r.truth.truncation)),
+             csv_number(r.estimate.aliasing), csv_number(r.truth.aliasing),
+             csv_number(ratio(r.estimate.aliasing, r.truth.aliasing)), csv_number(total),
+             csv_number(r.truth.total), csv_number(ratio(total, r.truth.total))});
+    summary.push_back(
+        fmt::format("  {:<34} {:<13} H={} N_t={:<4} trunc {:>10.2e}/{:>10.2e} = {:>6.2f}   "
+                    "alias {:>10.2e}/{:>10.2e} = {:>6.2f}",
+                    where, r.output, h, samples, r.estimate.truncation, r.truth.truncation,
+                    ratio(r.estimate.truncation, r.truth.truncation), r.estimate.aliasing,
+                    r.truth.aliasing, ratio(r.estimate.aliasing, r.truth.aliasing)));
     const double t = std::abs(r.truth.total);
     const auto within = [&](double estimate, double truth, double factor, const char* what) {
       const double q = ratio(estimate, truth);
       score.check(q >= 1.0 / factor && q <= factor,
-                  fmt::format("{} {} H={} N_t={}: {} estimate {:.3e} against true {:.3e}", where, r.output, h,
-                              samples, what, estimate, truth));
+                  fmt::format("{} {} H={} N_t={}: {} estimate {:.3e} against true {:.3e}", where,
+                              r.output, h, samples, what, estimate, truth));
     };
     if (t > kAbove && std::abs(r.truth.aliasing) < 0.1 * std::abs(r.truth.truncation))
       within(r.estimate.truncation, r.truth.truncation, kTruncationFactor, "truncation");
@@ -126,13 +131,14 @@ void score_rows(const std::string& where, const std::vector<Row>& rows, int h, i
     alias_large = alias_large || std::abs(r.estimate.aliasing) > 1e-4;
     if (samples >= 256) {
       score.check(std::abs(r.estimate.aliasing) < 1e-3,
-                  fmt::format("{} {} H={} N_t={}: aliasing estimate {:.3e} at ample sampling", where, r.output,
-                              h, samples, r.estimate.aliasing));
+                  fmt::format("{} {} H={} N_t={}: aliasing estimate {:.3e} at ample sampling",
+                              where, r.output, h, samples, r.estimate.aliasing));
     }
   }
   if (slipping_jenkins && samples == 2 * h + 2) {
-    score.check(alias_large, fmt::format("{} H={} N_t={}: the aliasing estimate does not flag N_t = 2H + 2",
-                                         where, h, samples));
+    score.check(alias_large,
+                fmt::format("{} H={} N_t={}: the aliasing estimate does not flag N_t = 2H + 2",
+                            where, h, samples));
   }
 }
 
@@ -149,13 +155,16 @@ void study_mode(const Model& m, double q, int h, int samples, Csv& csv, Scorecar
   const std::string where = fmt::format("{} q={:.3g}", m.name, q);
   const cont::BackboneCurve c = cont::trace_backbone(m.system, o);
   if (!score.check(c.points.size() == 1 && c.points[0].error.known,
-                   fmt::format("{} H={} N_t={}: point or estimate not computed ({})", where, h, samples, c.message)))
+                   fmt::format("{} H={} N_t={}: point or estimate not computed ({})", where, h,
+                               samples, c.message)))
     return;
   const cont::BackbonePoint& p = c.points[0];
-  const reference::ModeTruth t = reference::mode_truth(m.system, o.mode, p.unknowns, o.log10_amplitude_start);
-  if (!score.check(t.ok, fmt::format("{} H={} N_t={}: reference not solved", where, h, samples))) return;
-  score_rows(where, {{"omega", p.error.omega, t.omega}, {"damping", p.error.damping, t.damping}}, h, samples,
-             m.jenkins_slips(q), csv, score, summary);
+  const reference::ModeTruth t =
+      reference::mode_truth(m.system, o.mode, p.unknowns, o.log10_amplitude_start);
+  if (!score.check(t.ok, fmt::format("{} H={} N_t={}: reference not solved", where, h, samples)))
+    return;
+  score_rows(where, {{"omega", p.error.omega, t.omega}, {"damping", p.error.damping, t.damping}}, h,
+             samples, m.jenkins_slips(q), csv, score, summary);
 }
 
 void study_frf(const Model& m, double omega, int h, int samples, Csv& csv, Scorecard& score,
@@ -175,18 +184,22 @@ void study_frf(const Model& m, double omega, int h, int samples, Csv& csv, Score
   if (c.points.empty() && samples == 2 * h + 2) {
     // The FRF's start does not converge with the fewest samples here (the force ramp stalls): not
     // the estimate's failure; listed, not scored.
-    summary.push_back(fmt::format("  {:<34} H={} N_t={}: no point (start failed), skipped", where, h, samples));
+    summary.push_back(
+        fmt::format("  {:<34} H={} N_t={}: no point (start failed), skipped", where, h, samples));
     return;
   }
   if (!score.check(c.points.size() == 1 && c.points[0].error.known,
-                   fmt::format("{} H={} N_t={}: point or estimate not computed ({})", where, h, samples, c.message)))
+                   fmt::format("{} H={} N_t={}: point or estimate not computed ({})", where, h,
+                               samples, c.message)))
     return;
   const cont::FrfPoint& p = c.points[0];
   hb::HarmonicBalanceOptions bo;
   bo.harmonics = h;
   bo.time_samples = samples;
-  const reference::FrfTruth t = reference::frf_truth(m.system, e, bo, p.coefficients, omega, 0, 0.5);
-  if (!score.check(t.ok, fmt::format("{} H={} N_t={}: reference not solved", where, h, samples))) return;
+  const reference::FrfTruth t =
+      reference::frf_truth(m.system, e, bo, p.coefficients, omega, 0, 0.5);
+  if (!score.check(t.ok, fmt::format("{} H={} N_t={}: reference not solved", where, h, samples)))
+    return;
   score_rows(where,
              {{"amplitude_h1", p.error.amplitude_h1, t.amplitude_h1},
               {"amplitude_max", p.error.amplitude_max, t.amplitude_max}},
@@ -202,9 +215,9 @@ int run(int argc, char** argv) {
   const auto start = Clock::now();
   std::vector<std::string> summary;
   Csv csv(args.prefix + "_points.csv",
-          {"point", "output", "H", "N_t", "truncation_estimate", "truncation_true", "truncation_ratio",
-           "aliasing_estimate", "aliasing_true", "aliasing_ratio", "total_estimate", "total_true",
-           "total_ratio"});
+          {"point", "output", "H", "N_t", "truncation_estimate", "truncation_true",
+           "truncation_ratio", "aliasing_estimate", "aliasing_true", "aliasing_ratio",
+           "total_estimate", "total_true", "total_ratio"});
   std::vector<Model> models = {
       {"jenkins", one_dof("jenkins"), {1e-5, 4e-5, 1.2e-4, 1e-3}},
       {"gm", one_dof("gaul-mayer"), {5e-6, 1.2e-4, 1e-3}},

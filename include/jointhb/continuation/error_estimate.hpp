@@ -3,10 +3,11 @@
 // (continuation/backbone.hpp) or FRF (continuation/frf.hpp), docs/theory.md §13:
 //   truncation (T-41): the converged coefficients transferred to H + 2 harmonics (same selection,
 //     N_t' = max(N_t, 2(H + 2) + 2)), one Newton step there with the continuation parameter fixed,
-//     δ = −J'⁻¹ R'_new (R' on the rows of the new harmonics, zero on the others: those hold only the
-//     tolerance and, where N_t' > N_t, a sampling change that the aliasing estimate covers); the
-//     change of the outputs under δ;
-//   aliasing (T-42): the residual with 2 N_t samples at the same H and coefficients, one Newton step
+//     δ = −J'⁻¹ R'_new (R' on the rows of the new harmonics, zero on the others: those hold only
+//     the tolerance and, where N_t' > N_t, a sampling change that the aliasing estimate covers);
+//     the change of the outputs under δ;
+//   aliasing (T-42): the residual with 2 N_t samples at the same H and coefficients, one Newton
+//   step
 //     with the N_t Jacobian; the change of the outputs under it.
 // The outputs: Ω and ζ = ξ/(2Ω) of a damping-curve point (λ = log10 q fixed), amplitude_h1 and
 // amplitude_max of an FRF point (Ω fixed). Each estimate is a signed relative change,
@@ -54,8 +55,8 @@ class BackboneErrorEstimator {
   /// Throws std::invalid_argument as hb::NonlinearModeResidual does (e.g. a basis too large).
   BackboneErrorEstimator(const hb::DiscreteSystem& system, const hb::NonlinearModeOptions& options);
   /// The estimates at the converged point (y, λ) of `base` (the curve's own residual).
-  [[nodiscard]] BackboneError estimate(const hb::NonlinearModeResidual& base, const Eigen::VectorXd& y,
-                                       double lambda) const;
+  [[nodiscard]] BackboneError estimate(const hb::NonlinearModeResidual& base,
+                                       const Eigen::VectorXd& y, double lambda) const;
 
  private:
   hb::NonlinearModeResidual finer_;    // H + 2, N_t'

@@ -82,8 +82,10 @@ BackbonePoint estimate_mode_point(const hb::DiscreteSystem& system, double q, in
 }
 
 // |estimate / truth| within [1/factor, factor] and the same sign.
-void expect_estimate_within(double estimate, double truth, double factor, const std::string& where) {
-  EXPECT_GT(estimate / truth, 1.0 / factor) << where << ": estimate " << estimate << ", true " << truth;
+void expect_estimate_within(double estimate, double truth, double factor,
+                            const std::string& where) {
+  EXPECT_GT(estimate / truth, 1.0 / factor)
+      << where << ": estimate " << estimate << ", true " << truth;
   EXPECT_LT(estimate / truth, factor) << where << ": estimate " << estimate << ", true " << truth;
 }
 
@@ -99,11 +101,14 @@ void check_mode_truncation(const hb::DiscreteSystem& system, const std::vector<d
       hb::NonlinearModeOptions o;
       o.harmonics = h;
       o.time_samples = 256;
-      const error_reference::ModeTruth t = error_reference::mode_truth(system, o, p.unknowns, std::log10(q));
+      const error_reference::ModeTruth t =
+          error_reference::mode_truth(system, o, p.unknowns, std::log10(q));
       ASSERT_TRUE(t.ok) << name << " q = " << q << " H = " << h << ": reference not solved";
       const std::string where = name + " q = " + std::to_string(q) + " H = " + std::to_string(h);
-      const auto check = [&](const ErrorPair& e, const error_reference::TrueError& truth, const char* what) {
-        if (std::abs(truth.total) > 1e-8 && std::abs(truth.aliasing) < 0.1 * std::abs(truth.truncation)) {
+      const auto check = [&](const ErrorPair& e, const error_reference::TrueError& truth,
+                             const char* what) {
+        if (std::abs(truth.total) > 1e-8 &&
+            std::abs(truth.aliasing) < 0.1 * std::abs(truth.truncation)) {
           expect_estimate_within(e.truncation, truth.truncation, factor, where + " " + what);
           ++compared;
         } else if (std::abs(truth.total) < 1e-10) {
@@ -120,11 +125,13 @@ void check_mode_truncation(const hb::DiscreteSystem& system, const std::vector<d
 
 TEST(ErrorEstimate, TruncationTracksTrueErrorOneDofJenkins) {
   // stuck (exactly linear: no truncation error), onset of slip, damping peak, gross slip
-  check_mode_truncation(estimate_one_dof("jenkins"), {1e-5, 4e-5, 1.2e-4, 1e-3}, kJenkinsFactor, "jenkins");
+  check_mode_truncation(estimate_one_dof("jenkins"), {1e-5, 4e-5, 1.2e-4, 1e-3}, kJenkinsFactor,
+                        "jenkins");
 }
 
 TEST(ErrorEstimate, TruncationTracksTrueErrorOneDofGaulMayer) {
-  check_mode_truncation(estimate_one_dof("gaul-mayer"), {5e-6, 1.2e-4, 1e-3}, kGaulMayerFactor, "gaul-mayer");
+  check_mode_truncation(estimate_one_dof("gaul-mayer"), {5e-6, 1.2e-4, 1e-3}, kGaulMayerFactor,
+                        "gaul-mayer");
 }
 
 TEST(ErrorEstimate, TruncationTracksTrueErrorTwoDof) {
@@ -139,12 +146,15 @@ TEST(ErrorEstimate, AliasingFlagsTooFewSamples) {
   for (const int h : {1, 3, 5}) {
     const BackbonePoint coarse = estimate_mode_point(s, 1.2e-4, h, 2 * h + 2);
     ASSERT_TRUE(coarse.error.known);
-    EXPECT_GT(std::max(std::abs(coarse.error.omega.aliasing), std::abs(coarse.error.damping.aliasing)), 1e-3)
+    EXPECT_GT(
+        std::max(std::abs(coarse.error.omega.aliasing), std::abs(coarse.error.damping.aliasing)),
+        1e-3)
         << "H = " << h;
     const BackbonePoint fine = estimate_mode_point(s, 1.2e-4, h, 1024);
     ASSERT_TRUE(fine.error.known);
     // measured at N_t = 1024: ≤ 2e-6 (Ω), ≤ 1.1e-5 (ζ), against 4e-3 … 6e-2 at 2H + 2
-    const double coarse_worst = std::max(std::abs(coarse.error.omega.aliasing), std::abs(coarse.error.damping.aliasing));
+    const double coarse_worst =
+        std::max(std::abs(coarse.error.omega.aliasing), std::abs(coarse.error.damping.aliasing));
     for (const double v : {fine.error.omega.aliasing, fine.error.damping.aliasing}) {
       EXPECT_LT(std::abs(v), 1e-4) << "H = " << h;
       EXPECT_LT(std::abs(v), 1e-2 * coarse_worst) << "H = " << h;
@@ -175,12 +185,14 @@ TEST(ErrorEstimate, FrfAmplitudeTracksTrueError) {
       hb::HarmonicBalanceOptions bo;
       bo.harmonics = h;
       bo.time_samples = 256;
-      const error_reference::FrfTruth t = error_reference::frf_truth(s, e, bo, p.coefficients, omega, 0, 0.5);
+      const error_reference::FrfTruth t =
+          error_reference::frf_truth(s, e, bo, p.coefficients, omega, 0, 0.5);
       ASSERT_TRUE(t.ok);
       const std::string where = "Ω = " + std::to_string(omega) + " H = " + std::to_string(h);
       if (std::abs(t.amplitude_h1.total) > 1e-8 &&
           std::abs(t.amplitude_h1.aliasing) < 0.1 * std::abs(t.amplitude_h1.truncation)) {
-        expect_estimate_within(p.error.amplitude_h1.truncation, t.amplitude_h1.truncation, kFrfFactor, where);
+        expect_estimate_within(p.error.amplitude_h1.truncation, t.amplitude_h1.truncation,
+                               kFrfFactor, where);
         ++compared;
       }
     }

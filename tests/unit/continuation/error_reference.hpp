@@ -39,8 +39,8 @@ inline double relative_to(double value, double base) {
 }
 
 inline TrueError true_error(double point, double fine_sampled, double reference) {
-  return {relative_to(reference, point) - relative_to(fine_sampled, point), relative_to(fine_sampled, point),
-          relative_to(reference, point)};
+  return {relative_to(reference, point) - relative_to(fine_sampled, point),
+          relative_to(fine_sampled, point), relative_to(reference, point)};
 }
 
 inline std::vector<int> ladder(int h, int h_ref) {
@@ -52,13 +52,14 @@ inline std::vector<int> ladder(int h, int h_ref) {
 
 /// The true errors of damping-curve point y at λ, computed with options `o` (H, N_t).
 inline ModeTruth mode_truth(const hb::DiscreteSystem& system, const hb::NonlinearModeOptions& o,
-                            const Eigen::VectorXd& y, double lambda, int h_ref = 63, int n_ref = 2048,
-                            double tolerance = 1e-13) {
+                            const Eigen::VectorXd& y, double lambda, int h_ref = 63,
+                            int n_ref = 2048, double tolerance = 1e-13) {
   ModeTruth t;
   hb::NonlinearModeOptions fine = o;
   fine.time_samples = n_ref;
   const hb::NonlinearModeResidual sampled(system, fine);
-  const std::optional<Eigen::VectorXd> ys = continuation::solve_mode_at(sampled, y, lambda, tolerance);
+  const std::optional<Eigen::VectorXd> ys =
+      continuation::solve_mode_at(sampled, y, lambda, tolerance);
   if (!ys) return t;
   Eigen::VectorXd yr = *ys;
   hb::FourierBasis from = sampled.balance().basis();
@@ -67,10 +68,11 @@ inline ModeTruth mode_truth(const hb::DiscreteSystem& system, const hb::Nonlinea
     lo.harmonics = h;
     const hb::NonlinearModeResidual level(system, lo);
     Eigen::VectorXd start(level.unknowns());
-    start.head(level.balance().unknowns()) =
-        hb::transfer_coefficients(from, level.balance().basis(), yr.head(yr.size() - 2), system.dofs());
+    start.head(level.balance().unknowns()) = hb::transfer_coefficients(
+        from, level.balance().basis(), yr.head(yr.size() - 2), system.dofs());
     start.tail(2) = yr.tail(2);
-    const std::optional<Eigen::VectorXd> next = continuation::solve_mode_at(level, start, lambda, tolerance);
+    const std::optional<Eigen::VectorXd> next =
+        continuation::solve_mode_at(level, start, lambda, tolerance);
     if (!next) return t;
     yr = *next;
     from = level.balance().basis();
@@ -91,14 +93,16 @@ inline ModeTruth mode_truth(const hb::DiscreteSystem& system, const hb::Nonlinea
 /// The true errors of FRF point x at Ω, computed with options `o` (H, N_t); `scale` of the
 /// residual (the force amplitude).
 inline FrfTruth frf_truth(const hb::DiscreteSystem& system, const hb::Excitation& excitation,
-                          const hb::HarmonicBalanceOptions& o, const Eigen::VectorXd& x, double omega, int dof,
-                          double scale, int h_ref = 63, int n_ref = 2048, double tolerance = 1e-13) {
+                          const hb::HarmonicBalanceOptions& o, const Eigen::VectorXd& x,
+                          double omega, int dof, double scale, int h_ref = 63, int n_ref = 2048,
+                          double tolerance = 1e-13) {
   FrfTruth t;
   hb::HarmonicBalanceOptions fine = o;
   fine.time_samples = n_ref;
   const hb::HarmonicBalance base(system, excitation, o);
   const hb::HarmonicBalance sampled(system, excitation, fine);
-  const std::optional<Eigen::VectorXd> xs = continuation::solve_balance_at(sampled, x, omega, tolerance, scale);
+  const std::optional<Eigen::VectorXd> xs =
+      continuation::solve_balance_at(sampled, x, omega, tolerance, scale);
   if (!xs) return t;
   Eigen::VectorXd xr = *xs;
   hb::FourierBasis from = sampled.basis();
@@ -108,14 +112,16 @@ inline FrfTruth frf_truth(const hb::DiscreteSystem& system, const hb::Excitation
     lo.harmonics = h;
     last.emplace(system, excitation, lo);
     const std::optional<Eigen::VectorXd> next = continuation::solve_balance_at(
-        *last, hb::transfer_coefficients(from, last->basis(), xr, system.dofs()), omega, tolerance, scale);
+        *last, hb::transfer_coefficients(from, last->basis(), xr, system.dofs()), omega, tolerance,
+        scale);
     if (!next) return t;
     xr = *next;
     from = last->basis();
   }
   const auto outputs = [dof](const hb::HarmonicBalance& b, const Eigen::VectorXd& v) {
-    return std::pair<double, double>{b.fundamental_amplitude(v, dof),
-                                     b.basis().peak_magnitude(v.segment(b.index(dof, 0), b.basis().size()))};
+    return std::pair<double, double>{
+        b.fundamental_amplitude(v, dof),
+        b.basis().peak_magnitude(v.segment(b.index(dof, 0), b.basis().size()))};
   };
   const auto [a, p] = outputs(base, x);
   const auto [as, ps] = outputs(sampled, *xs);
