@@ -11,7 +11,8 @@ namespace jointhb::fe::detail {
 
 void check_card_parameters(const Card& card, std::initializer_list<const char*> allowed,
                            const std::string& file) {
-  for (const auto& [key, value] : card.parameters) {
+  for (const auto& parameter : card.parameters) {
+    const auto& key = parameter.first;  // not a structured binding: Clang < 16 cannot capture one
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) {
       std::string list;
       for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;

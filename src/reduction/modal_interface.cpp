@@ -249,7 +249,11 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   c.reserve(outputs.size());
   for (const ModalOutputSpec& o : outputs) c.push_back(dofs.restrict(o.functional));
   // Only the distinct rows of G are solved for; the duplicates are copies (exact).
-  const auto [Gd, rep] = distinct_rows(G);
+  // (named members, not a structured binding: a lambda below captures `rep`, which C++20 allows
+  // for bindings but Clang before 16 does not)
+  const std::pair<SpMat, std::vector<int>> distinct_split = distinct_rows(G);
+  const SpMat& Gd = distinct_split.first;
+  const std::vector<int>& rep = distinct_split.second;
   const Eigen::Index distinct = Gd.rows();
   r.distinct_gap_rows = static_cast<int>(distinct);
   const Eigen::Index width = distinct + 1 + num_out, col_f = distinct;

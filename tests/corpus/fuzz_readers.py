@@ -9,12 +9,15 @@ fit case with its CSV) with 1–4 random text mutations (numbers replaced by ext
 duplicated or swapped, bytes inserted, special characters, indentation changed, truncation) in one
 of its files. `jointhb run --check` must then either accept it (exit 0, one line "…: valid") or
 refuse it as bad input (exit 2, exactly one printable line "jointhb run: …" without "nan"), within
-20 s and without a signal. Everything is determined by the seed: CI runs a fixed count.
+20 s and without a signal. Everything is determined by the seed: CI runs a fixed count. The inputs
+are made first, in order, and checked by --jobs processes at a time (the answers, reported in input
+order, do not depend on it: each check is its own process on its own folder).
 
 Failing inputs are written to --keep DIR (one folder each, with the command to reproduce); the
 ones found so far, fixed, are kept in tests/corpus/fuzz/ and replayed with --replay.
 """
 import argparse
+import concurrent.futures
 import os
 import random
 import re
@@ -134,21 +137,32 @@ def write(folder, files):
             f.write(text.encode("utf-8", "surrogateescape") if isinstance(text, str) else text)
 
 
-def replay(program, directory):
+def replay(program, directory, jobs):
+    names = sorted(n for n in os.listdir(directory) if os.path.isdir(os.path.join(directory, n)))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        answers = list(pool.map(lambda n: check(program, os.path.join(directory, n)), names))
     failures = 0
-    count = 0
-    for name in sorted(os.listdir(directory)):
-        folder = os.path.join(directory, name)
-        if not os.path.isdir(folder):
-            continue
-        count += 1
-        code, err = check(program, folder)
+    for name, (code, err) in zip(names, answers):
         why = judge(code, err)
         if why:
             failures += 1
             print(f"FAIL: {name}: {why}: {err.decode('utf-8', 'replace').strip()[:300]}")
-    print(f"replayed {count} kept fuzz inputs, {failures} failure(s)")
+    print(f"replayed {len(names)} kept fuzz inputs, {failures} failure(s)")
     return failures
+
+
+def mutated_inputs(base, rng, count):
+    """The `count` mutated inputs of the seed: (seed name, files, target) in order."""
+    out = []
+    for _ in range(count):
+        name, files, target = rng.choice(base)
+        files = dict(files)
+        text = files[target]
+        for _ in range(rng.randint(1, 4)):
+            text = mutate(text, rng)
+        files[target] = text
+        out.append((name, files))
+    return out
 
 
 def main():
@@ -157,29 +171,35 @@ def main():
     parser.add_argument("--count", type=int, default=400)
     parser.add_argument("--seed", type=int, default=20261126)
     parser.add_argument("--seconds", type=float, default=600.0, help="stop early after this long")
+    parser.add_argument("--jobs", type=int, default=2, help="checks run at a time")
     parser.add_argument("--keep", help="write failing inputs here")
     parser.add_argument("--replay", help="also replay the kept inputs in this directory")
     args = parser.parse_args()
+    if args.jobs < 1:
+        parser.error(f"--jobs must be >= 1, got {args.jobs}")
     program = os.path.abspath(args.program)
-    failures = replay(program, args.replay) if args.replay else 0
-    rng = random.Random(args.seed)
-    base = seeds()
+    failures = replay(program, args.replay, args.jobs) if args.replay else 0
+    inputs = mutated_inputs(seeds(), random.Random(args.seed), args.count)
     start = time.monotonic()
-    done = 0
     reactions = {0: 0, 2: 0}
+    done = 0
     with tempfile.TemporaryDirectory(prefix="jointhb-fuzz-") as work:
-        for i in range(args.count):
+
+        def run_one(i):
             if time.monotonic() - start > args.seconds:
-                break
-            name, files, target = rng.choice(base)
-            files = dict(files)
-            text = files[target]
-            for _ in range(rng.randint(1, 4)):
-                text = mutate(text, rng)
-            files[target] = text
+                return None  # past the time bound: not run
             folder = os.path.join(work, f"{i:05d}")
-            write(folder, files)
-            code, err = check(program, folder)
+            write(folder, inputs[i][1])
+            return check(program, folder)
+
+        with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+            answers = list(pool.map(run_one, range(len(inputs))))
+        for i, answer in enumerate(answers):
+            if answer is None:
+                continue
+            code, err = answer
+            name = inputs[i][0]
+            folder = os.path.join(work, f"{i:05d}")
             done += 1
             if code in reactions:
                 reactions[code] += 1

@@ -36,7 +36,7 @@ analysis:
 )";
 
 // Lines 1-4: an undamped two-DOF model.
-const std::string model = R"(model:
+const std::string two_dof_model = R"(model:
   type: discrete
   mass: [[1.0, 0.0], [0.0, 1.0]]
   stiffness: [[2.0, -1.0], [-1.0, 2.0]]
@@ -44,10 +44,10 @@ const std::string model = R"(model:
 const std::string excitation = "excitation:\n  - {dof: 0, amplitude: 0.1}\n";
 const std::string frf = "analysis:\n  frf: {omega: [0.5, 2.0]}\n";
 
-/// A case of `model` + `middle` + excitation + frf, with either part replaceable.
+/// A case of `two_dof_model` + `middle` + excitation + frf, with either part replaceable.
 std::string with(const std::string& middle, const std::string& forces = excitation,
                  const std::string& analysis = frf) {
-  return model + middle + forces + analysis;
+  return two_dof_model + middle + forces + analysis;
 }
 
 Eigen::MatrixXd dense(const hb::SparseMatrix& a) { return Eigen::MatrixXd(a); }
@@ -309,7 +309,7 @@ TEST(io_DiscreteCase, ExcitationLevelsBroadcastAndAddStaticForces) {
 }
 
 TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
-  expect_error(model + "solver: 1\n" + excitation + frf, 5, "solver", "solver",
+  expect_error(two_dof_model + "solver: 1\n" + excitation + frf, 5, "solver", "solver",
                "unknown key; allowed: analysis, contacts, excitation, fit, model");
   expect_error("model:\n  type: discrete\n  masss: 1.0\n", 3, "masss", "model.masss",
                "unknown key; allowed: damping, mass, stiffness, type");
@@ -596,7 +596,7 @@ TEST(io_DiscreteCase, FrfConstraintsAreChecked) {
 }
 
 TEST(io_DiscreteCase, AnAnalysisIsRequired) {
-  const InputError none = error_of(model + excitation);
+  const InputError none = error_of(two_dof_model + excitation);
   EXPECT_EQ(std::string(none.what()),
             "case.yaml:1:1: key 'analysis': required; known analyses: frf, nonlinear_modes");
   expect_error(with("", excitation, "analysis: {}\n"), 7, "{", "analysis",

@@ -18,9 +18,10 @@
 
 namespace fe = jointhb::fe;
 namespace rd = jointhb::reduction;
-using SpMat = Eigen::SparseMatrix<double>;
 
 namespace {
+// (in the anonymous namespace, like the same alias of the other test sources of its unity batch)
+using SpMat = Eigen::SparseMatrix<double>;
 
 using test_constants::kTwoPi;
 

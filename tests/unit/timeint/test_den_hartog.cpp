@@ -32,8 +32,7 @@ class CoulombOscillator {
   };
 
   CoulombOscillator(double m, double k, double friction, double force, double omega)
-      : m_(m),
-        k_(k),
+      : k_(k),
         ff_(friction),
         p_(force),
         w_(omega),
@@ -118,7 +117,7 @@ class CoulombOscillator {
   }
 
  private:
-  double m_, k_, ff_, p_, w_, wn_, xp_, h_;
+  double k_, ff_, p_, w_, wn_, xp_, h_;
   double t_ = 0.0, x_ = 0.0, v_ = 0.0, s_ = 0.0;
 };
 

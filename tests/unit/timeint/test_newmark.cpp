@@ -19,9 +19,10 @@ namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
 namespace jc = jointhb::contact;
 using std::numbers::pi;
-using Complex = std::complex<double>;
 
 namespace {
+// (in the anonymous namespace, like the same alias of the other test sources of its unity batch)
+using Complex = std::complex<double>;
 
 using jointhb::test_systems::linear_system;
 using jointhb::test_systems::one_dof;
