@@ -24,9 +24,10 @@
 namespace hb = jointhb::hb;
 namespace ti = jointhb::timeint;
 using std::numbers::pi;
-using Complex = std::complex<double>;
 
 namespace {
+// (in the anonymous namespace, like the same alias of the other test sources of its unity batch)
+using Complex = std::complex<double>;
 
 // Two DOFs (M = diag(1, 0.5), K = 4π²[3 −1; −1 1]), modal damping 3 % and 4 %, a static force on
 // DOF 1 and f cos Ωt on DOF 0.
