@@ -45,17 +45,11 @@ std::pair<double, double> estimate_mode_changes(const Eigen::VectorXd& y,
           estimate_relative(xi1 / (2.0 * omega1), xi / (2.0 * omega))};
 }
 
-hb::NonlinearModeOptions estimate_mode_options(hb::NonlinearModeOptions o, bool finer) {
-  if (finer) {
-    o.time_samples = truncation_time_samples(o.harmonics, o.time_samples);
-    o.harmonics += 2;
-  } else {
-    o.time_samples *= 2;
-  }
-  return o;
-}
-
-hb::HarmonicBalanceOptions estimate_balance_options(hb::HarmonicBalanceOptions o, bool finer) {
+// The options of the finer residual: H + 2 harmonics with N_t' samples (T-41) when `finer`, else
+// 2 N_t samples at the same H (T-42). One template for hb::NonlinearModeOptions and
+// hb::HarmonicBalanceOptions, which name both fields alike.
+template <class BalanceOptions>
+BalanceOptions estimate_finer_options(BalanceOptions o, bool finer) {
   if (finer) {
     o.time_samples = truncation_time_samples(o.harmonics, o.time_samples);
     o.harmonics += 2;
@@ -83,8 +77,8 @@ int truncation_time_samples(int harmonics, int time_samples) {
 
 BackboneErrorEstimator::BackboneErrorEstimator(const hb::DiscreteSystem& system,
                                                const hb::NonlinearModeOptions& options)
-    : finer_(system, estimate_mode_options(options, true)),
-      sampled_(system, estimate_mode_options(options, false)) {}
+    : finer_(system, estimate_finer_options(options, true)),
+      sampled_(system, estimate_finer_options(options, false)) {}
 
 BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& base,
                                                const Eigen::VectorXd& y, double lambda) const {
@@ -126,8 +120,8 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
 FrfErrorEstimator::FrfErrorEstimator(const hb::DiscreteSystem& system,
                                      const hb::Excitation& excitation,
                                      const hb::HarmonicBalanceOptions& options)
-    : finer_(system, excitation, estimate_balance_options(options, true)),
-      sampled_(system, excitation, estimate_balance_options(options, false)) {}
+    : finer_(system, excitation, estimate_finer_options(options, true)),
+      sampled_(system, excitation, estimate_finer_options(options, false)) {}
 
 FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eigen::VectorXd& x,
                                      double omega, int dof) const {

@@ -144,14 +144,7 @@ void score_rows(const std::string& where, const std::vector<Row>& rows, int h, i
 
 void study_mode(const Model& m, double q, int h, int samples, Csv& csv, Scorecard& score,
                 std::vector<std::string>& summary) {
-  cont::BackboneOptions o;
-  o.mode.harmonics = h;
-  o.mode.time_samples = samples;
-  o.log10_amplitude_start = std::log10(q);
-  o.log10_amplitude_end = o.log10_amplitude_start + 1.0;
-  o.continuation.max_points = 1;
-  o.continuation.max_start_iterations = 100;
-  o.continuation.residual_tolerance = 1e-13;
+  const cont::BackboneOptions o = reference::single_point_options(q, h, samples);
   const std::string where = fmt::format("{} q={:.3g}", m.name, q);
   const cont::BackboneCurve c = cont::trace_backbone(m.system, o);
   if (!score.check(c.points.size() == 1 && c.points[0].error.known,

@@ -67,14 +67,7 @@ hb::DiscreteSystem estimate_two_dof(const std::string& law) {
 // The damping-curve point at exactly q (Newton from the linear mode at fixed λ) with its estimate.
 BackbonePoint estimate_mode_point(const hb::DiscreteSystem& system, double q, int h, int samples,
                                   bool estimate = true) {
-  BackboneOptions o;
-  o.mode.harmonics = h;
-  o.mode.time_samples = samples;
-  o.log10_amplitude_start = std::log10(q);
-  o.log10_amplitude_end = o.log10_amplitude_start + 1.0;
-  o.continuation.max_points = 1;
-  o.continuation.max_start_iterations = 100;
-  o.continuation.residual_tolerance = 1e-13;
+  BackboneOptions o = error_reference::single_point_options(q, h, samples);
   o.error_estimate = estimate;
   const BackboneCurve c = trace_backbone(system, o);
   EXPECT_EQ(c.points.size(), 1u) << c.message;

@@ -34,6 +34,20 @@ struct FrfTruth {
   TrueError amplitude_h1, amplitude_max;
 };
 
+/// Options of a damping curve that stops at its first point, exactly at amplitude q (Newton from
+/// the linear mode at fixed λ = log10 q): the point whose estimate is compared with the truth.
+inline continuation::BackboneOptions single_point_options(double q, int h, int samples) {
+  continuation::BackboneOptions o;
+  o.mode.harmonics = h;
+  o.mode.time_samples = samples;
+  o.log10_amplitude_start = std::log10(q);
+  o.log10_amplitude_end = o.log10_amplitude_start + 1.0;
+  o.continuation.max_points = 1;
+  o.continuation.max_start_iterations = 100;
+  o.continuation.residual_tolerance = 1e-13;
+  return o;
+}
+
 inline double relative_to(double value, double base) {
   return base != 0.0 ? (value - base) / std::abs(base) : value - base;
 }
