@@ -149,18 +149,24 @@ TEST(FeNewmark, StuckLimitMatchesLinearResponseWithDtSquaredWarping) {
     ti::FeSteadyStateOptions o;
     o.steps_per_period = per_period[s];
     o.harmonics = 3;
-    o.tolerance = 1e-6;
+    o.tolerance = 1e-5;
     o.max_periods = 100;
     o.output_dofs = {dof};
     o.integrator.stiffness_damping = b;
-    const auto r = ti::fe_forced_steady_state(l.model, l.preload, ex, omega, o);
-    // The period repeats to ~1e-6 (the stiff contact modes decay slowly under the trapezoidal
-    // rule, and the proportional stiffness ratchets); that is far below what is compared here.
-    ASSERT_NE(r.termination, jointhb::Termination::failed) << r.message;
-    EXPECT_LT(r.change, 1e-5) << r.message;
-    const std::complex<double> x(r.coefficients(0, 1), -r.coefficients(0, 2));  // a cos + b sin
-    const double dt = r.time_step;
+    const double dt = 2.0 * std::numbers::pi / omega / per_period[s];
     const double warped = 2.0 / dt * std::tan(0.5 * omega * dt);
+    // Started from the stuck linear state at Ω̃ (w₀ = Re X(Ω̃), ẇ₀ = Re iΩ̃X(Ω̃): the scheme's own
+    // steady state of the stuck linearisation). What is left to decay comes from the contact
+    // points' microslip, slowly for the stiff contact modes under the trapezoidal rule: the period
+    // repeats to 1e-5 after 79 (N = 32) and 38 (N = 64) periods, not to 1e-6 within 100; 1e-5 is
+    // far below what is compared here.
+    o.integrator.time_step = dt;
+    auto start = ti::stuck_linear_fe_state(l.model, l.preload, ex, warped, o.integrator);
+    ASSERT_TRUE(start.has_value());
+    const auto r = ti::fe_forced_steady_state(l.model, l.preload, ex, omega, o, std::move(start));
+    ASSERT_EQ(r.termination, jointhb::Termination::converged) << r.message;
+    EXPECT_NEAR(r.time_step, dt, 1e-15 * dt);
+    const std::complex<double> x(r.coefficients(0, 1), -r.coefficients(0, 2));  // a cos + b sin
     const std::complex<double> discrete = stuck_frf(l, dof, dof, force, warped, b);
     std::printf("N = %d: |X| = %.9e, FRF(Ω) %.9e, FRF(Ω̃) %.9e; %d periods, %.2f Newton "
                 "it/step, %d factorisations, %.3f ms/step\n",
@@ -176,10 +182,12 @@ TEST(FeNewmark, StuckLimitMatchesLinearResponseWithDtSquaredWarping) {
   EXPECT_NEAR(error[0] / error[1], 4.0, 0.2);
 }
 
-// A force at which the lap's edge points slip: over a period of the steady state the input work
-// equals the viscous plus the friction dissipation. Exactly (for the scheme) with the
-// trapezoidal contact work; with the exact increments' dissipation up to the trapezoidal rule's
-// O(Δt²) at the stick/slip transitions.
+// A force at which the lap's edge points slip: over a period the input work equals the change of
+// the stored energy plus the viscous and the friction dissipation. Exactly (for the scheme) with
+// the trapezoidal contact work; with the exact increments' dissipation up to the trapezoidal
+// rule's O(Δt²) at the stick/slip transitions. The balance holds over any period, so the test
+// checks the third period from the stuck linear state rather than the steady state (33 periods,
+// a minute and a half under the sanitizers).
 TEST(FeNewmark, EnergyBalanceOverAPeriodWithMicroslip) {
   const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
@@ -192,17 +200,16 @@ TEST(FeNewmark, EnergyBalanceOverAPeriodWithMicroslip) {
   o.steps_per_period = 128;
   o.harmonics = 3;
   o.tolerance = 1e-5;
-  o.max_periods = 40;
-  o.progress = [](int p, double change) {
-    if (p % 10 == 0) std::printf("period %d: change %.3e\n", p, change);
-  };
+  o.max_periods = 3;
+  o.progress = [](int p, double change) { std::printf("period %d: change %.3e\n", p, change); };
   o.output_dofs = {dof};
   o.integrator.stiffness_damping = 2.0 * 0.01 / l.omega1;
   const auto r = ti::fe_forced_steady_state(l.model, l.preload, ex, omega, o);
-  // With k_T following p_N(t) (preloaded_tangential_stiffness = false) the stuck tractions ratchet
-  // (theory.md, T-21) and the state crept by ~4e-5 per period; with the default frozen k_T (T-30)
-  // the period repeats to 1e-5 after 33 periods. The balance includes ΔE either way.
+  // (With the default frozen k_T, T-30, the period repeats to 1e-5 after 33 periods; with k_T
+  // following p_N(t) the stuck tractions ratchet, T-21. The balance includes ΔE either way.)
   ASSERT_NE(r.termination, jointhb::Termination::failed) << r.message;
+  ASSERT_EQ(r.periods, 3);
+  EXPECT_GT(std::abs(r.stored_energy_change), 1e-6 * r.external_work);  // not yet periodic: ΔE counts
   std::printf("%s; ΔE %.3e J\n", r.message.c_str(), r.stored_energy_change);
   const double friction = r.contact_dissipation.at(0);
   std::printf("amplitude %.4e m, W_ext %.6e J, viscous %.6e J, friction %.6e J, contact work "
@@ -240,7 +247,7 @@ TEST(FeNewmark, PreloadedTangentialStiffnessChangesNothingForAConstantLaw) {
       }
     const auto start = ti::stuck_linear_fe_state(l->model, l->preload, ex, 0.9 * l->omega1, o);
     ASSERT_TRUE(start.has_value());
-    const auto r = ti::integrate_fe(l->model, l->preload, ex, 0.9 * l->omega1, *start, 128, o);
+    const auto r = ti::integrate_fe(l->model, l->preload, ex, 0.9 * l->omega1, *start, 64, o);  // a period
     ASSERT_EQ(r.termination, jointhb::Termination::reached_end) << r.message;
     final_state[frozen ? 0 : 1] = r.final_state;
     dissipation[frozen ? 0 : 1] = r.contact_dissipation.at(0);
