@@ -187,7 +187,7 @@ TEST(FeNewmark, StuckLimitMatchesLinearResponseWithDtSquaredWarping) {
 // the trapezoidal contact work; with the exact increments' dissipation up to the trapezoidal
 // rule's O(Δt²) at the stick/slip transitions. The balance holds over any period, so the test
 // checks the third period from the stuck linear state rather than the steady state (33 periods,
-// a minute and a half under the sanitizers).
+// 194 s under the sanitizers on a loaded machine).
 TEST(FeNewmark, EnergyBalanceOverAPeriodWithMicroslip) {
   const NewmarkLap& l = newmark_lap();
   ASSERT_TRUE(l.preload.status().ok());
