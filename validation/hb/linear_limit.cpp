@@ -108,6 +108,10 @@ cont::FrfOptions frf_options(const Model& m, int harmonics, int samples, double 
   o.time_samples = samples;
   o.output_dof = m.output_dof;
   o.continuation.residual_tolerance = tolerance;
+  // The curves are compared with the linear limits, not the points' stability or error
+  // estimates (studies of their own: stability_shooting, error_estimate).
+  o.stability = cont::Stability::never;
+  o.error_estimate = false;
   return o;
 }
 

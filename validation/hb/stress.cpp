@@ -237,6 +237,12 @@ Outcome run(const Scenario& s) {
   o.harmonics = s.harmonics;
   o.time_samples = s.samples;
   o.output_dof = s.output_dof;
+  // The continuation is what is stressed here: neither the Floquet multipliers nor the error
+  // estimates of the points, which have studies of their own (stability_shooting,
+  // error_estimate) and which the `seconds` column would otherwise mostly measure (the
+  // monodromy of every point of the 10-DOF chains).
+  o.stability = cont::Stability::never;
+  o.error_estimate = false;
   Outcome out;
   const auto start = Clock::now();
   out.curve = cont::trace_frf(s.system, s.excitation, o);
