@@ -28,7 +28,24 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 const std::vector<std::string> kFeFrfColumns = {
     "level",        "force_amplitude", "omega",           "frequency_hz", "amplitude_h1", "amplitude_max",
-    "dissipation",  "slipping_points", "open_points",     "newton_iterations"};
+    "dissipation",  "slipping_points", "open_points",     "newton_iterations",
+    "stuck_points", "microslip_points", "gross_slip_points", "gapping_points"};
+
+// Contact points per state at every point of a damping curve (hb/contact_state.hpp):
+// {"amplitude": [q...], "stuck": [n...], "microslip": [...], "gross_slip": [...], "gapping": [...], "open": [...]}.
+ordered_json contact_states_along(const std::vector<pipeline::BackbonePoint>& points) {
+  ordered_json out = {{"amplitude", ordered_json::array()}};
+  for (int k = 0; k < hb::kContactStateCount; ++k)
+    out[std::string(hb::contact_state_name(static_cast<hb::ContactState>(k)))] = ordered_json::array();
+  for (const pipeline::BackbonePoint& p : points) {
+    out["amplitude"].push_back(p.amplitude);
+    for (int k = 0; k < hb::kContactStateCount; ++k) {
+      const auto s = static_cast<hb::ContactState>(k);
+      out[std::string(hb::contact_state_name(s))].push_back(p.states[s]);
+    }
+  }
+  return out;
+}
 
 ordered_json timings_json(const continuation::InterfaceTimings& t) {
   return {{"aft", t.aft},
@@ -142,8 +159,10 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         std::vector<std::optional<double>> row = {
             static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
             s.damping_ratio, s.dissipation, s.viscous_dissipation, s.damping_ratio_energy, slip_fraction,
-            static_cast<double>(s.slipping_points), static_cast<double>(s.open_points),
-            static_cast<double>(s.newton_iterations), s.step};
+            static_cast<double>(s.slipping_points), static_cast<double>(s.open_points)};
+        for (const auto& field : contact_state_fields(s.states)) row.push_back(field);
+        row.push_back(static_cast<double>(s.newton_iterations));
+        row.push_back(s.step);
         for (const auto& field : backbone_error_fields(false, 0.0, 0.0, 0.0, 0.0)) row.push_back(field);
         csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
@@ -182,6 +201,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
                                       {"rejected_steps", bb.rejected_steps},
                                       {"seconds", timings_json(bb.timings)}});
       if (!fields_json.is_null()) entry["fields"] = fields_json;
+      entry["contact_states"] = contact_states_along(b.points);
       summary["backbones"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }
@@ -195,9 +215,12 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
     summary["frfs"] = ordered_json::array();
     for (std::size_t level = 0; level < fs.forces.size(); ++level) {
       const auto on_point = [&](const pipeline::FrfPoint& p) {
-        csv.write_row({static_cast<double>(level), p.force, p.omega, p.frequency_hz, p.amplitude_h1, p.amplitude_max,
-                       p.dissipation, static_cast<double>(p.slipping_points), static_cast<double>(p.open_points),
-                       static_cast<double>(p.newton_iterations)});
+        std::vector<std::optional<double>> row = {
+            static_cast<double>(level), p.force, p.omega, p.frequency_hz, p.amplitude_h1, p.amplitude_max,
+            p.dissipation, static_cast<double>(p.slipping_points), static_cast<double>(p.open_points),
+            static_cast<double>(p.newton_iterations)};
+        for (const auto& field : contact_state_fields(p.states)) row.push_back(field);
+        csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d   ", p.force, p.frequency_hz,
                        p.amplitude_h1, p.slipping_points, points);

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -99,6 +100,25 @@ ordered_json ties_json(const io::FeCase& c) {
   return ties;
 }
 
+// Where a bolt clamps, for maps of the contact surface (jointhb_plot.py draws it): the centroid of
+// its head footprint, its axis, and the footprint's inner (hole, B-4) and outer radius about the
+// axis [m].
+ordered_json footprint_json(const fe::Mesh& mesh, const preload::Bolt& bolt) {
+  if (bolt.head_nodes.empty()) return ordered_json::object();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const int n : bolt.head_nodes) center += mesh.coordinates.col(n);
+  center /= static_cast<double>(bolt.head_nodes.size());
+  double outer = 0.0;
+  for (const int n : bolt.head_nodes) {
+    const Eigen::Vector3d d = mesh.coordinates.col(n) - center;
+    outer = std::max(outer, (d - d.dot(bolt.axis) * bolt.axis).norm());
+  }
+  return {{"center", {center.x(), center.y(), center.z()}},
+          {"axis", {bolt.axis.x(), bolt.axis.y(), bolt.axis.z()}},
+          {"hole_radius", bolt.head_inner_radius},
+          {"footprint_radius", outer}};
+}
+
 ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, const pipeline::StageInfo& info) {
   ordered_json pj;
   put_status(pj, p.status());
@@ -109,10 +129,12 @@ ordered_json preload_json(const io::FeCase& c, const preload::PreloadResult& p, 
   pj["support_reaction_relative"] = p.support_reaction;
   pj["factor"] = p.factor_statistics;
   pj["bolts"] = ordered_json::array();
-  for (std::size_t b = 0; b < c.bolts.size(); ++b)
-    pj["bolts"].push_back({{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
-                           {"head_nodes", c.bolts[b].head_nodes.size()},
-                           {"nut_nodes", c.bolts[b].nut_nodes.size()}});
+  for (std::size_t b = 0; b < c.bolts.size(); ++b) {
+    ordered_json bj = {{"name", c.bolts[b].name}, {"force", p.bolt_forces[b]},
+                       {"head_nodes", c.bolts[b].head_nodes.size()}, {"nut_nodes", c.bolts[b].nut_nodes.size()}};
+    bj.update(footprint_json(c.mesh, c.bolts[b]));
+    pj["bolts"].push_back(std::move(bj));
+  }
   pj["static_loads"] = static_loads_json(c);
   pj["interfaces"] = ordered_json::array();
   for (std::size_t i = 0; i < p.interfaces.size(); ++i) {

@@ -415,8 +415,10 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
           static_cast<double>(mode), s.amplitude, p.output_amplitude, s.omega,
           s.omega / (2.0 * std::numbers::pi), s.damping_ratio, s.dissipation,
           s.viscous_dissipation, s.damping_ratio_energy, s.slip_fraction,
-          static_cast<double>(s.slipping_points), 0.0,
-          static_cast<double>(p.iterations), p.step};
+          static_cast<double>(s.slipping_points), 0.0};
+      for (const auto& field : contact_state_fields(s.states)) row.push_back(field);
+      row.push_back(static_cast<double>(p.iterations));
+      row.push_back(p.step);
       const continuation::BackboneError& e = p.error;
       for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
                                                      e.damping.truncation, e.damping.aliasing)) {
@@ -430,7 +432,8 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
                         {"damping_ratio", s.damping_ratio},
                         {"W_D", s.dissipation},
                         {"damping_ratio_energy", s.damping_ratio_energy},
-                        {"slip_fraction", s.slip_fraction}});
+                        {"slip_fraction", s.slip_fraction},
+                        {"contact_states", contact_states_json(s.states)}});
       ++outcome.rows;
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",

@@ -63,13 +63,16 @@ std::vector<std::size_t> snapshot_indices(const std::vector<double>& amplitudes,
 
 namespace {
 
-constexpr const char* kPointFields[] = {"dissipation", "tangential_motion", "normal_motion",
-                                        "pressure_min", "pressure_max",    "open_fraction", "state"};
+// `state`: the code of hb::ContactState (0 stuck, 1 microslip, 2 gross slip, 3 gapping, 4 open);
+// `limit_ratio`: max_t |t_T|/(μ p_N), the force ratio it is classified by (hb/contact_state.hpp).
+constexpr const char* kPointFields[] = {"dissipation",  "tangential_motion", "normal_motion", "pressure_min",
+                                        "pressure_max", "open_fraction",     "limit_ratio",   "state"};
+constexpr int kPointFieldCount = static_cast<int>(std::size(kPointFields));
 
 // The fields of one summary in the order of kPointFields.
-std::array<double, 7> point_values(const hb::InterfacePointSummary& s) {
-  const double state = s.open ? 2.0 : (s.stuck ? 0.0 : 1.0);
-  return {s.dissipation, s.tangential_motion, s.normal_motion, s.pressure_min, s.pressure_max, s.open_fraction, state};
+std::array<double, kPointFieldCount> point_values(const hb::InterfacePointSummary& s) {
+  return {s.dissipation,  s.tangential_motion, s.normal_motion, s.pressure_min,
+          s.pressure_max, s.open_fraction,     s.limit_ratio,   static_cast<double>(s.state)};
 }
 
 }  // namespace
@@ -99,11 +102,11 @@ FieldFiles write_damping_fields(const std::filesystem::path& dir, int mode, cons
     for (std::size_t g = 0; g < model.interfaces.size(); ++g) {
       const fe::Interface& iface = model.interfaces[g].geometry;
       const int count = iface.num_points();
-      Eigen::MatrixXd values(count, 7);
+      Eigen::MatrixXd values(count, kPointFieldCount);
       for (int q = 0; q < count; ++q) {
         const int c = patch_of_point[static_cast<std::size_t>(first + q)];
         const auto v = point_values(summaries[static_cast<std::size_t>(c)]);
-        for (int k = 0; k < 7; ++k) values(q, k) = v[static_cast<std::size_t>(k)];
+        for (int k = 0; k < kPointFieldCount; ++k) values(q, k) = v[static_cast<std::size_t>(k)];
         const fe::InterfacePoint& pt = iface.points[static_cast<std::size_t>(q)];
         std::vector<double> row = {static_cast<double>(i), s.amplitude, s.omega / (2.0 * std::numbers::pi), static_cast<double>(g),
                                    static_cast<double>(q), pt.position.x(), pt.position.y(), pt.position.z(), pt.area};
@@ -111,7 +114,7 @@ FieldFiles write_damping_fields(const std::filesystem::path& dir, int mode, cons
         csv.write_row(row);
       }
       io::VtkData data;
-      for (int k = 0; k < 7; ++k) data.add_point_scalars(kPointFields[k], node_average(iface, values.col(k), mesh.num_nodes()));
+      for (int k = 0; k < kPointFieldCount; ++k) data.add_point_scalars(kPointFields[k], node_average(iface, values.col(k), mesh.num_nodes()));
       const std::filesystem::path file = sub / fmt::format("contact_{}_{}.vtu", file_label(iface.name), i);
       io::write_quad_surface_vtu(dir / file, mesh.coordinates, interface_quads(iface), data);
       contact_series[g].emplace_back(time, file);

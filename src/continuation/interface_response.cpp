@@ -237,6 +237,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     f.dissipation = last.dissipation;
     f.open_points = last.open_points;
     f.slipping_points = last.slipping_points;
+    f.states = last.states;
     f.iterations = p.iterations;
     f.unknowns = p.x;
     curve.points.push_back(f);

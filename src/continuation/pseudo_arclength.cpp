@@ -507,6 +507,9 @@ std::string Options::validate(Eigen::Index n) const {
     return fmt::format("max_step: must be finite and >= initial_step = {}, got {}", initial_step,
                        max_step);
   }
+  if (!(std::isfinite(max_parameter_step) && max_parameter_step >= 0.0)) {
+    return fmt::format("max_parameter_step: must be finite and >= 0, got {}", max_parameter_step);
+  }
   if (max_points < 1) return fmt::format("max_points: must be >= 1, got {}", max_points);
   if (!std::isfinite(parameter_start)) {
     return fmt::format("parameter_start: must be finite, got {}", parameter_start);
@@ -683,7 +686,14 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (!accept(std::move(p), false, StopReason::reached_end)) return result;
   }
 
-  double s = options.initial_step;
+  // The step capped by max_parameter_step along the tangent τ (at least min_step).
+  const auto capped = [&](double step, const VectorXd& t) {
+    const double slope = std::abs(t(n)) * options.parameter_scale;  // |dλ/ds|
+    if (options.max_parameter_step > 0.0 && slope > 0.0)
+      step = std::min(step, std::max(options.max_parameter_step / slope, options.min_step));
+    return step;
+  };
+  double s = capped(options.initial_step, tau);
   bool rejected_since_accept = false;
   std::string last_failure;
   for (;;) {
@@ -804,7 +814,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     const double ratio = static_cast<double>(options.target_corrector_iterations) /
                          static_cast<double>(std::max(c.iterations, 1));
     const double growth = rejected_since_accept ? 1.0 : options.step_growth;
-    s = std::clamp(s * std::clamp(ratio, 0.5, growth), options.min_step, options.max_step);
+    s = capped(std::clamp(s * std::clamp(ratio, 0.5, growth), options.min_step, options.max_step), tau);
     rejected_since_accept = false;
   }
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "jointhb/contact/periodic_state.hpp"
 
@@ -11,6 +12,18 @@ namespace {
 // The elastic trial force of a contact that sticks throughout, anchored at its reference state.
 Eigen::VectorXd stuck_force(const ContactElement& c, const Eigen::VectorXd& g) {
   return (c.reference_force + c.stiffness * (g.array() - c.reference_slip)).matrix();
+}
+
+// The contact's state over the period (hb/contact_state.hpp): closed throughout, limit μF_N.
+void classify_contact(const ContactElement& element, const contact::TangentialLaw& law, ContactAftResult& r) {
+  const auto n = static_cast<std::size_t>(r.force_samples.size());
+  std::vector<double> magnitude(n), limit(n, element.slip_limit());
+  for (std::size_t i = 0; i < n; ++i) magnitude[i] = std::abs(r.force_samples[static_cast<Eigen::Index>(i)]);
+  const ContactStateOptions options;
+  const LimitMeasures m = limit_measures(magnitude, limit, options.limit_tolerance);
+  r.limit_share = m.share;
+  r.limit_ratio = m.ratio;
+  r.state = classify_contact_state({0.0, m.share, m.ratio, law.sticks_below_limit()}, options);
 }
 
 }  // namespace
@@ -30,6 +43,7 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
       if (options.jacobian) {
         r.d_force = element.stiffness * Eigen::MatrixXd::Identity(m, m);
       }
+      classify_contact(element, law, r);
       return r;
     }
   }
@@ -53,6 +67,7 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
   r.iterations = state.iterations;
   r.converged = state.termination == Termination::converged;
   r.message = state.message;
+  classify_contact(element, law, r);
   if (!options.jacobian) return r;
 
   // Scalar sensitivity recursion over the m basis functions at once. On a path along x the

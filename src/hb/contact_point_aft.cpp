@@ -107,6 +107,23 @@ bool try_shortcut(const ContactPoint& point, const ContactPointReference& ref,
   return true;
 }
 
+// The point's state over the period (hb/contact_state.hpp) from |t_T,i| = |t_ref,T + Δt_T,i| and
+// the slip limits L_i = μ p_N,i of the samples (0 where open).
+void classify_point_state(const ContactPoint& point, const ContactPointReference& ref, const PathStates& s,
+                          const ContactStateOptions& options, ContactPointAftResult& r) {
+  const auto n = static_cast<std::size_t>(r.traction_samples.rows());
+  std::vector<double> magnitude(n), limit(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    magnitude[i] = std::hypot(ref.traction.x() + r.traction_samples(row, 0), ref.traction.y() + r.traction_samples(row, 1));
+    limit[i] = s.states[i].open ? 0.0 : s.states[i].limits.slip_limit;
+  }
+  const LimitMeasures m = limit_measures(magnitude, limit, options.limit_tolerance);
+  r.limit_share = m.share;
+  r.limit_ratio = m.ratio;
+  r.state = classify_contact_state({r.open_fraction, m.share, m.ratio, point.law().sticks_below_limit()}, options);
+}
+
 // (I − M)^+ and the projector onto its null space, as in the periodic solve.
 std::pair<contact::Mat2, contact::Mat2> periodic_inverse(const contact::Mat2& monodromy) {
   Eigen::JacobiSVD<contact::Mat2> svd(contact::Mat2::Identity() - monodromy,
@@ -225,6 +242,7 @@ std::string ContactPointAftOptions::validate() const {
     return fmt::format("drift_limit must be finite and >= 0, got {}", drift_limit);
   if (!(drift_ratio >= 0.0 && drift_ratio <= 0.1))
     return fmt::format("drift_ratio must be in [0, 0.1], got {}", drift_ratio);
+  if (const std::string e = states.validate(); !e.empty()) return "states: " + e;
   return {};
 }
 
@@ -300,6 +318,7 @@ ContactPointAftResult evaluate_contact_point(const contact::ContactPoint& point,
     if (options.jacobian) r.jacobian = periodic_jacobian(basis, state);
   }
   r.traction = basis.to_frequency(r.traction_samples);
+  classify_point_state(point, reference, s, options.states, r);
   return r;
 }
 
@@ -357,6 +376,7 @@ InterfaceAftResult evaluate_interface_aft(std::span<const contact::ContactPoint>
     r.dissipation += (areas.empty() ? 1.0 : areas[k]) * q.dissipation;
     r.open_points += q.open_fraction == 1.0 ? 1 : 0;
     r.stuck_points += q.stuck ? 1 : 0;
+    r.states.add(q.state);
     if (!q.converged && r.converged) {
       r.converged = false;
       r.message = fmt::format("points[{}]: periodic state not converged{}", p,

@@ -252,6 +252,8 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, bool jaco
       ContactDiagnostics& d = out.contacts[k];
       d.dissipation = a.dissipation;
       d.stuck = a.stuck;
+      d.state = a.state;
+      d.limit_ratio = a.limit_ratio;
       d.skipped = a.skipped;
       d.iterations = a.iterations;
       d.converged = a.converged;

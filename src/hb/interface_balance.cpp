@@ -124,7 +124,8 @@ struct InterfaceBalance::Impl {
     MatrixXd force;  // A N, m × 3P
     std::vector<MatrixXd> blocks;
     double dissipation = 0.0;
-    int open = 0, slipping = 0, drifting = 0;
+    int open = 0, drifting = 0;
+    ContactStateCounts states;
     bool ok = true;
     std::string message;
   };
@@ -163,7 +164,7 @@ struct InterfaceBalance::Impl {
       for (int q = 0; q < g.count; ++q) {
         const int p = g.first + q;
         const ContactPointAftResult& pr = r.points[static_cast<std::size_t>(q)];
-        if (!pr.stuck && pr.shortcut != ContactPointShortcut::open) ++c.slipping;
+        c.states.add(pr.state);
         if (pr.drifting) ++c.drifting;
         if (summaries != nullptr) (*summaries)[static_cast<std::size_t>(p)] = summarise(p, pr, dg.middleCols(3 * p, 3));
         const Eigen::Matrix3d& C = model.stuck_tangents[static_cast<std::size_t>(p)];
@@ -193,6 +194,9 @@ struct InterfaceBalance::Impl {
     s.open_fraction = pr.open_fraction;
     s.stuck = pr.stuck;
     s.open = pr.shortcut == ContactPointShortcut::open;
+    s.state = pr.state;
+    s.limit_ratio = pr.limit_ratio;
+    s.limit_share = pr.limit_share;
     const MatrixXd g = basis.to_time(dg);  // N × 3
     const Eigen::RowVector3d mean = g.colwise().mean();
     for (Index i = 0; i < g.rows(); ++i) {
@@ -318,7 +322,8 @@ void InterfaceBalance::evaluate(const VectorXd& y, double omega, double xi, cons
   out.message = c.message;
   out.dissipation = c.dissipation;
   out.open_points = c.open;
-  out.slipping_points = c.slipping;
+  out.slipping_points = c.states.slipping();
+  out.states = c.states;
   out.drifting_points = c.drifting;
   out.contact_force = c.force;
   out.point_blocks.clear();

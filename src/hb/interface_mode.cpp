@@ -143,6 +143,7 @@ InterfaceModeState InterfaceModeResidual::state(const Eigen::VectorXd& y_hat, do
   s.fourier_dissipation = at_point->balance.fourier_dissipation;
   s.open_points = at_point->balance.open_points;
   s.slipping_points = at_point->balance.slipping_points;
+  s.states = at_point->balance.states;
   const InterfaceModel& m = balance_.model();
   const FourierBasis& basis = balance_.basis();
   for (int j = 0; j < balance_.modes(); ++j) {

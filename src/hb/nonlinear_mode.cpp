@@ -190,8 +190,8 @@ NonlinearModeState NonlinearModeResidual::state(const Eigen::VectorXd& y, double
     at_point = &here;
   }
   s.dissipation = at_point->fourier_dissipation;
-  int slipping = 0;
-  for (const auto& c : at_point->contacts) slipping += c.stuck ? 0 : 1;
+  for (const auto& c : at_point->contacts) s.states.add(c.state);
+  const int slipping = s.states.slipping();
   s.slipping_points = slipping;
   s.slip_fraction = at_point->contacts.empty() ? 0.0
                                                : static_cast<double>(slipping) /

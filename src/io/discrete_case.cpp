@@ -681,7 +681,7 @@ class DiscreteCaseReader {
     const Fields f = reader_.fields(node, path,
                                     {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
                                      "harmonic_selection", "periodic_tolerance", "error_estimate",
-                                     "continuation"});
+                                     "continuation", "points_per_decade"});
     continuation::BackboneOptions o;
     modes_.clear();
     if (const auto* mode = f.find("mode")) {
@@ -735,6 +735,13 @@ class DiscreteCaseReader {
     read_flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
+    }
+    // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
+    if (const auto* e = f.find("points_per_decade")) {
+      const std::string key = f.path_of("points_per_decade");
+      const double v = reader_.number(e->value, key);
+      if (!(std::isfinite(v) && v > 0.0 && v <= 1000.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1000], got {}", v));
+      o.continuation.max_parameter_step = 1.0 / v;
     }
     return o;
   }

@@ -189,7 +189,7 @@ class DynamicsReader {
   FeNonlinearModesSpec read_nonlinear_modes(const YAML::Node& node, const std::string& path) const {
     const Fields f = r_.fields(node, path, {"mode", "log10_amplitude", "frequency_drop", "harmonics", "time_samples",
                                             "periodic_tolerance", "tangential_stiffness", "continuation",
-                                            "fields", "volume_fields"});
+                                            "points_per_decade", "fields", "volume_fields"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
     if (const auto* e = f.find("mode")) {
@@ -230,6 +230,9 @@ class DynamicsReader {
     }
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
+    // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
+    if (f.has("points_per_decade"))
+      o.continuation.max_parameter_step = 1.0 / number_in(f, "points_per_decade", 0.0, 1000.0, true, false);
     return o;
   }
 

@@ -295,6 +295,7 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
     b.dissipation = s.dissipation;
     b.damping_ratio_energy = s.damping_ratio_energy;
     b.slipping_points = s.slipping_points;
+    b.states = s.states;
     b.open_points = s.open_points;
     b.viscous_dissipation = s.viscous_dissipation;
     b.contact_points = im.num_points();
@@ -394,6 +395,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
     f.amplitude_max = p.amplitude_max;
     f.dissipation = p.dissipation;
     f.slipping_points = p.slipping_points;
+    f.states = p.states;
     f.open_points = p.open_points;
     f.newton_iterations = p.iterations;
     out.points.push_back(f);

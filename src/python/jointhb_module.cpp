@@ -15,11 +15,14 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <variant>
+
+#include <fmt/format.h>
 
 #include "jointhb/continuation/backbone.hpp"
 #include "jointhb/continuation/frf.hpp"
@@ -157,6 +160,19 @@ void put_curve_status(py::dict& d, const Status& status, bool interrupted) {
   if (interrupted) d["message"] = "interrupted (KeyboardInterrupt); the accepted points are kept";
 }
 
+// An estimate that was not computed (error_estimate off, or failed at the point).
+constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
+
+// Columns "stuck_points" … "gapping_points" (hb/contact_state.hpp), the names of backbone.csv.
+template <class Point>
+void put_state_columns(py::dict& d, const std::vector<Point>& points) {
+  for (const hb::ContactState s : {hb::ContactState::stuck, hb::ContactState::microslip,
+                                   hb::ContactState::gross_slip, hb::ContactState::gapping}) {
+    d[py::str(fmt::format("{}_points", hb::contact_state_name(s)))] =
+        column(points, [s](const Point& p) { return double(p.states[s]); });
+  }
+}
+
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   using P = pipeline::BackbonePoint;
   py::dict d;
@@ -170,6 +186,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.damping_ratio_energy; });
   d["slipping_points"] = column(b.points, [](const P& p) { return double(p.slipping_points); });
   d["open_points"] = column(b.points, [](const P& p) { return double(p.open_points); });
+  put_state_columns(d, b.points);
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
   put_curve_status(d, b.status(), interrupted);  // Ctrl-C: stopped_by_user
   d["energy_gap"] = b.energy_gap;
@@ -196,6 +213,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
   d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
   d["slipping_points"] = column(r.points, [](const P& p) { return double(p.slipping_points); });
+  put_state_columns(d, r.points);
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
   put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
@@ -367,7 +385,8 @@ class Pipeline {
     const auto n = static_cast<Eigen::Index>(b.curve.points.size());
     Eigen::MatrixXd position(fine, 3);
     Eigen::VectorXd area(fine);
-    Eigen::MatrixXd wd(n, fine), tangential(n, fine), normal(n, fine), pmin(n, fine), pmax(n, fine), state(n, fine);
+    Eigen::MatrixXd wd(n, fine), tangential(n, fine), normal(n, fine), pmin(n, fine), pmax(n, fine), state(n, fine),
+        ratio(n, fine);
     std::vector<std::string> interface_of;
     {
       py::gil_scoped_release free;
@@ -391,7 +410,8 @@ class Pipeline {
           normal(i, q) = v.normal_motion;
           pmin(i, q) = v.pressure_min;
           pmax(i, q) = v.pressure_max;
-          state(i, q) = v.open ? 2.0 : (v.stuck ? 0.0 : 1.0);
+          state(i, q) = static_cast<double>(v.state);
+          ratio(i, q) = v.limit_ratio;
         }
       }
     }
@@ -404,6 +424,7 @@ class Pipeline {
     d["normal_motion"] = normal;
     d["pressure_min"] = pmin;
     d["pressure_max"] = pmax;
+    d["limit_ratio"] = ratio;
     d["state"] = state;
     return d;
   }
@@ -610,6 +631,15 @@ class DiscreteModel {
       out["refined"] = e.refined;
       return out;
     };
+    // Error estimates (docs/theory.md §13): NaN where not computed, the names of frf.csv.
+    const auto estimate = [&](const char* name, auto pick) {
+      d[name] = column(r.points, [pick](const P& p) { return p.error.known ? pick(p.error) : kNotComputed; });
+    };
+    using E = continuation::FrfError;
+    estimate("amplitude_error_truncation", [](const E& e) { return e.amplitude_h1.truncation; });
+    estimate("amplitude_error_aliasing", [](const E& e) { return e.amplitude_h1.aliasing; });
+    estimate("amplitude_max_error_truncation", [](const E& e) { return e.amplitude_max.truncation; });
+    estimate("amplitude_max_error_aliasing", [](const E& e) { return e.amplitude_max.aliasing; });
     if (r.peak) d["peak"] = extremum(*r.peak);
     py::list folds;
     for (const auto& f : r.folds) folds.append(extremum(f));
@@ -644,6 +674,20 @@ class DiscreteModel {
     d["damping_ratio"] = column(b.points, [](const P& p) { return p.state.damping_ratio; });
     d["W_D"] = column(b.points, [](const P& p) { return p.state.dissipation; });
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
+    d["slipping_points"] = column(b.points, [](const P& p) { return double(p.state.slipping_points); });
+    for (const hb::ContactState s : {hb::ContactState::stuck, hb::ContactState::microslip, hb::ContactState::gross_slip}) {
+      d[py::str(fmt::format("{}_points", hb::contact_state_name(s)))] =
+          column(b.points, [s](const P& p) { return double(p.state.states[s]); });
+    }
+    // Error estimates (docs/theory.md §13): NaN where not computed, the names of backbone.csv.
+    const auto estimate = [&](const char* name, auto pick) {
+      d[name] = column(b.points, [pick](const P& p) { return p.error.known ? pick(p.error) : kNotComputed; });
+    };
+    using E = continuation::BackboneError;
+    estimate("omega_error_truncation", [](const E& e) { return e.omega.truncation; });
+    estimate("omega_error_aliasing", [](const E& e) { return e.omega.aliasing; });
+    estimate("damping_error_truncation", [](const E& e) { return e.damping.truncation; });
+    estimate("damping_error_aliasing", [](const E& e) { return e.damping.aliasing; });
     put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;
@@ -812,7 +856,8 @@ PYBIND11_MODULE(_core, m) {
            "Ctrl-C ends the curve with its accepted points (status 'interrupted'). Keywords override the "
            "case's analysis.nonlinear_modes. contact_fields=True adds 'contact': per contact point its "
            "position [m], area [m^2], interface, and per curve point x contact point W_D [J/m^2 per cycle], "
-           "tangential and normal motion [m], pressure min/max [Pa], state (0 stuck, 1 slipping, 2 open).")
+           "tangential and normal motion [m], pressure min/max [Pa], limit_ratio (max |t_T|/(mu p_N)), state "
+           "(0 stuck, 1 microslip, 2 gross slip, 3 gapping, 4 open).")
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "

@@ -7,12 +7,17 @@ Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
   DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level;
                     with a `stable` column, unstable stretches dashed and bifurcations marked
                     (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●, reversal ×)
-  DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode
+  DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode,
+                    and the share of the contact points per state (stuck … open) along the first
+                    mode's curve (docs/theory.md §14)
   DIR/mode<k>_contact.png  for each DIR/mode<k>_contact_points.csv: the contact points' W_D per
-                    unit area (colour, scaled per panel) at each field snapshot, one panel per
-                    interface, open points crossed (plane of the points' two widest coordinates)
+                    unit area interpolated over the surface at each field snapshot, one panel per
+                    interface, one logarithmic colour scale for the figure, the bolts' footprints
+                    (dashed) and holes from summary.json, points gapping or open crossed (plane of
+                    the points' two widest coordinates)
 """
 import csv
+import json
 import math
 import os
 import sys
@@ -20,7 +25,16 @@ import sys
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.colors as mcolors  # noqa: E402
+import matplotlib.patches as mpatches  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.tri as mtri  # noqa: E402
+
+
+# The codes of the contact points' `state` column (hb::ContactState, docs/theory.md §14).
+STATE_NAMES = ((0, "stuck"), (1, "microslip"), (2, "gross slip"), (3, "gapping"), (4, "open"))
+# The matching columns of backbone.csv (<name>_points).
+STATE_COLUMNS = ("stuck", "microslip", "gross_slip", "gapping", "open")
 
 
 def read(path):
@@ -82,8 +96,12 @@ def plot_backbone(directory):
     # Finite-element damping curves also give the amplitude at an output DOF: a physical axis.
     physical = bool(rows) and "output_amplitude" in rows[0] and all(
         float(r["output_amplitude"]) > 0.0 for r in rows)
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
-    for i, mode in enumerate(sorted({r["mode"] for r in rows}, key=float)):
+    states = bool(rows) and all(f"{k}_points" in rows[0] for k in STATE_COLUMNS)
+    fig, axes = plt.subplots(3 if states else 2, 1, figsize=(6.4, 8.8 if states else 6.4), sharex=True,
+                             gridspec_kw={"height_ratios": [1, 1, 0.7] if states else [1, 1]})
+    top, bottom = axes[0], axes[1]
+    modes = sorted({r["mode"] for r in rows}, key=float)
+    for i, mode in enumerate(modes):
         sel = [r for r in rows if r["mode"] == mode]
         q = [float(r["output_amplitude" if physical else "amplitude"]) for r in sel]
         color = f"C{i}"
@@ -96,20 +114,71 @@ def plot_backbone(directory):
                                      * float(r["amplitude"]) ** 2) for r in sel]
         bottom.loglog(q, [max(z, 1e-12) for z in zeta_c], "--",
                       color=color, label=f"{name}: contacts only, W_D/(4πE)")
+    if states:
+        # Share of the contact points per state along the first mode's curve (docs/theory.md §14).
+        sel = [r for r in rows if r["mode"] == modes[0]]
+        q = [float(r["output_amplitude" if physical else "amplitude"]) for r in sel]
+        counts = [[float(r[f"{k}_points"]) for r in sel] for k in STATE_COLUMNS]
+        total = [sum(c[j] for c in counts) or 1.0 for j in range(len(sel))]
+        shares = [[c[j] / total[j] for j in range(len(sel))] for c in counts]
+        axes[2].stackplot(q, *shares, labels=[name for _, name in STATE_NAMES],
+                          colors=["#4c72b0", "#55a868", "#c44e52", "#8172b2", "#999999"], alpha=0.85)
+        axes[2].set_xscale("log")
+        axes[2].set_ylim(0.0, 1.0)
+        axes[2].set_ylabel(f"contact points\n(mode {int(float(modes[0]))})")
     top.set_ylabel("frequency [Hz]")
     top.set_title("Damping curves (EPMC)")
     bottom.set_ylabel("damping ratio ζ")
-    bottom.set_xlabel("amplitude of the fundamental at the output [m]" if physical
-                      else "modal amplitude q [m·√kg]")
-    for ax in (top, bottom):
+    axes[-1].set_xlabel("amplitude of the fundamental at the output [m]" if physical
+                        else "modal amplitude q [m·√kg]")
+    for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="best" if ax is not axes[-1] or not states else "center left")
     fig.tight_layout()
     fig.savefig(os.path.join(directory, "backbone.png"), dpi=120)
     return "backbone.png"
 
 
+def bolt_footprints(directory):
+    """The bolts' footprints from summary.json (centre, axis, hole and footprint radius [m]), or []."""
+    try:
+        with open(os.path.join(directory, "summary.json")) as f:
+            bolts = json.load(f).get("preload", {}).get("bolts", [])
+    except (OSError, ValueError):
+        return []
+    return [b for b in bolts if "center" in b and "footprint_radius" in b]
+
+
+def merged_points(sel, a, b):
+    """The panel's points with coincident ones (node pairs of nodal integration) merged: positions
+    [mm] and the mean W_D and the highest state of each position."""
+    merged = {}
+    for r in sel:
+        key = (round(float(r["xyz"[a]]) * 1e9), round(float(r["xyz"[b]]) * 1e9))
+        m = merged.setdefault(key, [float(r["xyz"[a]]) * 1e3, float(r["xyz"[b]]) * 1e3, 0.0, 0, 0.0])
+        m[2] += float(r["dissipation"])
+        m[3] += 1
+        m[4] = max(m[4], float(r["state"]))
+    pts = list(merged.values())
+    return ([p[0] for p in pts], [p[1] for p in pts], [p[2] / p[3] for p in pts], [p[4] for p in pts])
+
+
+def surface_triangulation(pa, pb):
+    """Delaunay triangles over the points, without those that bridge a hole or a gap between
+    patches (an edge longer than 2.5 times the median edge)."""
+    tri = mtri.Triangulation(pa, pb)
+    edges = []
+    for t in tri.triangles:
+        edges.append(max(math.dist((pa[t[i]], pb[t[i]]), (pa[t[(i + 1) % 3]], pb[t[(i + 1) % 3]])) for i in range(3)))
+    limit = 2.5 * sorted(edges)[len(edges) // 2]
+    tri.set_mask([e > limit for e in edges])
+    return tri
+
+
 def plot_contact_fields(directory, name):
+    """W_D per unit area interpolated over each contact surface (one panel per snapshot and
+    interface), one logarithmic colour scale for the whole figure, bolt footprints drawn, points
+    gapping or open crossed."""
     rows = read(os.path.join(directory, name))
     snaps = sorted({int(float(r["snapshot"])) for r in rows})
     faces = sorted({int(float(r["interface"])) for r in rows})
@@ -121,31 +190,47 @@ def plot_contact_fields(directory, name):
     cols = len(faces) if len(faces) > 1 else (2 if len(snaps) > 2 else 1)
     rows_n = (len(panels) + cols - 1) // cols
     panel_w = min(6.0, max(3.0, 2.2 * width))
-    fig, axes = plt.subplots(rows_n, cols, figsize=(cols * (panel_w + 1.2), rows_n * (panel_w / max(width, 0.3) + 0.9)),
-                             squeeze=False)
+    fig, axes = plt.subplots(rows_n, cols, figsize=(cols * panel_w + 1.4, rows_n * (panel_w / max(width, 0.3) + 0.9)),
+                             squeeze=False, layout="constrained")
     for ax in axes.flat[len(panels):]:
         ax.axis("off")
+    # One scale for every panel: six decades below the largest W_D (zero and less are shown at the
+    # floor); linear from 0 when nothing dissipates (the linear limit only).
+    top = max(float(r["dissipation"]) for r in rows)
+    norm = mcolors.LogNorm(vmin=top * 1e-6, vmax=top) if top > 0.0 else mcolors.Normalize(0.0, 1.0)
+    floor = top * 1e-6 if top > 0.0 else 0.0
+    bolts = bolt_footprints(directory)
+    mappable = None
     for ax, (k, face) in zip(axes.flat, panels):
         sel = [r for r in rows if int(float(r["snapshot"])) == k and int(float(r["interface"])) == face]
-        pa = [float(r["xyz"[a]]) * 1e3 for r in sel]
-        pb = [float(r["xyz"[b]]) * 1e3 for r in sel]
-        w = [float(r["dissipation"]) for r in sel]
-        state = [float(r["state"]) for r in sel]
-        sc = ax.scatter(pa, pb, c=w, vmin=0.0, vmax=max(w) or 1.0, cmap="viridis", s=28)
-        opened = [(x, y) for x, y, s in zip(pa, pb, state) if s == 2]
+        pa, pb, w, state = merged_points(sel, a, b)
+        shown = [max(v, floor) for v in w]
+        if len(pa) >= 3:
+            mappable = ax.tripcolor(surface_triangulation(pa, pb), shown, shading="gouraud", norm=norm, cmap="viridis")
+        else:
+            mappable = ax.scatter(pa, pb, c=shown, norm=norm, cmap="viridis", s=28)
+        opened = [(x, y) for x, y, s in zip(pa, pb, state) if s >= 3]  # gapping or open
         if opened:
             ax.scatter(*zip(*opened), marker="x", c="white", s=14, linewidths=0.8)
+        for bolt in bolts:
+            centre = (bolt["center"][a] * 1e3, bolt["center"][b] * 1e3)
+            for radius, style in ((bolt["footprint_radius"], "--"), (bolt.get("hole_radius", 0.0), "-")):
+                if radius > 0.0:
+                    ax.add_patch(mpatches.Circle(centre, radius * 1e3, fill=False, color="white", lw=0.9, ls=style))
         r0 = sel[0]
+        states = [float(r["state"]) for r in sel]
         label = f"interface {face}: " if len(faces) > 1 else ""
         ax.set_title(f"{label}q = {float(r0['amplitude']):.3g}, f = {float(r0['frequency_hz']):.5g} Hz\n"
-                     f"{sum(1 for s in state if s == 0)} stuck, {sum(1 for s in state if s == 1)} slipping, "
-                     f"{sum(1 for s in state if s == 2)} open", fontsize=8)
+                     + ", ".join(f"{n} {name}" for code, name in STATE_NAMES
+                                 if (n := sum(1 for s in states if s == code)) > 0) + " points",
+                     fontsize=8)
         ax.set_aspect("equal")
         ax.set_xlabel(f"{'xyz'[a]} [mm]", fontsize=8)
         ax.set_ylabel(f"{'xyz'[b]} [mm]", fontsize=8)
         ax.tick_params(labelsize=7)
-        fig.colorbar(sc, ax=ax, shrink=0.85).set_label("W_D [J/m²/cycle]", fontsize=7)
-    fig.tight_layout()
+    if mappable is not None:
+        bar = fig.colorbar(mappable, ax=list(axes.flat), shrink=0.8)
+        bar.set_label("W_D [J/m² per cycle]" + (" (log scale, shared)" if top > 0.0 else ""), fontsize=8)
     out = name.replace("_contact_points.csv", "_contact.png")
     fig.savefig(os.path.join(directory, out), dpi=110)
     plt.close(fig)

@@ -38,6 +38,21 @@ for r in rows:
     assert abs(float(r["damping_ratio_energy"]) / float(r["damping_ratio"]) - 1) < 5e-3, r  # 2.9e-3 at H = 7
     assert float(r["open_points"]) == 0 and float(r["slipping_points"]) in (0.0, 1.0), r
     assert float(r["slip_fraction"]) == float(r["slipping_points"]), r
+# Contact states (docs/theory.md §14): the one Gaul–Mayer contact is stuck(-like) in the linear
+# limit, in microslip on the way, and at its slip limit (gross slip) where the curve ends near the
+# slipped system; the states never go back, and the counts match the point and slipping_points.
+order = ["stuck_points", "microslip_points", "gross_slip_points", "gapping_points"]
+state = []
+for r in rows:
+    c = [int(float(r[k])) for k in order] + [int(float(r["open_points"]))]
+    assert sum(c) == 1 and c[3] == c[4] == 0, r
+    assert c[1] + c[2] == int(float(r["slipping_points"])), r
+    state.append(c.index(1))
+assert state[0] == 0 and state[-1] == 2 and 1 in state, state
+assert all(b2 >= a2 for a2, b2 in zip(state, state[1:])), state
+for p in b["curve"]:
+    assert sum(p["contact_states"].values()) == 1, p
+print(f"ok: contact states stuck -> microslip at q = {q[state.index(1)]:.2e} -> gross slip at q = {q[state.index(2)]:.2e}")
 peak = max(zeta)
 assert 0.1 < peak < 0.4 and zeta[-1] < peak and zeta[0] < 0.01 * peak * 10
 # FRF peaks lie on the backbone (interpolated in log q; m = 1 kg so q = amplitude).

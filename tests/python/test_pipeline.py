@@ -294,7 +294,7 @@ def test_a_discrete_case_file_gives_the_programs_frf(tmp_path):
     assert isinstance(model, jointhb.DiscreteModel) and model.source.endswith("case.yaml")
     r = model.frf(level=0)
     assert r["status"] == "ok" and len(rows) == len(r["omega"])
-    for column in ("omega", "amplitude_h1", "dissipation"):
+    for column in ("omega", "amplitude_h1", "dissipation", "amplitude_error_truncation", "amplitude_error_aliasing"):
         assert np.array_equal(np.array([float(x[column]) for x in rows]), r[column]), column
     # a parameter: the stuck mode follows kt0 of the first contact
     names = model.parameter_names
@@ -310,3 +310,18 @@ def model_param(case, key):
     """The first value of `key` in the case file's contacts (a flow-style map)."""
     import re
     return float(re.search(rf"{key}:\s*([-+0-9.eE]+)", case.read_text()).group(1))
+
+
+def test_a_discrete_damping_curve_carries_the_programs_estimates_and_contact_states(tmp_path):
+    case = SOURCE / "cases/03-one-dof-gaul-mayer/case.yaml"
+    subprocess.run([PROGRAM, "run", str(case), "-o", str(tmp_path / "cli")], check=True, capture_output=True)
+    rows = list(csv.DictReader(open(tmp_path / "cli" / "backbone.csv")))
+    b = jointhb.load_case(str(case)).backbone(1)
+    assert b["status"] == "ok" and len(rows) == len(b["amplitude"])
+    for column in ("damping_ratio", "omega_error_truncation", "omega_error_aliasing", "damping_error_truncation",
+                   "damping_error_aliasing", "slipping_points", "stuck_points", "microslip_points",
+                   "gross_slip_points"):
+        assert np.array_equal(np.array([float(x[column]) for x in rows]), b[column]), column
+    # one contact: in exactly one state per point, stuck first and at its limit last (docs/theory.md §14)
+    states = b["stuck_points"] + b["microslip_points"] + b["gross_slip_points"]
+    assert np.all(states == 1) and b["stuck_points"][0] == 1 and b["gross_slip_points"][-1] == 1

@@ -120,6 +120,7 @@ struct InterfaceFrfPoint {
   double amplitude_max = 0.0;  ///< max_t |u_o(t)|
   double dissipation = 0.0;    ///< Σ A_p W_D [J]
   int open_points = 0, slipping_points = 0, iterations = 0;
+  hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   Eigen::VectorXd unknowns;
 };
 

@@ -73,6 +73,11 @@ struct Options {
   double initial_step = 1e-2;    ///< s₀ > 0, in scaled arclength
   double min_step = 1e-8;        ///< (0, initial_step]: stop when a halved step falls below it
   double max_step = 1e-1;        ///< ≥ initial_step
+  /// ≥ 0, in units of λ; 0: none. Caps the step so that the predictor advances λ by at most this
+  /// (s |τ_λ| λ_scale ≤ max_parameter_step): a lower bound on the points per unit of λ where the
+  /// branch advances in λ (`points_per_decade` of a damping curve, λ = log10 q). The corrector may
+  /// move λ a little beyond the predictor's; folds, where τ_λ → 0, are not constrained.
+  double max_parameter_step = 0.0;
   int max_points = 1000;         ///< ≥ 1: accepted points (including the start) before stopping
   double parameter_start = 0.0;  ///< λ of the first point
   double parameter_end = 1.0;    ///< the run stops at the first accepted point beyond it

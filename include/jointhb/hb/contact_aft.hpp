@@ -14,6 +14,7 @@
 #include <string>
 
 #include "jointhb/contact/tangential_law.hpp"
+#include "jointhb/hb/contact_state.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/fourier.hpp"
 
@@ -31,6 +32,9 @@ struct ContactAftResult {
   double dissipation = 0.0;       ///< W_D over the period [J]
   bool stuck = true;              ///< no slip over the period
   bool skipped = false;           ///< linear-spring shortcut taken
+  double limit_share = 0.0;       ///< share of the samples with |F| at the slip limit μF_N
+  double limit_ratio = 0.0;       ///< max_i |F(t_i)|/(μF_N)
+  ContactState state = ContactState::stuck;  ///< from the above (hb/contact_state.hpp)
   /// Periodic state converged. A per-evaluation flag of the AFT loop, kept a bool rather than a
   /// Status (contact/termination.hpp): see hb::ContactDiagnostics::converged.
   bool converged = true;

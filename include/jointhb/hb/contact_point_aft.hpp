@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "jointhb/contact/contact_point.hpp"
+#include "jointhb/hb/contact_state.hpp"
 #include "jointhb/hb/fourier.hpp"
 
 namespace jointhb::hb {
@@ -67,6 +68,7 @@ struct ContactPointAftOptions {
   double drift_limit = 0.0;
   double drift_ratio = 0.0;
   bool jacobian = false;      ///< compute ∂ΔT/∂δG
+  ContactStateOptions states;  ///< the classification of the point's state (hb/contact_state.hpp)
 
   /// Empty when valid, otherwise the field and the violated constraint.
   [[nodiscard]] std::string validate() const;
@@ -85,6 +87,9 @@ struct ContactPointAftResult {
   double dissipation = 0.0;          ///< W_D over one period = ∮ t_T·dg_T on the sampled path
   double open_fraction = 0.0;        ///< share of samples below the gapping floor
   bool stuck = true;                 ///< every tangential step elastic (no slip, never open)
+  double limit_share = 0.0;          ///< share of the samples with |t_T| at the slip limit μ p_N
+  double limit_ratio = 0.0;          ///< max over the closed samples of |t_T|/(μ p_N)
+  ContactState state = ContactState::stuck;  ///< from the above (hb/contact_state.hpp)
   ContactPointShortcut shortcut = ContactPointShortcut::none;
   /// Periodic state converged (always true for a shortcut). One per point per evaluation in the
   /// OpenMP loop over points: a bool, not a Status (contact/termination.hpp), to keep the hot loop
@@ -111,6 +116,7 @@ struct InterfaceAftResult {
   double dissipation = 0.0;  ///< Σ_p a_p W_D,p (a_p = 1 without areas), summed in point order
   int open_points = 0;       ///< points open throughout
   int stuck_points = 0;      ///< points that stick throughout
+  ContactStateCounts states;  ///< points per state (hb/contact_state.hpp)
   /// Every point converged: a validity flag of one evaluation (as ContactPointAftResult's), not
   /// how a computation ended; the continuation turns a false one into its StopReason.
   bool converged = true;

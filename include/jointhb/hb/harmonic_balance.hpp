@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/hb/contact_state.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/fourier.hpp"
 
@@ -60,6 +61,8 @@ struct ContactDiagnostics {
   double fourier_dissipation = 0.0;
   bool stuck = true;     ///< no slip during the period
   bool skipped = false;  ///< evaluated as a linear spring (no AFT)
+  ContactState state = ContactState::stuck;  ///< hb/contact_state.hpp
+  double limit_ratio = 0.0;                  ///< max_t |F|/(μF_N)
   int iterations = 0;    ///< periodic-state iterations
   /// The contact's periodic state converged. A bool, not a Status (contact/termination.hpp): one
   /// per contact per residual evaluation, inside the Newton loop, where a message string would be

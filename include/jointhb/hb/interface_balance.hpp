@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/hb/contact_state.hpp"
 #include "jointhb/hb/fourier.hpp"
 #include "jointhb/hb/interface_local_preconditioner.hpp"
 #include "jointhb/hb/interface_model.hpp"
@@ -82,7 +83,8 @@ struct InterfaceBalanceEvaluation {
   /// (docs/theory.md §7): what harmonic balance balances; → dissipation as H grows.
   double fourier_dissipation = 0.0;
   int open_points = 0;        ///< points open throughout the period
-  int slipping_points = 0;    ///< points that are neither stuck nor open
+  int slipping_points = 0;    ///< points in microslip or gross slip (states.slipping())
+  ContactStateCounts states;  ///< points per state (hb/contact_state.hpp)
   int drifting_points = 0;    ///< points accepted with a drift below drift_tolerance
   bool ok = true;             ///< false: a contact's periodic state did not converge
   std::string message;
@@ -99,6 +101,9 @@ struct InterfacePointSummary {
   double open_fraction = 0.0;      ///< share of the period below the gapping floor
   bool stuck = true;               ///< no slip and never open
   bool open = false;               ///< open throughout
+  ContactState state = ContactState::stuck;  ///< hb/contact_state.hpp
+  double limit_ratio = 0.0;        ///< max_t |t_T|/(μ p_N) over the closed samples
+  double limit_share = 0.0;        ///< share of the period at the slip limit
 };
 
 struct InterfaceBalanceTimings {

@@ -36,6 +36,7 @@ struct InterfaceModeState {
   double injected_energy = 0.0;       ///< work of the EPMC term ξ over the period, kept modes [J]
   double viscous_dissipation = 0.0;   ///< π Ω Σ_j c_j Σ_k k² (a_jk² + b_jk²), kept modes [J]
   int open_points = 0, slipping_points = 0;
+  ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
 };
 
 class InterfaceModeResidual {

@@ -50,8 +50,9 @@ struct NonlinearModeState {
   /// balance's damping ratio, equal to ζ up to the EPMC's truncation (the same definition as the
   /// FE damping curve's, hb/interface_mode.hpp)
   double damping_ratio_energy = 0.0;
-  double slip_fraction = 0.0;         ///< share of contacts that slip during the period
-  int slipping_points = 0;            ///< contacts that slip during the period
+  double slip_fraction = 0.0;         ///< share of contacts in microslip or gross slip
+  int slipping_points = 0;            ///< contacts in microslip or gross slip (hb/contact_state.hpp)
+  ContactStateCounts states;          ///< contacts per state (hb/contact_state.hpp)
 };
 
 class NonlinearModeResidual {

@@ -85,6 +85,7 @@ struct BackbonePoint {
   double damping_ratio_energy = 0.0;  ///< ζ_E from the sampled loops' energy
   double viscous_dissipation = 0.0;   ///< work of the kept modes' damping per cycle [J]
   int slipping_points = 0, open_points = 0, newton_iterations = 0;
+  hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   int contact_points = 0;             ///< P, for the slip fraction
   double step = 0.0;                  ///< arclength step that reached the point
 };
@@ -115,6 +116,7 @@ struct FrfPoint {
   double amplitude_max = 0.0;  ///< max_t |u_o(t)| [m]
   double dissipation = 0.0;    ///< W_D per cycle [J]
   int slipping_points = 0, open_points = 0, newton_iterations = 0;
+  hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
 };
 
 struct FrfCurve {

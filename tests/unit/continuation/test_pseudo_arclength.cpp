@@ -201,6 +201,51 @@ TEST(ContinuationArclength, LinearBranchIsExactWithFewPointsAndMaxStepRespected)
   EXPECT_EQ(r.rejected_steps, 0);
 }
 
+// max_parameter_step (a damping curve's points_per_decade) caps the step so that the predictor
+// advances λ by at most that much: exactly on a line (the predictor is the point), and within the
+// corrector's small overshoot on the S-curve where it advances in λ (|τ_λ| ≥ 0.5 at the step's
+// start; at the folds, τ_λ → 0, the cap lifts), whose uncapped steps there are many times longer.
+TEST(ContinuationArclength, MaxParameterStepBoundsTheParameterIncrement) {
+  const auto largest_increment = [](const jcont::Result& r) {
+    double d = 0.0;
+    for (std::size_t k = 1; k < r.points.size(); ++k) {
+      const auto& from = r.points[k - 1];
+      if (std::abs(from.tangent(from.tangent.size() - 1)) >= 0.5)
+        d = std::max(d, std::abs(r.points[k].lambda - from.lambda));
+    }
+    return d;
+  };
+  const LinearProblem lp;
+  jcont::Options o;
+  o.parameter_start = 0.0;
+  o.parameter_end = 1.0;
+  o.initial_step = 0.01;
+  o.max_step = 0.5;
+  const auto free_line = jcont::trace(lp.residual(), VectorXd::Constant(3, 1.0), o);
+  o.max_parameter_step = 0.03;
+  const auto line = jcont::trace(lp.residual(), VectorXd::Constant(3, 1.0), o);
+  ASSERT_EQ(line.reason, jcont::StopReason::reached_end) << describe(line);
+  EXPECT_GT(largest_increment(free_line), 3.0 * o.max_parameter_step);
+  EXPECT_LE(largest_increment(line), o.max_parameter_step * (1.0 + 1e-12));
+  EXPECT_GE(line.points.size(), 34u);  // ⌈1/0.03⌉ steps and the start
+
+  jcont::Options so;
+  so.parameter_start = -2.2;
+  so.parameter_end = 2.2;
+  so.max_step = 0.5;
+  const auto free_curve = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), so);
+  so.max_parameter_step = 0.02;
+  const auto curve = jcont::trace(s_curve(), VectorXd::Constant(1, -2.2), so);
+  ASSERT_EQ(curve.reason, jcont::StopReason::reached_end) << describe(curve);
+  EXPECT_GT(largest_increment(free_curve), 3.0 * so.max_parameter_step);
+  EXPECT_LE(largest_increment(curve), 1.1 * so.max_parameter_step);
+  std::printf("[ cap ] line: %zu points (%zu free), S-curve: %zu points (%zu free), largest dλ %.4f (cap %.2f)\n",
+              line.points.size(), free_line.points.size(), curve.points.size(), free_curve.points.size(),
+              largest_increment(curve), so.max_parameter_step);
+  so.max_parameter_step = -1.0;
+  EXPECT_NE(so.validate(1).find("max_parameter_step"), std::string::npos);
+}
+
 TEST(ContinuationArclength, DuffingFrequencyResponseMatchesClosedFormThroughFolds) {
   const Duffing d;
   jcont::Options o;

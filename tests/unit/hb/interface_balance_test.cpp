@@ -258,11 +258,17 @@ TEST(InterfaceBalance, PointSummariesAddUpToTheEvaluation) {
   ASSERT_EQ(static_cast<int>(sum.size()), s.P);
   double w = 0.0;
   int slipping = 0, open = 0;
+  ContactStateCounts states;
   for (int p = 0; p < s.P; ++p) {
     const InterfacePointSummary& q = sum[static_cast<std::size_t>(p)];
     w += hb.model().areas[p] * q.dissipation;
-    slipping += !q.stuck && !q.open;
+    slipping += q.state == ContactState::microslip || q.state == ContactState::gross_slip;
     open += q.open;
+    states.add(q.state);
+    EXPECT_EQ(q.open, q.state == ContactState::open);
+    EXPECT_EQ(q.limit_share > 0.0 && q.open_fraction == 0.0, q.state == ContactState::gross_slip);
+    EXPECT_GE(q.limit_ratio, 0.0);
+    EXPECT_LE(q.limit_ratio, 1.0 + 1e-12);
     EXPECT_GE(q.dissipation, -1e-15);
     EXPECT_GE(q.open_fraction, 0.0);
     EXPECT_LE(q.open_fraction, 1.0);
@@ -278,6 +284,8 @@ TEST(InterfaceBalance, PointSummariesAddUpToTheEvaluation) {
   EXPECT_GT(slipping, 0);
   EXPECT_EQ(slipping, e.slipping_points);
   EXPECT_EQ(open, e.open_points);
+  EXPECT_EQ(states.count, e.states.count);
+  EXPECT_EQ(states.total(), s.P);
   EXPECT_NEAR(w, e.dissipation, 1e-12 * std::abs(e.dissipation));
   EXPECT_THROW((void)hb.point_summaries(VectorXd::Zero(3)), std::invalid_argument);
 }

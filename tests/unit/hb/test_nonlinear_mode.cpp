@@ -106,6 +106,9 @@ TEST(NonlinearMode, StuckLimitIsTheLinearModeAndEnergyBalances) {
   EXPECT_LT(last.omega, 1.01);
   EXPECT_GT(last.omega, 1.0);
   EXPECT_EQ(last.slip_fraction, 0.5);
+  EXPECT_EQ(last.states[ContactState::gross_slip], 1);  // Jenkins: at its limit or elastic
+  EXPECT_EQ(last.states[ContactState::stuck], 1);
+  EXPECT_EQ(first.states[ContactState::stuck], 2);
   EXPECT_GT(last.damping_ratio_energy, 0.0);
 }
 
