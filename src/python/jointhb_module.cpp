@@ -163,13 +163,14 @@ void put_curve_status(py::dict& d, const Status& status, bool interrupted) {
 // An estimate that was not computed (error_estimate off, or failed at the point).
 constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
 
-// Columns "stuck_points" … "gapping_points" (hb/contact_state.hpp), the names of backbone.csv.
-template <class Point>
-void put_state_columns(py::dict& d, const std::vector<Point>& points) {
+// Columns "stuck_points" … "gapping_points" (hb/contact_state.hpp), the names of backbone.csv;
+// `counts(point)` gives a point's hb::ContactStateCounts.
+template <class Point, class Counts>
+void put_state_columns(py::dict& d, const std::vector<Point>& points, Counts counts) {
   for (const hb::ContactState s : {hb::ContactState::stuck, hb::ContactState::microslip,
                                    hb::ContactState::gross_slip, hb::ContactState::gapping}) {
     d[py::str(fmt::format("{}_points", hb::contact_state_name(s)))] =
-        column(points, [s](const Point& p) { return double(p.states[s]); });
+        column(points, [s, counts](const Point& p) { return double(counts(p)[s]); });
   }
 }
 
@@ -186,7 +187,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.damping_ratio_energy; });
   d["slipping_points"] = column(b.points, [](const P& p) { return double(p.slipping_points); });
   d["open_points"] = column(b.points, [](const P& p) { return double(p.open_points); });
-  put_state_columns(d, b.points);
+  put_state_columns(d, b.points, [](const P& p) { return p.states; });
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
   put_curve_status(d, b.status(), interrupted);  // Ctrl-C: stopped_by_user
   d["energy_gap"] = b.energy_gap;
@@ -213,7 +214,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
   d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
   d["slipping_points"] = column(r.points, [](const P& p) { return double(p.slipping_points); });
-  put_state_columns(d, r.points);
+  put_state_columns(d, r.points, [](const P& p) { return p.states; });
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
   put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
@@ -675,10 +676,7 @@ class DiscreteModel {
     d["W_D"] = column(b.points, [](const P& p) { return p.state.dissipation; });
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
     d["slipping_points"] = column(b.points, [](const P& p) { return double(p.state.slipping_points); });
-    for (const hb::ContactState s : {hb::ContactState::stuck, hb::ContactState::microslip, hb::ContactState::gross_slip}) {
-      d[py::str(fmt::format("{}_points", hb::contact_state_name(s)))] =
-          column(b.points, [s](const P& p) { return double(p.state.states[s]); });
-    }
+    put_state_columns(d, b.points, [](const P& p) { return p.state.states; });  // gapping_points 0, as in backbone.csv
     // Error estimates (docs/theory.md §13): NaN where not computed, the names of backbone.csv.
     const auto estimate = [&](const char* name, auto pick) {
       d[name] = column(b.points, [pick](const P& p) { return p.error.known ? pick(p.error) : kNotComputed; });

@@ -320,7 +320,7 @@ def test_a_discrete_damping_curve_carries_the_programs_estimates_and_contact_sta
     assert b["status"] == "ok" and len(rows) == len(b["amplitude"])
     for column in ("damping_ratio", "omega_error_truncation", "omega_error_aliasing", "damping_error_truncation",
                    "damping_error_aliasing", "slipping_points", "stuck_points", "microslip_points",
-                   "gross_slip_points"):
+                   "gross_slip_points", "gapping_points"):
         assert np.array_equal(np.array([float(x[column]) for x in rows]), b[column]), column
     # one contact: in exactly one state per point, stuck first and at its limit last (docs/theory.md §14)
     states = b["stuck_points"] + b["microslip_points"] + b["gross_slip_points"]
