@@ -4,10 +4,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/hb/contact_state.hpp"
 
 namespace jointhb::cli {
@@ -32,7 +35,7 @@ inline const std::vector<std::string> kBackboneColumns = {
     "step",                  // arclength step that reached the point
     // Estimated relative errors of Ω and ζ (continuation/error_estimate.hpp, docs/theory.md §13):
     // harmonic truncation (T-41) and time sampling (T-42), signed; empty where not computed
-    // (error_estimate: false, a failed estimate, and every finite-element curve)
+    // (error_estimate: false or a failed estimate)
     "omega_error_truncation", "omega_error_aliasing", "damping_error_truncation",
     "damping_error_aliasing"};
 
@@ -59,5 +62,34 @@ inline std::vector<std::optional<double>> backbone_error_fields(bool known, doub
   if (!known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
   return {omega_truncation, omega_aliasing, damping_truncation, damping_aliasing};
 }
+
+/// The fields of the four error columns of an FRF row (amplitude_h1, amplitude_max; truncation,
+/// aliasing), empty (nullopt) when not computed; discrete and finite-element frf.csv alike.
+inline std::vector<std::optional<double>> frf_error_fields(const continuation::FrfError& e) {
+  if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
+  return {e.amplitude_h1.truncation, e.amplitude_h1.aliasing, e.amplitude_max.truncation, e.amplitude_max.aliasing};
+}
+
+// The worst |estimate| of each source over the known points of a curve (summary.json).
+struct WorstErrors {
+  int known = 0;
+  double first_truncation = 0.0, first_aliasing = 0.0;    // Ω (damping curve), amplitude_h1 (FRF)
+  double second_truncation = 0.0, second_aliasing = 0.0;  // ζ (damping curve), amplitude_max (FRF)
+  void add(bool point_known, const continuation::ErrorPair& first, const continuation::ErrorPair& second) {
+    if (!point_known) return;
+    ++known;
+    first_truncation = std::max(first_truncation, std::abs(first.truncation));
+    first_aliasing = std::max(first_aliasing, std::abs(first.aliasing));
+    second_truncation = std::max(second_truncation, std::abs(second.truncation));
+    second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
+  }
+  // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.
+  [[nodiscard]] nlohmann::ordered_json json(const char* first, const char* second) const {
+    const auto value = [&](double v) { return known > 0 ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+    return {{"points_known", known},
+            {first, {{"truncation", value(first_truncation)}, {"aliasing", value(first_aliasing)}}},
+            {second, {{"truncation", value(second_truncation)}, {"aliasing", value(second_aliasing)}}}};
+  }
+};
 
 }  // namespace jointhb::cli

@@ -29,7 +29,10 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 const std::vector<std::string> kFeFrfColumns = {
     "level",        "force_amplitude", "omega",           "frequency_hz", "amplitude_h1", "amplitude_max",
     "dissipation",  "slipping_points", "open_points",     "newton_iterations",
-    "stuck_points", "microslip_points", "gross_slip_points", "gapping_points"};
+    "stuck_points", "microslip_points", "gross_slip_points", "gapping_points",
+    // estimated relative errors of amplitude_h1 and amplitude_max (as the discrete frf.csv)
+    "amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
+    "amplitude_max_error_aliasing"};
 
 // Contact points per state at every point of a damping curve (hb/contact_state.hpp):
 // {"amplitude": [q...], "stuck": [n...], "microslip": [...], "gross_slip": [...], "gapping": [...], "open": [...]}.
@@ -54,6 +57,7 @@ ordered_json timings_json(const continuation::InterfaceTimings& t) {
           {"products", t.products},
           {"preconditioner_build", t.preconditioner},
           {"preconditioner_apply", t.preconditioner_apply},
+          {"error_estimate", t.error_estimate},
           {"total", t.total},
           {"evaluations", t.evaluations},
           {"jacobians", t.jacobians},
@@ -155,7 +159,6 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       const auto on_point = [&](const pipeline::BackbonePoint& s) {
         const double slip_fraction =
             s.contact_points > 0 ? static_cast<double>(s.slipping_points) / s.contact_points : 0.0;
-        // The error columns stay empty: the estimates are computed for discrete curves only.
         std::vector<std::optional<double>> row = {
             static_cast<double>(mode), s.amplitude, s.output_amplitude, s.omega, s.frequency_hz,
             s.damping_ratio, s.dissipation, s.viscous_dissipation, s.damping_ratio_energy, slip_fraction,
@@ -163,7 +166,10 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         for (const auto& field : contact_state_fields(s.states)) row.push_back(field);
         row.push_back(static_cast<double>(s.newton_iterations));
         row.push_back(s.step);
-        for (const auto& field : backbone_error_fields(false, 0.0, 0.0, 0.0, 0.0)) row.push_back(field);
+        const continuation::BackboneError& e = s.error;
+        for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
+                                                       e.damping.truncation, e.damping.aliasing))
+          row.push_back(field);
         csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rmode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d   ", mode, s.amplitude,
@@ -202,6 +208,10 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
                                       {"seconds", timings_json(bb.timings)}});
       if (!fields_json.is_null()) entry["fields"] = fields_json;
       entry["contact_states"] = contact_states_along(b.points);
+      WorstErrors worst;
+      for (const auto& p : b.points) worst.add(p.error.known, p.error.omega, p.error.damping);
+      entry["error_estimate"] = worst.json("omega", "damping");
+      entry["error_estimate"]["seconds"] = bb.timings.error_estimate;
       summary["backbones"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }
@@ -220,6 +230,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
             p.dissipation, static_cast<double>(p.slipping_points), static_cast<double>(p.open_points),
             static_cast<double>(p.newton_iterations)};
         for (const auto& field : contact_state_fields(p.states)) row.push_back(field);
+        for (const auto& field : frf_error_fields(p.error)) row.push_back(field);
         csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d   ", p.force, p.frequency_hz,
@@ -245,6 +256,10 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
                                  {"newton_iterations", r.curve.newton_iterations},
                                  {"rejected_steps", r.curve.rejected_steps},
                                  {"seconds", timings_json(r.curve.timings)}});
+      WorstErrors worst;
+      for (const auto& p : r.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
+      entry["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
+      entry["error_estimate"]["seconds"] = r.curve.timings.error_estimate;
       summary["frfs"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }

@@ -37,28 +37,6 @@ const std::vector<std::string> kFrfColumns = {
     "amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
     "amplitude_max_error_aliasing"};
 
-// The worst |estimate| of each source over the known points of a curve (summary.json).
-struct WorstErrors {
-  int known = 0;
-  double first_truncation = 0.0, first_aliasing = 0.0;    // Ω (damping curve), amplitude_h1 (FRF)
-  double second_truncation = 0.0, second_aliasing = 0.0;  // ζ (damping curve), amplitude_max (FRF)
-  void add(bool point_known, const continuation::ErrorPair& first, const continuation::ErrorPair& second) {
-    if (!point_known) return;
-    ++known;
-    first_truncation = std::max(first_truncation, std::abs(first.truncation));
-    first_aliasing = std::max(first_aliasing, std::abs(first.aliasing));
-    second_truncation = std::max(second_truncation, std::abs(second.truncation));
-    second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
-  }
-  // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.
-  [[nodiscard]] Json json(const char* first, const char* second) const {
-    const auto value = [&](double v) { return known > 0 ? Json(v) : Json(nullptr); };
-    return {{"points_known", known},
-            {first, {{"truncation", value(first_truncation)}, {"aliasing", value(first_aliasing)}}},
-            {second, {{"truncation", value(second_truncation)}, {"aliasing", value(second_aliasing)}}}};
-  }
-};
-
 std::vector<std::string> frf_columns(bool stability) {
   std::vector<std::string> columns = kFrfColumns;
   if (stability) {
@@ -344,10 +322,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
                                                 p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
                                                 p.amplitude_max, p.dissipation,
                                                 static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
-      for (const double v : {p.error.amplitude_h1.truncation, p.error.amplitude_h1.aliasing,
-                             p.error.amplitude_max.truncation, p.error.amplitude_max.aliasing}) {
-        row.push_back(p.error.known ? std::optional<double>(v) : std::nullopt);
-      }
+      for (const auto& field : frf_error_fields(p.error)) row.push_back(field);
       if (stability) {
         row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
         row.push_back(p.stability_known ? p.max_multiplier : -1.0);

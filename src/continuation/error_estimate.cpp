@@ -8,8 +8,15 @@
 #include <tuple>
 #include <utility>
 
+#include "error_estimate_support.hpp"
+
 namespace jointhb::continuation {
 namespace {
+
+using estimate_detail::finer_options;
+using estimate_detail::kept_rows;
+using estimate_detail::mode_changes;
+using estimate_detail::relative_change;
 
 // δ = −J⁻¹ R (dense LU with partial pivoting), nullopt when J is singular or δ not finite.
 std::optional<Eigen::VectorXd> estimate_newton_step(const Eigen::MatrixXd& j,
@@ -19,44 +26,6 @@ std::optional<Eigen::VectorXd> estimate_newton_step(const Eigen::MatrixXd& j,
   Eigen::VectorXd step = -lu.solve(r);
   if (!step.allFinite()) return std::nullopt;
   return step;
-}
-
-// 1 on the rows of `to` (DOF-major coefficients of `dofs` DOFs) whose harmonic `from` keeps, 0 on
-// the new ones: the transfer of ones.
-Eigen::VectorXd estimate_kept_rows(const hb::FourierBasis& from, const hb::FourierBasis& to,
-                                   int dofs) {
-  return hb::transfer_coefficients(
-      from, to, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(dofs) * from.size()), dofs);
-}
-
-// (after − before)/|before|, or after − before where before = 0.
-double estimate_relative(double after, double before) {
-  const double change = after - before;
-  return before != 0.0 ? change / std::abs(before) : change;
-}
-
-// The relative changes of Ω and ζ = ξ/(2Ω) from EPMC unknowns y (…, Ω, ξ) to y + δ.
-std::pair<double, double> estimate_mode_changes(const Eigen::VectorXd& y,
-                                                const Eigen::VectorXd& step) {
-  const Eigen::Index n = y.size();
-  const double omega = y[n - 2], xi = y[n - 1];
-  const double omega1 = omega + step[n - 2], xi1 = xi + step[n - 1];
-  return {estimate_relative(omega1, omega),
-          estimate_relative(xi1 / (2.0 * omega1), xi / (2.0 * omega))};
-}
-
-// The options of the finer residual: H + 2 harmonics with N_t' samples (T-41) when `finer`, else
-// 2 N_t samples at the same H (T-42). One template for hb::NonlinearModeOptions and
-// hb::HarmonicBalanceOptions, which name both fields alike.
-template <class BalanceOptions>
-BalanceOptions estimate_finer_options(BalanceOptions o, bool finer) {
-  if (finer) {
-    o.time_samples = truncation_time_samples(o.harmonics, o.time_samples);
-    o.harmonics += 2;
-  } else {
-    o.time_samples *= 2;
-  }
-  return o;
 }
 
 // |fundamental| and max_t |x(t)| of DOF `dof` of coefficients x of balance b.
@@ -77,8 +46,8 @@ int truncation_time_samples(int harmonics, int time_samples) {
 
 BackboneErrorEstimator::BackboneErrorEstimator(const hb::DiscreteSystem& system,
                                                const hb::NonlinearModeOptions& options)
-    : finer_(system, estimate_finer_options(options, true)),
-      sampled_(system, estimate_finer_options(options, false)) {}
+    : finer_(system, finer_options(options, true)),
+      sampled_(system, finer_options(options, false)) {}
 
 BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& base,
                                                const Eigen::VectorXd& y, double lambda) const {
@@ -100,7 +69,7 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
   Eigen::VectorXd r_new = Eigen::VectorXd::Zero(ev.residual.size());
   r_new.head(nf) = ev.residual.head(nf).cwiseProduct(
       Eigen::VectorXd::Ones(nf) -
-      estimate_kept_rows(base.balance().basis(), finer_.balance().basis(), dofs));
+      kept_rows(base.balance().basis(), finer_.balance().basis(), dofs));
   const std::optional<Eigen::VectorXd> truncation = estimate_newton_step(ev.d_state, r_new);
   if (!truncation) return e;
   // (T-42): the residual with 2 N_t samples, the step with the N_t Jacobian.
@@ -110,8 +79,8 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
   if (!fine.ok || !jac.ok) return e;
   const std::optional<Eigen::VectorXd> aliasing = estimate_newton_step(jac.d_state, fine.residual);
   if (!aliasing) return e;
-  std::tie(e.omega.truncation, e.damping.truncation) = estimate_mode_changes(yf, *truncation);
-  std::tie(e.omega.aliasing, e.damping.aliasing) = estimate_mode_changes(y, *aliasing);
+  std::tie(e.omega.truncation, e.damping.truncation) = mode_changes(yf, *truncation);
+  std::tie(e.omega.aliasing, e.damping.aliasing) = mode_changes(y, *aliasing);
   e.known = std::isfinite(e.omega.worst()) && std::isfinite(e.damping.worst());
   if (!e.known) e = BackboneError{};
   return e;
@@ -120,8 +89,8 @@ BackboneError BackboneErrorEstimator::estimate(const hb::NonlinearModeResidual& 
 FrfErrorEstimator::FrfErrorEstimator(const hb::DiscreteSystem& system,
                                      const hb::Excitation& excitation,
                                      const hb::HarmonicBalanceOptions& options)
-    : finer_(system, excitation, estimate_finer_options(options, true)),
-      sampled_(system, excitation, estimate_finer_options(options, false)) {}
+    : finer_(system, excitation, finer_options(options, true)),
+      sampled_(system, excitation, finer_options(options, false)) {}
 
 FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eigen::VectorXd& x,
                                      double omega, int dof) const {
@@ -136,7 +105,7 @@ FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eige
   // The rows of the new harmonics alone, as for the damping curve.
   const Eigen::VectorXd r_new = ev.residual.cwiseProduct(
       Eigen::VectorXd::Ones(ev.residual.size()) -
-      estimate_kept_rows(base.basis(), finer_.basis(), base.system().dofs()));
+      kept_rows(base.basis(), finer_.basis(), base.system().dofs()));
   const std::optional<Eigen::VectorXd> truncation = estimate_newton_step(ev.d_coefficients, r_new);
   if (!truncation) return e;
   const auto [h1_t, peak_t] = estimate_frf_outputs(finer_, xf + *truncation, dof);
@@ -149,8 +118,8 @@ FrfError FrfErrorEstimator::estimate(const hb::HarmonicBalance& base, const Eige
       estimate_newton_step(jac.d_coefficients, fine.residual);
   if (!aliasing) return e;
   const auto [h1_a, peak_a] = estimate_frf_outputs(base, x + *aliasing, dof);
-  e.amplitude_h1 = {estimate_relative(h1_t, h1), estimate_relative(h1_a, h1)};
-  e.amplitude_max = {estimate_relative(peak_t, peak), estimate_relative(peak_a, peak)};
+  e.amplitude_h1 = {relative_change(h1_t, h1), relative_change(h1_a, h1)};
+  e.amplitude_max = {relative_change(peak_t, peak), relative_change(peak_a, peak)};
   e.known = std::isfinite(e.amplitude_h1.worst()) && std::isfinite(e.amplitude_max.worst());
   if (!e.known) e = FrfError{};
   return e;

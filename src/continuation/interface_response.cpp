@@ -7,7 +7,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
+
+#include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
 
@@ -51,17 +54,22 @@ InterfaceTimings curve_timings(const hb::InterfaceBalanceTimings& t, const Resul
 }  // namespace
 
 std::string InterfaceTimings::breakdown() const {
-  const double other = std::max(total - aft - assembly - linear_solve, 0.0);
+  const double other = std::max(total - aft - assembly - linear_solve - error_estimate, 0.0);
+  // The estimates' own evaluations and solves are counted in error_estimate only, except the
+  // AFT of their evaluation at the point on the curve's balance (in aft).
+  const std::string estimates =
+      error_estimate > 0.0 ? fmt::format(", error estimates {:.3g} s", error_estimate) : std::string();
   if (products == 0.0 && preconditioner == 0.0)
     return fmt::format("{:.3g} s: AFT {:.3g} s ({} evaluations), assembly {:.3g} s, linear solves {:.3g} s "
-                       "({} factorisations), other {:.3g} s",
-                       total, aft, evaluations, assembly, linear_solve, factorisations, other);
+                       "({} factorisations){}, other {:.3g} s",
+                       total, aft, evaluations, assembly, linear_solve, factorisations, estimates, other);
   // Products run inside the linear solves (GMRES) and, for the EPMC's ∂R/∂λ, in the evaluations.
   return fmt::format("{:.3g} s: AFT {:.3g} s ({} evaluations), assembly {:.3g} s, linear solves {:.3g} s "
                      "({} GMRES iterations; preconditioner {} builds {:.3g} s, {} applications {:.3g} s), "
-                     "Jacobian products {:.3g} s ({}), other {:.3g} s",
+                     "Jacobian products {:.3g} s ({}){}, other {:.3g} s",
                      total, aft, evaluations, assembly, linear_solve, krylov_iterations, factorisations,
-                     preconditioner, preconditioner_calls, preconditioner_apply, products, product_calls, other);
+                     preconditioner, preconditioner_calls, preconditioner_apply, products, product_calls, estimates,
+                     other);
 }
 
 std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) const {
@@ -98,6 +106,10 @@ InterfaceBackbone trace_interface_backbone(
   c.state_scale[U] = epmc.linear_omega();
   c.state_scale[U + 1] = 0.1 * epmc.linear_omega();
   c.residual_scale = 1.0;  // rows are in units of the (unit) modal amplitude
+
+  std::optional<InterfaceBackboneErrorEstimator> estimator;
+  if (options.error_estimate) estimator.emplace(model, mode);
+  double error_seconds = 0.0;
 
   hb::InterfaceModeResidual::Evaluation last;
   Eigen::VectorXd last_y;
@@ -138,6 +150,12 @@ InterfaceBackbone trace_interface_backbone(
     b.iterations = p.iterations;
     b.step = p.step;
     b.unknowns = p.x;
+    if (estimator) {
+      const auto estimate_start = support::Clock::now();
+      // The corrector's last evaluation is at the point and, matrix-free, keeps its point blocks.
+      b.error = estimator->estimate(epmc, p.x, p.lambda, cached ? &last : nullptr);
+      error_seconds += support::seconds_since(estimate_start);
+    }
     curve.points.push_back(b);
     return on_point ? on_point(b) : true;
   };
@@ -148,6 +166,7 @@ InterfaceBackbone trace_interface_backbone(
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = epmc.balance().timings();
   curve.timings = curve_timings(t, r, support::seconds_since(start));
+  curve.timings.error_estimate = error_seconds;
   return curve;
 }
 
@@ -193,6 +212,10 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
       (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[elastic]) / (2.0 * std::sqrt(model.omega2[elastic])), 1e-4);
   c.state_scale = eta / (2.0 * zeta) * arclength_scale(balance);
   c.residual_scale = eta;
+
+  std::optional<InterfaceFrfErrorEstimator> estimator;
+  if (options.error_estimate) estimator.emplace(model, balance_options, options.load_amplitude, options.output);
+  double error_seconds = 0.0;
 
   hb::InterfaceBalanceEvaluation last;
   Eigen::VectorXd last_x;
@@ -240,6 +263,11 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     f.states = last.states;
     f.iterations = p.iterations;
     f.unknowns = p.x;
+    if (estimator) {
+      const auto estimate_start = support::Clock::now();
+      f.error = estimator->estimate(balance, p.x, p.lambda, &last);  // `last` is at the point (above)
+      error_seconds += support::seconds_since(estimate_start);
+    }
     curve.points.push_back(f);
     return on_point ? on_point(f) : true;
   };
@@ -250,6 +278,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   curve.rejected_steps = r.rejected_steps;
   const hb::InterfaceBalanceTimings t = balance.timings();
   curve.timings = curve_timings(t, r, support::seconds_since(start));
+  curve.timings.error_estimate = error_seconds;
   return curve;
 }
 

@@ -189,7 +189,7 @@ class DynamicsReader {
   FeNonlinearModesSpec read_nonlinear_modes(const YAML::Node& node, const std::string& path) const {
     const Fields f = r_.fields(node, path, {"mode", "log10_amplitude", "frequency_drop", "harmonics", "time_samples",
                                             "periodic_tolerance", "tangential_stiffness", "continuation",
-                                            "points_per_decade", "fields", "volume_fields"});
+                                            "points_per_decade", "fields", "volume_fields", "error_estimate"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
     if (const auto* e = f.find("mode")) {
@@ -222,12 +222,8 @@ class DynamicsReader {
       r_.check(e->value, f.path_of("fields"), check_in_range(k, 0, 1000));
       o.fields = static_cast<int>(k);
     }
-    if (const auto* e = f.find("volume_fields")) {
-      const std::string key = f.path_of("volume_fields");
-      const std::string v = r_.text(e->value, key);
-      r_.check(e->value, key, check_one_of(v, {"true", "false"}));
-      o.volume_fields = v == "true";
-    }
+    read_flag(f, "volume_fields", o.volume_fields);
+    read_flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
@@ -238,7 +234,7 @@ class DynamicsReader {
 
   FeFrfSpec read_frf(const YAML::Node& node, const std::string& path, const FeDynamicsSpec& d) const {
     const Fields f = r_.fields(node, path, {"frequency_hz", "omega", "force", "output", "harmonics", "time_samples",
-                                            "periodic_tolerance", "tangential_stiffness", "continuation"});
+                                            "periodic_tolerance", "tangential_stiffness", "continuation", "error_estimate"});
     FeFrfSpec o;
     o.balance.harmonics = 1;
     const auto* hz = f.find("frequency_hz");
@@ -285,9 +281,20 @@ class DynamicsReader {
       }
       o.output = static_cast<int>(it - d.outputs.begin());
     }
+    read_flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     return o;
+  }
+
+  // A true/false key, when given.
+  void read_flag(const Fields& f, const std::string& name, bool& flag) const {
+    const auto* e = f.find(name);
+    if (!e) return;
+    const std::string key = f.path_of(name);
+    const std::string v = r_.text(e->value, key);
+    r_.check(e->value, key, check_one_of(v, {"true", "false"}));
+    flag = v == "true";
   }
 };
 

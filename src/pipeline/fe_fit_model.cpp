@@ -117,6 +117,7 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
   for (const auto& pt : t.points) q_max = std::max(q_max, pt.abscissa);
   nm.log10_amplitude_end = std::min(nm.log10_amplitude_end, std::log10(q_max) + 0.1);
   nm.frequency_drop = 0.0;
+  nm.error_estimate = false;  // a fit uses the points alone: the estimates would cost for nothing
   if (!(nm.log10_amplitude_end > nm.log10_amplitude_start))
     return failed(fmt::format("{}: the measured amplitudes lie below the curve's start", t.name));
   const BackboneCurve bb = pipeline_.backbone(t.mode, nm);
@@ -172,7 +173,9 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
 }
 
 fit::PredictedCurve FeFitModel::frf_curve(const fit::Target& t) {
-  const FrfCurve r = pipeline_.frf(static_cast<std::size_t>(t.level));
+  FeFrfSpec fs = *pipeline_.analysis().dynamics->frf;
+  fs.error_estimate = false;  // as for the damping curves
+  const FrfCurve r = pipeline_.frf(static_cast<std::size_t>(t.level), fs);
   fit::PredictedCurve curve;
   for (const auto& pt : r.points) {
     curve.abscissa.push_back(pt.frequency_hz);

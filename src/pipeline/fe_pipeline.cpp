@@ -258,6 +258,7 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
   o.log10_amplitude_start = nm.log10_amplitude_start;
   o.log10_amplitude_end = nm.log10_amplitude_end;
   o.continuation = nm.continuation;
+  o.error_estimate = nm.error_estimate;
   BackboneCurve out;
   out.mode = mode;
   out.harmonics = nm.balance.harmonics;
@@ -301,6 +302,7 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
     b.contact_points = im.num_points();
     b.newton_iterations = p.iterations;
     b.step = p.step;
+    b.error = p.error;
     out.points.push_back(b);
     if (linear_hz == 0.0) linear_hz = b.frequency_hz;
     // ζ (what the balance needs) against ζ_E (the sampled loops' W_D + viscous work): apart from
@@ -373,6 +375,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
   o.output = fs.output;
   o.balance = fs.balance;
   o.continuation = fs.continuation;
+  o.error_estimate = fs.error_estimate;
   FrfCurve out;
   out.level = level;
   out.force = fs.forces[level];
@@ -398,6 +401,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
     f.states = p.states;
     f.open_points = p.open_points;
     f.newton_iterations = p.iterations;
+    f.error = p.error;
     out.points.push_back(f);
     if (f.amplitude_h1 > out.peak_amplitude) out.peak_amplitude = f.amplitude_h1, out.peak_frequency_hz = f.frequency_hz;
     if (on_point && !on_point(f)) {

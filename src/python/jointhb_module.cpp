@@ -61,6 +61,7 @@ py::dict timings_dict(const continuation::InterfaceTimings& t) {
   d["preconditioner_build"] = t.preconditioner;
   d["preconditioner_apply"] = t.preconditioner_apply;
   d["linear_solve"] = t.linear_solve;
+  d["error_estimate"] = t.error_estimate;
   d["total"] = t.total;
   d["gmres_iterations"] = t.krylov_iterations;
   d["product_calls"] = t.product_calls;
@@ -174,6 +175,33 @@ void put_state_columns(py::dict& d, const std::vector<Point>& points, Counts cou
   }
 }
 
+// The error-estimate columns of a damping curve (docs/theory.md §13), the names of backbone.csv,
+// NaN where not computed; `error(point)` gives a point's continuation::BackboneError.
+template <class Point, class Error>
+void put_backbone_error_columns(py::dict& d, const std::vector<Point>& points, Error error) {
+  const auto estimate = [&](const char* name, auto pick) {
+    d[name] = column(points, [pick, error](const Point& p) { return error(p).known ? pick(error(p)) : kNotComputed; });
+  };
+  using E = continuation::BackboneError;
+  estimate("omega_error_truncation", [](const E& e) { return e.omega.truncation; });
+  estimate("omega_error_aliasing", [](const E& e) { return e.omega.aliasing; });
+  estimate("damping_error_truncation", [](const E& e) { return e.damping.truncation; });
+  estimate("damping_error_aliasing", [](const E& e) { return e.damping.aliasing; });
+}
+
+// The same for an FRF (continuation::FrfError), the names of frf.csv.
+template <class Point, class Error>
+void put_frf_error_columns(py::dict& d, const std::vector<Point>& points, Error error) {
+  const auto estimate = [&](const char* name, auto pick) {
+    d[name] = column(points, [pick, error](const Point& p) { return error(p).known ? pick(error(p)) : kNotComputed; });
+  };
+  using E = continuation::FrfError;
+  estimate("amplitude_error_truncation", [](const E& e) { return e.amplitude_h1.truncation; });
+  estimate("amplitude_error_aliasing", [](const E& e) { return e.amplitude_h1.aliasing; });
+  estimate("amplitude_max_error_truncation", [](const E& e) { return e.amplitude_max.truncation; });
+  estimate("amplitude_max_error_aliasing", [](const E& e) { return e.amplitude_max.aliasing; });
+}
+
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   using P = pipeline::BackbonePoint;
   py::dict d;
@@ -189,6 +217,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["open_points"] = column(b.points, [](const P& p) { return double(p.open_points); });
   put_state_columns(d, b.points, [](const P& p) { return p.states; });
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
+  put_backbone_error_columns(d, b.points, [](const P& p) -> const continuation::BackboneError& { return p.error; });
   put_curve_status(d, b.status(), interrupted);  // Ctrl-C: stopped_by_user
   d["energy_gap"] = b.energy_gap;
   d["energy_warning"] = b.energy_warning;
@@ -216,6 +245,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   d["slipping_points"] = column(r.points, [](const P& p) { return double(p.slipping_points); });
   put_state_columns(d, r.points, [](const P& p) { return p.states; });
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
+  put_frf_error_columns(d, r.points, [](const P& p) -> const continuation::FrfError& { return p.error; });
   put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
   d["peak_frequency_hz"] = r.peak_frequency_hz;
@@ -356,7 +386,8 @@ class Pipeline {
 
   py::dict backbone(int mode, const py::object& callback, const std::optional<std::pair<double, double>>& log10_amplitude,
                     const std::optional<double>& frequency_drop, const std::optional<int>& harmonics,
-                    const std::optional<int>& time_samples, bool contact_fields) {
+                    const std::optional<int>& time_samples, bool contact_fields,
+                    const std::optional<bool>& error_estimate) {
     if (!case_->dynamics || !case_->dynamics->nonlinear_modes)
       throw py::value_error(case_->source + ": the case has no analysis.nonlinear_modes (give it one in the case file)");
     pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
@@ -364,6 +395,7 @@ class Pipeline {
     if (frequency_drop) nm.frequency_drop = *frequency_drop;
     if (harmonics) nm.balance.harmonics = *harmonics, nm.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (time_samples) nm.balance.time_samples = *time_samples;
+    if (error_estimate) nm.error_estimate = *error_estimate;
     if (const std::string e = nm.balance.validate(); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
     pipeline::BackboneCurve b;
@@ -431,7 +463,8 @@ class Pipeline {
   }
 
   py::dict frf(std::size_t level, const py::object& callback, const std::optional<std::pair<double, double>>& frequency_hz,
-               const std::optional<double>& force, const std::optional<int>& harmonics) {
+               const std::optional<double>& force, const std::optional<int>& harmonics,
+               const std::optional<bool>& error_estimate) {
     if (!case_->dynamics || !case_->dynamics->frf)
       throw py::value_error(case_->source + ": the case has no analysis.frf (give it one in the case file)");
     pipeline::FeFrfSpec fs = *case_->dynamics->frf;
@@ -439,6 +472,7 @@ class Pipeline {
                       fs.omega_end = kTwoPi * frequency_hz->second;
     if (force) fs.forces = {*force}, level = 0;
     if (harmonics) fs.balance.harmonics = *harmonics, fs.balance.time_samples = pipeline::default_time_samples(*harmonics);
+    if (error_estimate) fs.error_estimate = *error_estimate;
     if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     pipeline::FrfCurve r;
@@ -632,15 +666,7 @@ class DiscreteModel {
       out["refined"] = e.refined;
       return out;
     };
-    // Error estimates (docs/theory.md §13): NaN where not computed, the names of frf.csv.
-    const auto estimate = [&](const char* name, auto pick) {
-      d[name] = column(r.points, [pick](const P& p) { return p.error.known ? pick(p.error) : kNotComputed; });
-    };
-    using E = continuation::FrfError;
-    estimate("amplitude_error_truncation", [](const E& e) { return e.amplitude_h1.truncation; });
-    estimate("amplitude_error_aliasing", [](const E& e) { return e.amplitude_h1.aliasing; });
-    estimate("amplitude_max_error_truncation", [](const E& e) { return e.amplitude_max.truncation; });
-    estimate("amplitude_max_error_aliasing", [](const E& e) { return e.amplitude_max.aliasing; });
+    put_frf_error_columns(d, r.points, [](const P& p) -> const continuation::FrfError& { return p.error; });
     if (r.peak) d["peak"] = extremum(*r.peak);
     py::list folds;
     for (const auto& f : r.folds) folds.append(extremum(f));
@@ -677,15 +703,7 @@ class DiscreteModel {
     d["damping_ratio_energy"] = column(b.points, [](const P& p) { return p.state.damping_ratio_energy; });
     d["slipping_points"] = column(b.points, [](const P& p) { return double(p.state.slipping_points); });
     put_state_columns(d, b.points, [](const P& p) { return p.state.states; });  // gapping_points 0, as in backbone.csv
-    // Error estimates (docs/theory.md §13): NaN where not computed, the names of backbone.csv.
-    const auto estimate = [&](const char* name, auto pick) {
-      d[name] = column(b.points, [pick](const P& p) { return p.error.known ? pick(p.error) : kNotComputed; });
-    };
-    using E = continuation::BackboneError;
-    estimate("omega_error_truncation", [](const E& e) { return e.omega.truncation; });
-    estimate("omega_error_aliasing", [](const E& e) { return e.omega.aliasing; });
-    estimate("damping_error_truncation", [](const E& e) { return e.damping.truncation; });
-    estimate("damping_error_aliasing", [](const E& e) { return e.damping.aliasing; });
+    put_backbone_error_columns(d, b.points, [](const P& p) -> const continuation::BackboneError& { return p.error; });
     put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;
@@ -848,6 +866,7 @@ PYBIND11_MODULE(_core, m) {
       .def("backbone", &Pipeline::backbone, py::arg("mode") = 1, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("log10_amplitude") = py::none(), py::arg("frequency_drop") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("contact_fields") = false,
+           py::arg("error_estimate") = py::none(),
            "The damping curve (EPMC) of elastic mode `mode`: numpy arrays amplitude (q [m sqrt(kg)]), "
            "frequency_hz, damping_ratio, W_D [J], output_amplitude [m], ...; status, message, seconds. "
            "callback(point: dict) is called at every accepted point; returning False stops the curve. "
@@ -855,11 +874,16 @@ PYBIND11_MODULE(_core, m) {
            "case's analysis.nonlinear_modes. contact_fields=True adds 'contact': per contact point its "
            "position [m], area [m^2], interface, and per curve point x contact point W_D [J/m^2 per cycle], "
            "tangential and normal motion [m], pressure min/max [Pa], limit_ratio (max |t_T|/(mu p_N)), state "
-           "(0 stuck, 1 microslip, 2 gross slip, 3 gapping, 4 open).")
+           "(0 stuck, 1 microslip, 2 gross slip, 3 gapping, 4 open). error_estimate=True adds the estimated "
+           "relative errors omega_error_truncation, omega_error_aliasing, damping_error_truncation, "
+           "damping_error_aliasing (NaN where not computed; docs/theory.md section 13).")
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
+           py::arg("error_estimate") = py::none(),
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "
-           "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message.")
+           "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message. "
+           "error_estimate=True adds amplitude_error_truncation, amplitude_error_aliasing, "
+           "amplitude_max_error_truncation, amplitude_max_error_aliasing (NaN where not computed).")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
                              "interfaces.<name>.pressure|decay|cutoff_gap|normal_stiffness|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
       .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))

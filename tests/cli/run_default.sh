@@ -153,10 +153,14 @@ print(f"ok: stages from the cache: {s['preload']['cache_seconds'] + s['modes']['
 PY
 
 # Only the damping changed: the condensation only copies the Rayleigh coefficients, so all three
-# stages still come from the cache, and the linear limit carries the new ratio.
+# stages still come from the cache, and the linear limit carries the new ratio. The error
+# estimates (off by default for FE curves) are switched on: every row carries them, and
+# summary.json's worst estimates are the columns' largest magnitudes.
 sed -e 's/damping: {ratio: 0.005}/damping: {ratio: 0.01}/' -e 's/frequency_drop: 0.03 /frequency_drop: 0.005 /' \
+  -e 's/^    harmonics: 1/    harmonics: 1\n    error_estimate: true/' \
   "$SOURCE_DIR/cases/08-lap-damping/case.yaml" >"$WORK/damped.yaml"
 grep -q 'ratio: 0.01}' "$WORK/damped.yaml" || fail "could not edit the default case's damping"
+grep -q 'error_estimate: true' "$WORK/damped.yaml" || fail "could not switch the error estimates on"
 run_capture run "$WORK/damped.yaml" -o "$WORK/out3" --cache-dir "$WORK/out/.cache"
 [ "$STATUS" -eq 0 ] || fail "damped run exited $STATUS: $(cat "$ERR")"
 "$PYTHON" - "$WORK/out3" <<'PY' || fail "damping-only change"
@@ -166,7 +170,18 @@ s = json.load(open(f"{d}/summary.json"))
 assert s["interface_model"]["cache"] == "hit" and s["interface_model"]["rayleigh"]["beta"] > 0, s["interface_model"]
 z0 = float(next(csv.DictReader(open(f"{d}/backbone.csv")))["damping_ratio"])
 assert abs(z0 / 0.01 - 1) < 1e-3, z0
-print(f"ok: damping 1 %: condensed model from the cache, linear zeta {z0:.6f}")
+rows = list(csv.DictReader(open(f"{d}/backbone.csv")))
+e = s["backbones"][0]["error_estimate"]
+assert e["points_known"] == len(rows) >= 2, (e, len(rows))
+for out, col in (("omega", "omega_error"), ("damping", "damping_error")):
+    for src in ("truncation", "aliasing"):
+        worst = max(abs(float(r[f"{col}_{src}"])) for r in rows)
+        assert abs(e[out][src] - worst) <= 1e-12 * worst + 1e-300, (out, src, e[out][src], worst)
+# H = 1 in microslip: the change to H = 3 is real but small; 32 samples resolve the loops
+assert 0 < e["damping"]["truncation"] < 0.2 and e["damping"]["aliasing"] < 0.05, e
+assert e["seconds"] > 0, e
+print(f"ok: damping 1 %: condensed model from the cache, linear zeta {z0:.6f}; error estimates on {len(rows)} "
+      f"points, worst zeta truncation {e['damping']['truncation']:.2e}, aliasing {e['damping']['aliasing']:.2e}")
 PY
 
 # The default output directory is ./jointhb-out (checked with a file case: the same code path).

@@ -52,6 +52,23 @@ def test_the_damping_curve_equals_the_programs_to_the_last_bit(tmp_path):
         assert np.array_equal(cli, curve[key]), (column, np.max(np.abs(cli - curve[key])))
 
 
+def test_error_estimates_of_a_fe_curve_on_request(lap):
+    """Off by default (NaN columns); error_estimate=True fills them, and the truncation estimate of
+    zeta at H = 1 is the change to the curve traced at H = 3 at the same amplitude (T-41b)."""
+    plain = short(lap)
+    assert np.all(np.isnan(plain["damping_error_truncation"])) and plain["seconds"]["error_estimate"] == 0.0
+    b = lap.backbone(1, log10_amplitude=(-5.5, -4.5), frequency_drop=0.0, error_estimate=True)
+    assert b["status"] == "ok" and np.all(np.isfinite(b["damping_error_truncation"]))
+    assert b["seconds"]["error_estimate"] > 0.0
+    # at the samples of the estimate's H + 2 balance: max(N_t, 2(H + 2) + 2) = 32
+    h3 = lap.backbone(1, log10_amplitude=(-4.5, -3.5), frequency_drop=0.0, harmonics=3, time_samples=32)
+    # the last point of the H = 1 curve and the first of the H = 3 one are both at q = 10^-4.5
+    assert abs(b["amplitude"][-1] / h3["amplitude"][0] - 1) < 1e-12
+    change = h3["damping_ratio"][0] / b["damping_ratio"][-1] - 1
+    assert abs(b["damping_error_truncation"][-1] - change) <= 2e-3 * abs(change) + 1e-8, (
+        b["damping_error_truncation"][-1], change)
+
+
 def test_the_linear_limit_is_the_first_elastic_mode_with_the_cases_damping(lap):
     curve = short(lap)
     f1 = lap.modes()["elastic_frequencies_hz"][0]

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/interface_mode.hpp"
 
@@ -24,6 +25,7 @@ struct InterfaceTimings {
   double preconditioner = 0.0;  ///< building preconditioners [s]
   double preconditioner_apply = 0.0;  ///< applying preconditioners (inside the linear solves) [s]
   int product_calls = 0, preconditioner_calls = 0;
+  double error_estimate = 0.0;  ///< error estimates of the accepted points [s] (included in total)
   /// One line: where the time went (AFT; residual assembly; linear solves with their GMRES
   /// iterations and preconditioner builds and applications; Jacobian products, inside the
   /// solves and for the EPMC's ∂R/∂λ; other).
@@ -63,6 +65,11 @@ struct InterfaceBackboneOptions {
     o.krylov_tolerance = 1e-8;
     return o;
   }();
+  /// Error estimates of every accepted point (continuation/interface_error_estimate.hpp,
+  /// docs/theory.md §13): per point Newton's method at H + 2 (1–3 Jacobian evaluations), a
+  /// residual at 2 N_t and a linear solve at H. Off by default: on the default case (lap, H = 1)
+  /// they cost 1.8× the curve itself (discrete curves, where one Newton step suffices: ~1×).
+  bool error_estimate = false;
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -70,6 +77,7 @@ struct InterfaceBackbonePoint {
   hb::InterfaceModeState state;
   int iterations = 0;
   double step = 0.0;  ///< arclength step that reached the point
+  BackboneError error;  ///< estimated relative errors of Ω and ζ (with error_estimate)
   Eigen::VectorXd unknowns;  ///< Ŷ = (ŷ, Ω, ξ)
 };
 
@@ -111,6 +119,9 @@ struct InterfaceFrfOptions {
     o.krylov_tolerance = 1e-8;      // as InterfaceBackboneOptions
     return o;
   }();
+  /// As InterfaceBackboneOptions::error_estimate (one or two more evaluations per point for the
+  /// outputs); off by default.
+  bool error_estimate = false;
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -121,6 +132,7 @@ struct InterfaceFrfPoint {
   double dissipation = 0.0;    ///< Σ A_p W_D [J]
   int open_points = 0, slipping_points = 0, iterations = 0;
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
+  FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
   Eigen::VectorXd unknowns;
 };
 

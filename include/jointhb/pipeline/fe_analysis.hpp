@@ -41,6 +41,9 @@ struct FeNonlinearModesSpec {
   /// keeps and caches n × (n_s + 3P_d) doubles). 0: no fields.
   int fields = 5;
   bool volume_fields = true;
+  /// Error estimates of Ω and ζ at every point (continuation/interface_error_estimate.hpp); off
+  /// by default (they cost about twice the curve).
+  bool error_estimate = false;
   hb::InterfaceBalanceOptions balance;
   /// The library's defaults of the interface drivers (matrix-free GMRES, steps, tolerances): the
   /// case's `continuation:` keys change only what they name.
@@ -51,6 +54,9 @@ struct FeFrfSpec {
   double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s]
   std::vector<double> forces;                 ///< F [N] of F cos Ωt along the excitation, one curve each
   int output = 0;                             ///< index into FeDynamicsSpec::outputs
+  /// Error estimates of the amplitudes at every point (continuation/interface_error_estimate.hpp);
+  /// off by default.
+  bool error_estimate = false;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation = continuation::InterfaceFrfOptions{}.continuation;  ///< as above
 };

@@ -88,6 +88,7 @@ struct BackbonePoint {
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   int contact_points = 0;             ///< P, for the slip fraction
   double step = 0.0;                  ///< arclength step that reached the point
+  continuation::BackboneError error;  ///< estimated relative errors of Ω and ζ (error_estimate)
 };
 
 struct BackboneCurve {
@@ -117,6 +118,7 @@ struct FrfPoint {
   double dissipation = 0.0;    ///< W_D per cycle [J]
   int slipping_points = 0, open_points = 0, newton_iterations = 0;
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
+  continuation::FrfError error;   ///< estimated relative errors of the amplitudes (error_estimate)
 };
 
 struct FrfCurve {
