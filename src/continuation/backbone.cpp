@@ -3,6 +3,7 @@
 
 #include "../support/stopwatch.hpp"
 #include "linear_limits.hpp"
+#include "mode_outputs.hpp"
 
 #include <fmt/format.h>
 
@@ -115,6 +116,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   };
   // R̂'s scale: the stiffness seen by the mode, ω² (mass-normalised shape).
   c.residual_scale = epmc.linear_omega() * epmc.linear_omega();
+  c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
 
   // λ of a converged point whose outputs are not finite or whose contacts slip beyond the range
   // the laws are computed in.

@@ -13,6 +13,7 @@
 #include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "mode_outputs.hpp"
 
 namespace jointhb::continuation {
 namespace {
@@ -106,6 +107,7 @@ InterfaceBackbone trace_interface_backbone(
   c.state_scale[U] = epmc.linear_omega();
   c.state_scale[U + 1] = 0.1 * epmc.linear_omega();
   c.residual_scale = 1.0;  // rows are in units of the (unit) modal amplitude
+  c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
 
   std::optional<InterfaceBackboneErrorEstimator> estimator;
   if (options.error_estimate) estimator.emplace(model, mode);

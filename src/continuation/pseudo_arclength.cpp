@@ -67,6 +67,8 @@ constexpr double kCornerMoveFactor = 10.0;
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
+// Options::max_output_change is enforced down to this fraction of max_step (then accepted).
+constexpr double kOutputMinStepFactor = 1e-3;
 // Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
 constexpr int kMaxRestarts = 4;
 
@@ -507,6 +509,8 @@ std::string Options::validate(Eigen::Index n) const {
     return fmt::format("max_step: must be finite and >= initial_step = {}, got {}", initial_step,
                        max_step);
   }
+  if (!(std::isfinite(max_output_change) && max_output_change >= 0.0))
+    return fmt::format("max_output_change: must be finite and >= 0, got {}", max_output_change);
   if (!(std::isfinite(max_parameter_step) && max_parameter_step >= 0.0)) {
     return fmt::format("max_parameter_step: must be finite and >= 0, got {}", max_parameter_step);
   }
@@ -694,6 +698,20 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     return step;
   };
   double s = capped(options.initial_step, tau);
+  // The outputs limited by max_output_change at the last accepted point, and the largest relative
+  // change of one of them over a step (output_change).
+  const bool limit_outputs = options.max_output_change > 0.0 && static_cast<bool>(options.outputs);
+  VectorXd last_outputs = limit_outputs ? options.outputs(start.sample.x, start.sample.lambda) : VectorXd();
+  VectorXd next_outputs;
+  const auto output_change = [&](const VectorXd& o) {
+    double worst = 0.0;
+    for (Eigen::Index i = 0; i < o.size() && i < last_outputs.size(); ++i) {
+      const double base = std::abs(last_outputs[i]);
+      if (base > 0.0 && std::isfinite(o[i])) worst = std::max(worst, std::abs(o[i] - last_outputs[i]) / base);
+    }
+    return worst;
+  };
+  double observed_change = 0.0;
   bool rejected_since_accept = false;
   std::string last_failure;
   for (;;) {
@@ -782,6 +800,17 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       }
     }
 
+    // max_output_change: a step that changed an output by more is retried shorter, down to
+    // 10⁻³ max_step (below it the change is accepted: an output that jumps must not end the curve).
+    observed_change = 0.0;
+    if (failure.empty() && limit_outputs) {
+      next_outputs = options.outputs(c.sample.x, c.sample.lambda);
+      observed_change = output_change(next_outputs);
+      if (observed_change > options.max_output_change && s > kOutputMinStepFactor * options.max_step)
+        failure = fmt::format("an output changed by {:.3g} > max_output_change {:.3g}", observed_change,
+                              options.max_output_change);
+    }
+
     if (!failure.empty()) {
       ++result.rejected_steps;
       rejected_since_accept = true;
@@ -808,12 +837,16 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     p.fold = tau(n) * (*next_tau)(n) < 0.0;
     y = c.sample.y;
     tau = *next_tau;
+    if (limit_outputs) last_outputs = next_outputs;
     if (!accept(std::move(p), on_bound, bound_reason)) return result;
 
     // s ← s · clamp(target / iterations, 1/2, step_growth), no growth right after a rejection.
     const double ratio = static_cast<double>(options.target_corrector_iterations) /
                          static_cast<double>(std::max(c.iterations, 1));
-    const double growth = rejected_since_accept ? 1.0 : options.step_growth;
+    double growth = rejected_since_accept ? 1.0 : options.step_growth;
+    // The outputs change about linearly with the step: aim at 0.8 of max_output_change.
+    if (limit_outputs && observed_change > 0.0)
+      growth = std::max(0.5, std::min(growth, 0.8 * options.max_output_change / observed_change));
     s = capped(std::clamp(s * std::clamp(ratio, 0.5, growth), options.min_step, options.max_step), tau);
     rejected_since_accept = false;
   }

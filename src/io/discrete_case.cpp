@@ -681,7 +681,7 @@ class DiscreteCaseReader {
     const Fields f = reader_.fields(node, path,
                                     {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
                                      "harmonic_selection", "periodic_tolerance", "error_estimate",
-                                     "continuation", "points_per_decade"});
+                                     "continuation", "points_per_decade", "max_output_change"});
     continuation::BackboneOptions o;
     modes_.clear();
     if (const auto* mode = f.find("mode")) {
@@ -742,6 +742,13 @@ class DiscreteCaseReader {
       const double v = reader_.number(e->value, key);
       if (!(std::isfinite(v) && v > 0.0 && v <= 1000.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1000], got {}", v));
       o.continuation.max_parameter_step = 1.0 / v;
+    }
+    // At most this relative change of f or ζ between two points (continuation::Options).
+    if (const auto* e = f.find("max_output_change")) {
+      const std::string key = f.path_of("max_output_change");
+      const double v = reader_.number(e->value, key);
+      if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1], got {}", v));
+      o.continuation.max_output_change = v;
     }
     return o;
   }

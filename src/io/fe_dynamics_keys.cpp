@@ -189,7 +189,8 @@ class DynamicsReader {
   FeNonlinearModesSpec read_nonlinear_modes(const YAML::Node& node, const std::string& path) const {
     const Fields f = r_.fields(node, path, {"mode", "log10_amplitude", "frequency_drop", "harmonics", "time_samples",
                                             "periodic_tolerance", "tangential_stiffness", "continuation",
-                                            "points_per_decade", "fields", "volume_fields", "error_estimate"});
+                                            "points_per_decade", "max_output_change", "fields", "volume_fields",
+                                            "error_estimate"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
     if (const auto* e = f.find("mode")) {
@@ -229,6 +230,9 @@ class DynamicsReader {
     // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
     if (f.has("points_per_decade"))
       o.continuation.max_parameter_step = 1.0 / number_in(f, "points_per_decade", 0.0, 1000.0, true, false);
+    // At most this relative change of f or ζ between two points (continuation::Options).
+    if (f.has("max_output_change"))
+      o.continuation.max_output_change = number_in(f, "max_output_change", 0.0, 1.0, true, false);
     return o;
   }
 

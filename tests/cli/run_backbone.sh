@@ -94,6 +94,27 @@ if "$PYTHON" -c 'import matplotlib' 2>/dev/null; then
   [ -s "$WORK/two/backbone.png" ] && [ -s "$WORK/two/frf.png" ] || fail "--plot drew nothing"
 fi
 
+# max_output_change: every step of the damping curve changes f and ζ by at most 5 % (relative);
+# without it the curve strides across the rise of ζ at the onset of slip.
+sed 's/^\(    log10_amplitude: .*\)$/\1\n    max_output_change: 0.05/' "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$WORK/smooth.yaml"
+grep -q 'max_output_change: 0.05' "$WORK/smooth.yaml" || fail "could not set max_output_change"
+run_capture run "$WORK/smooth.yaml" -o "$WORK/smooth"
+[ "$STATUS" -eq 0 ] || fail "max_output_change run exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/smooth" "$WORK/out" <<'PY' || fail "max_output_change"
+import csv, sys
+def largest(d):
+    r = list(csv.DictReader(open(f"{d}/backbone.csv")))
+    w = max(abs(float(b[k]) / float(a[k]) - 1) for a, b in zip(r, r[1:]) for k in ("frequency_hz", "damping_ratio"))
+    return len(r), w
+(n, w), (n0, w0) = largest(sys.argv[1]), largest(sys.argv[2])
+assert w <= 0.05 * (1 + 1e-9) and w0 > 0.05 and n > n0, (n, w, n0, w0)
+print(f"ok: max_output_change 0.05: {n} points, largest change {w:.4f} (without: {n0} points, {w0:.3f})")
+PY
+bad="$WORK/bad_change.yaml"
+sed 's/^\(    log10_amplitude: .*\)$/\1\n    max_output_change: 2/' "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$bad"
+expect_bad_input run "$bad" -o "$WORK/none"
+grep -q "key 'analysis.nonlinear_modes.max_output_change'.*must be in (0, 1]" "$ERR" || fail "max_output_change 2: $(cat "$ERR")"
+
 # nonlinear_modes with a static force is refused at the key, before anything is written.
 sed 's/- {dof: 0, amplitude: \[0.02, 0.1, 0.4\]}.*/- {dof: 0, amplitude: [0.02, 0.1, 0.4]}\n  - {dof: 0, static: 1.0}/' "$CASE" >"$WORK/static.yaml"
 expect_bad_input run "$WORK/static.yaml" -o "$WORK/none"

@@ -78,6 +78,16 @@ struct Options {
   /// branch advances in λ (`points_per_decade` of a damping curve, λ = log10 q). The corrector may
   /// move λ a little beyond the predictor's; folds, where τ_λ → 0, are not constrained.
   double max_parameter_step = 0.0;
+  /// ≥ 0; 0: none. Largest relative change |o_i − o_i,prev| / |o_i,prev| of any output of
+  /// `outputs` between two accepted points: a converged step that changes an output by more is
+  /// rejected and halved, and the next step is sized from the change observed, so that a curve
+  /// resolves where its outputs change fast (ζ at the onset of slip) and not only where it bends
+  /// in the scaled unknowns. Never a reason to stop: steps below 10⁻³ max_step are accepted
+  /// whatever they change (a jump of an output is then resolved to that step).
+  double max_output_change = 0.0;
+  /// The outputs of a converged point (x, λ) that max_output_change limits (e.g. Ω and ζ of a
+  /// damping curve); empty: none.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&, double)> outputs;
   int max_points = 1000;         ///< ≥ 1: accepted points (including the start) before stopping
   double parameter_start = 0.0;  ///< λ of the first point
   double parameter_end = 1.0;    ///< the run stops at the first accepted point beyond it

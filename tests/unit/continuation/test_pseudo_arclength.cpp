@@ -246,6 +246,55 @@ TEST(ContinuationArclength, MaxParameterStepBoundsTheParameterIncrement) {
   EXPECT_NE(so.validate(1).find("max_parameter_step"), std::string::npos);
 }
 
+// max_output_change: x(λ) = 2 + tanh(40(λ − 1/2)) rises by a factor 3 within a few hundredths of
+// λ; with the state weighted lightly in the arclength (state_scale 100) the steps stride across
+// it. With the limit every step changes the output x by at most 5 % (relative), the curve still
+// reaches its end, and an output that jumps (a step function) is resolved down to the floor of
+// 10⁻³ max_step instead of ending the curve.
+TEST(ContinuationArclength, MaxOutputChangeBoundsTheOutputChangeBetweenPoints) {
+  const auto steep = [](double sharpness) -> jcont::ResidualFunction {
+    return [sharpness](const VectorXd& x, double lambda, bool jacobian) {
+      const double t = std::tanh(sharpness * (lambda - 0.5));
+      jcont::Evaluation e;
+      e.residual = VectorXd::Constant(1, x(0) - 2.0 - t);
+      if (jacobian) {
+        e.d_state = MatrixXd::Constant(1, 1, 1.0);
+        e.d_parameter = VectorXd::Constant(1, -sharpness * (1.0 - t * t));
+      }
+      return e;
+    };
+  };
+  const auto largest_change = [](const jcont::Result& r) {
+    double d = 0.0;
+    for (std::size_t k = 1; k < r.points.size(); ++k)
+      d = std::max(d, std::abs(r.points[k].x(0) / r.points[k - 1].x(0) - 1.0));
+    return d;
+  };
+  jcont::Options o;
+  o.parameter_start = 0.0;
+  o.parameter_end = 1.0;
+  o.max_step = 0.2;
+  o.state_scale = VectorXd::Constant(1, 100.0);
+  o.outputs = [](const VectorXd& x, double) { return x; };
+  const VectorXd x0 = VectorXd::Constant(1, 2.0 + std::tanh(-20.0));
+  const auto free_curve = jcont::trace(steep(40.0), x0, o);
+  o.max_output_change = 0.05;
+  const auto curve = jcont::trace(steep(40.0), x0, o);
+  ASSERT_EQ(curve.reason, jcont::StopReason::reached_end) << describe(curve);
+  EXPECT_GT(largest_change(free_curve), 0.2);
+  EXPECT_LE(largest_change(curve), 0.05);
+  EXPECT_GT(curve.points.size(), free_curve.points.size());
+  // A near-jump (tanh of 10⁶ (λ − 1/2)): the limit gives way at the step floor, the curve goes on.
+  const auto jump = jcont::trace(steep(1e6), x0, o);
+  EXPECT_EQ(jump.reason, jcont::StopReason::reached_end) << describe(jump);
+  std::printf("[ output change ] free: %zu points, largest change %.3f; limited to 0.05: %zu points, largest %.4f; "
+              "jump: %zu points, largest %.3f\n",
+              free_curve.points.size(), largest_change(free_curve), curve.points.size(), largest_change(curve),
+              jump.points.size(), largest_change(jump));
+  o.max_output_change = -1.0;
+  EXPECT_NE(o.validate(1).find("max_output_change"), std::string::npos);
+}
+
 TEST(ContinuationArclength, DuffingFrequencyResponseMatchesClosedFormThroughFolds) {
   const Duffing d;
   jcont::Options o;
