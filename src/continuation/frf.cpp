@@ -372,6 +372,10 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
     force_scale = std::max(force_scale, excitation.static_force.lpNorm<Eigen::Infinity>());
   }
   c.residual_scale = force_scale > 0.0 ? force_scale : 1.0;
+  // |fundamental| of the output DOF, for max_output_change.
+  c.outputs = [&balance, dof = options.output_dof](const Eigen::VectorXd& x, double) {
+    return Eigen::VectorXd::Constant(1, balance.fundamental_amplitude(x, dof));
+  };
 
   // The last evaluation is kept so that an accepted point's diagnostics cost nothing extra when
   // the corrector ended on it.

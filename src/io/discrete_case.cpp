@@ -622,7 +622,7 @@ class DiscreteCaseReader {
         node, path,
         {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
          "periodic_tolerance", "check_jacobian", "stability", "stability_method",
-         "error_estimate", "continuation"});
+         "error_estimate", "continuation", "max_output_change"});
     continuation::FrfOptions o;
 
     const auto* omega = f.find("omega");
@@ -673,6 +673,7 @@ class DiscreteCaseReader {
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }
+    read_output_change(f, o.continuation);
     return o;
   }
 
@@ -743,14 +744,19 @@ class DiscreteCaseReader {
       if (!(std::isfinite(v) && v > 0.0 && v <= 1000.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1000], got {}", v));
       o.continuation.max_parameter_step = 1.0 / v;
     }
-    // At most this relative change of f or ζ between two points (continuation::Options).
-    if (const auto* e = f.find("max_output_change")) {
-      const std::string key = f.path_of("max_output_change");
-      const double v = reader_.number(e->value, key);
-      if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1], got {}", v));
-      o.continuation.max_output_change = v;
-    }
+    read_output_change(f, o.continuation);  // of f and ζ
     return o;
+  }
+
+  // max_output_change: at most this relative change of the outputs between two points
+  // (continuation::Options: f and ζ of a damping curve, amplitude_h1 of an FRF).
+  void read_output_change(const Fields& f, continuation::Options& c) {
+    const auto* e = f.find("max_output_change");
+    if (!e) return;
+    const std::string key = f.path_of("max_output_change");
+    const double v = reader_.number(e->value, key);
+    if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) reader_.fail(e->value, key, fmt::format("must be in (0, 1], got {}", v));
+    c.max_output_change = v;
   }
 
   std::vector<int> modes_;  // analysis.nonlinear_modes.mode, as listed

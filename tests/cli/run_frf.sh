@@ -111,4 +111,20 @@ expect_bad_input run "$WORK/h9.yaml" -o "$WORK/none"
 sed 's/kt0: 5.0e3/kt0: -5.0e3/' "$CASE" >"$WORK/neg.yaml"
 expect_bad_input run "$WORK/neg.yaml" -o "$WORK/none"
 grep -q "neg.yaml:[0-9]*:[0-9]*: key 'contacts\[0\].kt0'" "$ERR" || fail "kt0 error: $(cat "$ERR")"
+# max_output_change: every step of each curve changes amplitude_h1 by at most 10 % (relative).
+sed 's/^\(    omega: \[70.0, 150.0\].*\)$/\1\n    max_output_change: 0.1/' "$CASE" >"$WORK/smooth.yaml"
+grep -q 'max_output_change: 0.1' "$WORK/smooth.yaml" || fail "could not set max_output_change"
+run_capture run "$WORK/smooth.yaml" -o "$WORK/smooth"
+[ "$STATUS" -eq 0 ] || fail "max_output_change run exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/smooth/frf.csv" "$WORK/out/frf.csv" <<'PY' || fail "max_output_change"
+import csv, sys
+def largest(path):
+    rows = list(csv.DictReader(open(path)))
+    w = max(abs(float(b["amplitude_h1"]) / float(a["amplitude_h1"]) - 1)
+            for a, b in zip(rows, rows[1:]) if a["level"] == b["level"])
+    return len(rows), w
+(n, w), (n0, w0) = largest(sys.argv[1]), largest(sys.argv[2])
+assert w <= 0.1 * (1 + 1e-9) and n >= n0, (n, w, n0, w0)
+print(f"ok: max_output_change 0.1: {n} rows, largest change of |X1| {w:.4f} (without: {n0} rows, {w0:.3f})")
+PY
 finish
