@@ -330,7 +330,7 @@ TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
                "harmonic", "analysis.frf.harmonic",
                "unknown key; allowed: check_jacobian, continuation, error_estimate, frequency_hz, "
                "harmonic_selection, harmonics, "
-               "omega, output_dof, periodic_tolerance, stability, stability_method, time_samples");
+               "max_output_change, omega, output_dof, periodic_tolerance, stability, stability_method, time_samples");
   expect_error(with("", excitation, "analysis:\n  frf: {omega: [1, 2], continuation: {step: 1}}\n"),
                8, "step", "analysis.frf.continuation.step",
                "unknown key; allowed: initial_step, max_points, max_step, min_step, "
