@@ -607,16 +607,6 @@ class DiscreteCaseReader {
     return given;
   }
 
-  // A true/false key, when given.
-  void read_flag(const Fields& f, const std::string& name, bool& flag) {
-    const auto* entry = f.find(name);
-    if (!entry) return;
-    const std::string key = f.path_of(name);
-    const std::string value = reader_.text(entry->value, key);
-    reader_.check(entry->value, key, check_one_of(value, {"true", "false"}));
-    flag = value == "true";
-  }
-
   continuation::FrfOptions read_frf(const YAML::Node& node, const std::string& path, int n) {
     const Fields f = reader_.fields(
         node, path,
@@ -653,8 +643,8 @@ class DiscreteCaseReader {
     if (const auto* selection = read_selection(f, o.selection, o.periodic_tolerance)) {
       selection_node_ = *selection;
     }
-    read_flag(f, "check_jacobian", o.check_jacobian);
-    read_flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
+    reader_.flag(f, "check_jacobian", o.check_jacobian);
+    reader_.flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     if (const auto* stability = f.find("stability")) {  // Hill's method at every point
       const std::string key = f.path_of("stability");
       const std::string value = reader_.text(stability->value, key);
@@ -733,7 +723,7 @@ class DiscreteCaseReader {
     }
     read_harmonics(f, o.mode.harmonics, o.mode.time_samples);
     read_selection(f, o.mode.selection, o.mode.periodic_tolerance);
-    read_flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
+    reader_.flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

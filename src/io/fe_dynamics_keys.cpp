@@ -223,8 +223,8 @@ class DynamicsReader {
       r_.check(e->value, f.path_of("fields"), check_in_range(k, 0, 1000));
       o.fields = static_cast<int>(k);
     }
-    read_flag(f, "volume_fields", o.volume_fields);
-    read_flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
+    r_.flag(f, "volume_fields", o.volume_fields);
+    r_.flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
@@ -285,20 +285,10 @@ class DynamicsReader {
       }
       o.output = static_cast<int>(it - d.outputs.begin());
     }
-    read_flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
+    r_.flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     return o;
-  }
-
-  // A true/false key, when given.
-  void read_flag(const Fields& f, const std::string& name, bool& flag) const {
-    const auto* e = f.find(name);
-    if (!e) return;
-    const std::string key = f.path_of(name);
-    const std::string v = r_.text(e->value, key);
-    r_.check(e->value, key, check_one_of(v, {"true", "false"}));
-    flag = v == "true";
   }
 };
 

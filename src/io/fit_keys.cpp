@@ -30,12 +30,6 @@ std::string join(const std::vector<std::string>& names) {
   return s;
 }
 
-bool boolean(const yaml::Reader& reader, const YAML::Node& node, const std::string& key) {
-  const std::string value = reader.text(node, key);
-  reader.check(node, key, check_one_of(value, {"true", "false"}));
-  return value == "true";
-}
-
 fit::FitParameter read_parameter(const yaml::Reader& reader, const YAML::Node& node,
                                  const std::string& path, const std::vector<std::string>& valid) {
   const Fields f = reader.fields(node, path, {"name", "lower", "upper", "start", "log_scale"});
@@ -50,7 +44,7 @@ fit::FitParameter read_parameter(const yaml::Reader& reader, const YAML::Node& n
                 fmt::format("unknown parameter '{}'; this case has: {}", p.name, join(valid)));
   }
   if (const auto* log = f.find("log_scale")) {
-    p.log_scale = boolean(reader, log->value, f.path_of("log_scale"));
+    p.log_scale = reader.boolean(log->value, f.path_of("log_scale"));
   }
   const YAML::Node lower = f.find("lower")->value;
   const YAML::Node upper = f.find("upper")->value;
@@ -428,7 +422,7 @@ FitSection read_fit_section(const yaml::Reader& reader, const YAML::Node& node,
   number_in("jacobian_step", o.jacobian_step, 0.0, 0.1, true);
   if (const auto* e = f.find("friction_in_dynamics_only")) {
     if (!c.finite_element) reader.fail(e->key, f.path_of("friction_in_dynamics_only"), "only for finite-element cases");
-    s.friction_in_dynamics_only = boolean(reader, e->value, f.path_of("friction_in_dynamics_only"));
+    s.friction_in_dynamics_only = reader.boolean(e->value, f.path_of("friction_in_dynamics_only"));
   }
   if (const auto* e = f.find("penalty")) {
     o.penalty = reader.number(e->value, f.path_of("penalty"));

@@ -186,6 +186,16 @@ std::string Reader::text(const YAML::Node& node, const std::string& path) const 
   return node.Scalar();
 }
 
+bool Reader::boolean(const YAML::Node& node, const std::string& path) const {
+  const std::string value = text(node, path);
+  check(node, path, check_one_of(value, {"true", "false"}));
+  return value == "true";
+}
+
+void Reader::flag(const Fields& f, const std::string& name, bool& value) const {
+  if (const Fields::Entry* e = f.find(name)) value = boolean(e->value, f.path_of(name));
+}
+
 void Reader::check(const YAML::Node& node, const std::string& path,
                    const std::string& error) const {
   if (!error.empty()) fail(node, path, error);

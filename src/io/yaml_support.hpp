@@ -82,6 +82,10 @@ class Reader {
   [[nodiscard]] double finite_number(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] long long integer(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] std::string text(const YAML::Node& node, const std::string& path) const;
+  /// `true` or `false`.
+  [[nodiscard]] bool boolean(const YAML::Node& node, const std::string& path) const;
+  /// The true/false entry `name` of `f` into `value`, when given (left unchanged otherwise).
+  void flag(const Fields& f, const std::string& name, bool& value) const;
 
   /// Fails at `node` with `error` unless it is empty (the value_checks convention).
   void check(const YAML::Node& node, const std::string& path, const std::string& error) const;
