@@ -42,7 +42,7 @@ double relative_to(double value, double base) { return (value - base) / std::abs
 // The truncation estimate is the change of Ω and ζ to the H + 2 solution (T-41b): equal, to the
 // three digits it is converged to, to the same point traced independently at H + 2 (the
 // continuation's start from the linear mode), from microslip to macroslip, for H = 1, 3 and both
-// laws. (Against H = 15 the H + 2 change is 0.1–0.8 of the error at H = 3 on this joint, whose
+// laws. (Against H = 15 the H + 2 change is 0.08–0.9 of the error at H = 3 on this joint, whose
 // sequence in H converges slowly and not monotonically: docs/theory.md §13.)
 TEST(InterfaceErrorEstimate, TruncationIsTheChangeToHPlusTwo) {
   for (const bool gm : {true, false}) {
