@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/hb/contact_state.hpp"
 
@@ -37,7 +38,10 @@ inline const std::vector<std::string> kBackboneColumns = {
     // harmonic truncation (T-41) and time sampling (T-42), signed; empty where not computed
     // (error_estimate: false or a failed estimate)
     "omega_error_truncation", "omega_error_aliasing", "damping_error_truncation",
-    "damping_error_aliasing"};
+    "damping_error_aliasing",
+    // the harmonics H and time samples N_t the point was computed with (per point with `accuracy`,
+    // continuation/accuracy.hpp)
+    "harmonics", "time_samples"};
 
 /// The fields of the state columns of kBackboneColumns (stuck … gapping; open_points is its own).
 inline std::vector<std::optional<double>> contact_state_fields(const hb::ContactStateCounts& c) {
@@ -68,6 +72,30 @@ inline std::vector<std::optional<double>> backbone_error_fields(bool known, doub
 inline std::vector<std::optional<double>> frf_error_fields(const continuation::FrfError& e) {
   if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
   return {e.amplitude_h1.truncation, e.amplitude_h1.aliasing, e.amplitude_max.truncation, e.amplitude_max.aliasing};
+}
+
+/// summary.json's `accuracy` of a damping curve: the request, the range of H and N_t its points
+/// used, the restarts at another level and the points kept above the request; null when the
+/// request is not active.
+template <class Points>
+nlohmann::ordered_json accuracy_json(const continuation::Accuracy& a, const Points& points, int level_changes,
+                                     int short_of_accuracy) {
+  if (!a.active()) return nullptr;
+  int h_min = 0, h_max = 0, n_min = 0, n_max = 0;
+  for (const auto& p : points) {
+    h_min = h_min == 0 ? p.harmonics : std::min(h_min, p.harmonics);
+    h_max = std::max(h_max, p.harmonics);
+    n_min = n_min == 0 ? p.time_samples : std::min(n_min, p.time_samples);
+    n_max = std::max(n_max, p.time_samples);
+  }
+  return {{"frequency", a.frequency},
+          {"damping", a.damping},
+          {"max_harmonics", a.max_harmonics},
+          {"max_time_samples", a.max_time_samples},
+          {"harmonics_used", {h_min, h_max}},
+          {"time_samples_used", {n_min, n_max}},
+          {"level_changes", level_changes},
+          {"points_short_of_request", short_of_accuracy}};
 }
 
 // The worst |estimate| of each source over the known points of a curve (summary.json).

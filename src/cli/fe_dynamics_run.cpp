@@ -15,6 +15,7 @@
 #include "cli_support.hpp"
 #include "interface_fields.hpp"
 #include "jointhb/continuation/interface_response.hpp"
+#include "jointhb/hb/fourier.hpp"
 #include "jointhb/io/fe_dynamics_case.hpp"
 #include "jointhb/io/csv_writer.hpp"
 #include "run_support.hpp"
@@ -101,12 +102,23 @@ ordered_json write_fields(pipeline::FePipeline& pipe, const pipeline::BackboneCu
   const pipeline::InterfaceStage& st = pipe.interface_stage();
   std::vector<double> amplitudes;
   for (const auto& p : b.curve.points) amplitudes.push_back(p.state.amplitude);
-  const hb::InterfaceBalance balance(st.model, pipe.analysis().dynamics->nonlinear_modes->balance);
+  // One balance for every snapshot: at the highest level (H, N_t) among them (points of a curve
+  // with `accuracy` differ), the others' coefficients carried over with zero higher harmonics.
+  const std::vector<std::size_t> picked = snapshot_indices(amplitudes, count);
+  hb::InterfaceBalanceOptions level = pipe.analysis().dynamics->nonlinear_modes->balance;
+  for (std::size_t i : picked) {
+    level.harmonics = std::max(level.harmonics, b.curve.points[i].harmonics);
+    level.time_samples = std::max(level.time_samples, b.curve.points[i].time_samples);
+  }
+  const hb::InterfaceBalance balance(st.model, level);
+  const int dofs = balance.modes() + 3 * balance.points();
   std::vector<FieldSnapshot> snapshots;
-  for (std::size_t i : snapshot_indices(amplitudes, count)) {
+  for (std::size_t i : picked) {
     const auto& p = b.curve.points[i];
-    const Eigen::Index U = balance.unknowns();
-    snapshots.push_back({p.state.amplitude, p.state.omega, p.unknowns[U + 1], p.state.amplitude * p.unknowns.head(U)});
+    const hb::FourierBasis own(p.harmonics, p.time_samples, false);
+    const Eigen::Index U = static_cast<Eigen::Index>(dofs) * own.size();
+    snapshots.push_back({p.state.amplitude, p.state.omega, p.unknowns[U + 1],
+                         p.state.amplitude * hb::transfer_coefficients(own, balance.basis(), p.unknowns.head(U), dofs)});
   }
   const FieldFiles files = write_damping_fields(dir, b.mode, pipe.model().mesh, pipe.structure(), st.patch_of_point,
                                                 balance, st.recovery, snapshots);
@@ -170,6 +182,8 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
                                                        e.damping.truncation, e.damping.aliasing))
           row.push_back(field);
+        row.push_back(static_cast<double>(s.harmonics));
+        row.push_back(static_cast<double>(s.time_samples));
         csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rmode %d: q = %.3e  f = %.6g Hz  zeta = %.4g  slipping %d/%d   ", mode, s.amplitude,
@@ -212,6 +226,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       for (const auto& p : b.points) worst.add(p.error.known, p.error.omega, p.error.damping);
       entry["error_estimate"] = worst.json("omega", "damping");
       entry["error_estimate"]["seconds"] = bb.timings.error_estimate;
+      entry["accuracy"] = accuracy_json(nm.accuracy, b.points, bb.level_changes, bb.short_of_accuracy);
       summary["backbones"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }

@@ -399,6 +399,8 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
                                                      e.damping.truncation, e.damping.aliasing)) {
         row.push_back(field);
       }
+      row.push_back(static_cast<double>(p.harmonics));
+      row.push_back(static_cast<double>(p.time_samples));
       csv.write_row(std::span<const std::optional<double>>(row));
       worst.add(e.known, e.omega, e.damping);
       points.push_back({{"amplitude", s.amplitude},
@@ -408,7 +410,9 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
                         {"W_D", s.dissipation},
                         {"damping_ratio_energy", s.damping_ratio_energy},
                         {"slip_fraction", s.slip_fraction},
-                        {"contact_states", contact_states_json(s.states)}});
+                        {"contact_states", contact_states_json(s.states)},
+                        {"harmonics", p.harmonics},
+                        {"time_samples", p.time_samples}});
       ++outcome.rows;
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",
@@ -449,6 +453,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
          {"error_estimate", worst.json("omega", "damping")},
          {"curve", points}});
     if (!lost) entry["error_estimate"]["seconds"] = curve.error_seconds;
+    entry["accuracy"] = accuracy_json(options.accuracy, curve.points, curve.level_changes, curve.short_of_accuracy);
     summary["backbones"].push_back(std::move(entry));
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",

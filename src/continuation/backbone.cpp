@@ -4,13 +4,16 @@
 #include "../support/stopwatch.hpp"
 #include "linear_limits.hpp"
 #include "mode_outputs.hpp"
+#include "segmented_curve.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "jointhb/contact/harmonic_loop.hpp"
@@ -63,89 +66,169 @@ std::string BackboneOptions::validate(int dofs) const {
   if (output_dof < 0 || output_dof >= dofs) {
     return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
+  if (auto msg = accuracy.validate(); !msg.empty()) return msg;
+  if (accuracy.active()) {
+    if (mode.harmonics < accuracy.min_harmonics || mode.harmonics > accuracy.max_harmonics)
+      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", mode.harmonics,
+                         accuracy.min_harmonics, accuracy.max_harmonics);
+    if (mode.time_samples < accuracy.min_time_samples || mode.time_samples > accuracy.max_time_samples)
+      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", mode.time_samples,
+                         accuracy.min_time_samples, accuracy.max_time_samples);
+  }
   return {};
 }
+
+namespace {
+
+// Y = (X̂, Ω, ξ) of level `from` in the basis of `to` (shared harmonics copied, new ones zero).
+Eigen::VectorXd transfer_discrete_mode_unknowns(const Eigen::VectorXd& y, Level from, const hb::HarmonicBalance& to) {
+  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, to.basis().odd_only());
+  const int dofs = to.system().dofs();
+  const Eigen::Index u_from = static_cast<Eigen::Index>(dofs) * from_basis.size();
+  const Eigen::VectorXd head = hb::transfer_coefficients(from_basis, to.basis(), y.head(u_from), dofs);
+  Eigen::VectorXd out(head.size() + 2);
+  out << head, y.tail(2);
+  return out;
+}
+
+// One continuation run of a discrete damping curve at one level (H, N_t): the EPMC residual, the
+// error estimator and the cached last evaluation (segmented_curve.hpp).
+class DiscreteBackboneSegment {
+ public:
+  using Judge = std::function<bool(BackbonePoint&, const Point&)>;
+
+  DiscreteBackboneSegment(const hb::DiscreteSystem& system, const BackboneOptions& options, Level level)
+      : options_(options), epmc_(system, mode_at(options.mode, level)), level_(level) {
+    // The finer residuals of the estimates; none when the H + 2 basis cannot be built (the points
+    // then carry error.known = false).
+    if (options.error_estimate || options.accuracy.active()) {
+      try {
+        estimator_.emplace(system, mode_at(options.mode, level));
+      } catch (const std::invalid_argument&) {
+        estimator_.reset();
+      }
+    }
+  }
+
+  [[nodiscard]] const hb::NonlinearModeResidual& epmc() const { return epmc_; }
+  [[nodiscard]] double error_seconds() const { return error_seconds_; }
+  [[nodiscard]] std::optional<double> overflow_at() const { return overflow_at_; }
+
+  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
+    return from.y.size() == 0 ? epmc_.linear_start() : transfer_discrete_mode_unknowns(from.y, from.from, epmc_.balance());
+  }
+
+  [[nodiscard]] Options continuation(double lambda0, double end) const {
+    Options c = options_.continuation;
+    c.parameter_start = lambda0;
+    c.parameter_end = end;
+    c.direction = end > lambda0 ? 1 : -1;
+    c.parameter_scale = std::abs(options_.log10_amplitude_end - options_.log10_amplitude_start);
+    // X̂ is O(1) by construction; Ω against its linear value; ξ against a small fraction of ω.
+    c.state_scale = Eigen::VectorXd::Ones(epmc_.unknowns());
+    c.state_scale[epmc_.unknowns() - 2] = epmc_.linear_omega();
+    c.state_scale[epmc_.unknowns() - 1] = 0.1 * epmc_.linear_omega();
+    // R̂'s scale: the stiffness seen by the mode, ω² (mass-normalised shape).
+    c.residual_scale = epmc_.linear_omega() * epmc_.linear_omega();
+    c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
+    return c;
+  }
+
+  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge) {
+    // The last evaluation's contact results are kept so that an accepted point's diagnostics cost
+    // no extra evaluation when the corrector ended on it (as in trace_frf).
+    const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
+      last_y_.resize(0);  // an evaluation that throws leaves no valid cache behind
+      epmc_.evaluate(y, lambda, jacobian, last_);
+      last_y_ = y;
+      last_lambda_ = lambda;
+      Evaluation out;
+      out.ok = last_.ok;
+      out.message = last_.message;
+      out.residual = std::move(last_.residual);
+      out.d_state = std::move(last_.d_state);
+      out.d_parameter = std::move(last_.d_parameter);
+      return out;
+    };
+    const AcceptCallback accept = [&](const Point& p) {
+      BackbonePoint b;
+      const bool cached = p.lambda == last_lambda_ && p.x.size() == last_y_.size() && p.x == last_y_;
+      b.state = epmc_.state(p.x, p.lambda, cached ? &last_ : nullptr);
+      const Eigen::VectorXd x_hat = p.x.head(epmc_.balance().unknowns());  // x = q X̂
+      if (!finite_outputs(b.state) ||
+          !(epmc_.balance().max_slip_ratio(b.state.amplitude * x_hat) <= contact::kMaxSlipRatio)) {
+        overflow_at_ = p.lambda;
+        return false;
+      }
+      b.output_amplitude = b.state.amplitude * epmc_.balance().fundamental_amplitude(x_hat, options_.output_dof);
+      b.iterations = p.iterations;
+      b.step = p.step;
+      b.unknowns = p.x;
+      b.harmonics = level_.harmonics;
+      b.time_samples = level_.time_samples;
+      if (estimator_) {
+        const auto estimate_start = support::Clock::now();
+        b.error = estimator_->estimate(epmc_, p.x, p.lambda);
+        error_seconds_ += support::seconds_since(estimate_start);
+      }
+      return judge(b, p);
+    };
+    return trace(residual, y0, c, accept);
+  }
+
+ private:
+  static hb::NonlinearModeOptions mode_at(hb::NonlinearModeOptions mode, Level level) {
+    mode.harmonics = level.harmonics;
+    mode.time_samples = level.time_samples;
+    return mode;
+  }
+
+  const BackboneOptions& options_;
+  hb::NonlinearModeResidual epmc_;
+  Level level_;
+  std::optional<BackboneErrorEstimator> estimator_;
+  double error_seconds_ = 0.0;
+  hb::NonlinearModeResidual::Evaluation last_;
+  Eigen::VectorXd last_y_;
+  double last_lambda_ = std::numeric_limits<double>::quiet_NaN();
+  std::optional<double> overflow_at_;  // λ of a point whose outputs are not finite or slip too far
+};
+
+}  // namespace
 
 BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOptions& options,
                              const std::function<bool(const BackbonePoint&)>& on_point) {
   const auto start_time = support::Clock::now();
   if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
-  const hb::NonlinearModeResidual epmc(system, options.mode);
   BackboneCurve curve;
-  curve.linear_omega = epmc.linear_omega();
-  curve.linear_damping_ratio = epmc.linear_damping_ratio();
-
-  Options c = options.continuation;
-  c.parameter_start = options.log10_amplitude_start;
-  c.parameter_end = options.log10_amplitude_end;
-  c.direction = c.parameter_end > c.parameter_start ? 1 : -1;
-  c.parameter_scale = std::abs(c.parameter_end - c.parameter_start);
-  // X̂ is O(1) by construction; Ω against its linear value; ξ against a small fraction of ω.
-  c.state_scale = Eigen::VectorXd::Ones(epmc.unknowns());
-  c.state_scale[epmc.unknowns() - 2] = epmc.linear_omega();
-  c.state_scale[epmc.unknowns() - 1] = 0.1 * epmc.linear_omega();
-
-  // The finer residuals of the error estimates (error_estimate.hpp); none when the H + 2 basis
-  // cannot be built (the points then carry error.known = false).
-  std::optional<BackboneErrorEstimator> estimator;
-  if (options.error_estimate) {
-    try {
-      estimator.emplace(system, options.mode);
-    } catch (const std::invalid_argument&) {
-      estimator.reset();
-    }
-  }
-
-  // The last evaluation's contact results are kept so that an accepted point's diagnostics cost
-  // no extra evaluation when the corrector ended on it (as in trace_frf).
-  hb::NonlinearModeResidual::Evaluation last;
-  Eigen::VectorXd last_y;
-  double last_lambda = std::numeric_limits<double>::quiet_NaN();
-  const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
-    last_y.resize(0);  // an evaluation that throws leaves no valid cache behind
-    epmc.evaluate(y, lambda, jacobian, last);
-    last_y = y;
-    last_lambda = lambda;
-    Evaluation out;
-    out.ok = last.ok;
-    out.message = last.message;
-    out.residual = std::move(last.residual);
-    out.d_state = std::move(last.d_state);
-    out.d_parameter = std::move(last.d_parameter);
-    return out;
-  };
-  // R̂'s scale: the stiffness seen by the mode, ω² (mass-normalised shape).
-  c.residual_scale = epmc.linear_omega() * epmc.linear_omega();
-  c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
-
-  // λ of a converged point whose outputs are not finite or whose contacts slip beyond the range
-  // the laws are computed in.
   std::optional<double> overflow_at;
-  const AcceptCallback accept = [&](const Point& p) {
-    BackbonePoint b;
-    const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
-    b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
-    const Eigen::VectorXd x_hat = p.x.head(epmc.balance().unknowns());  // x = q X̂
-    if (!finite_outputs(b.state) ||
-        !(epmc.balance().max_slip_ratio(b.state.amplitude * x_hat) <= contact::kMaxSlipRatio)) {
-      overflow_at = p.lambda;
-      return false;
+  std::optional<hb::FourierBasis> last_basis;  // of the last run, for the internal-resonance message
+  const auto make_segment = [&](Level level) {
+    auto run = std::make_unique<DiscreteBackboneSegment>(system, options, level);
+    if (!last_basis) {
+      curve.linear_omega = run->epmc().linear_omega();
+      curve.linear_damping_ratio = run->epmc().linear_damping_ratio();
     }
-    b.output_amplitude = b.state.amplitude * epmc.balance().fundamental_amplitude(x_hat, options.output_dof);
-    b.iterations = p.iterations;
-    b.step = p.step;
-    b.unknowns = p.x;
-    if (estimator) {
-      const auto estimate_start = support::Clock::now();
-      b.error = estimator->estimate(epmc, p.x, p.lambda);
-      curve.error_seconds += support::seconds_since(estimate_start);
-    }
-    curve.points.push_back(b);
-    return on_point ? on_point(b) : true;
+    last_basis = run->epmc().balance().basis();
+    return run;
   };
-  const Result r = trace(residual, epmc.linear_start(), c, accept);
-  curve.reason = r.reason;
-  curve.message = r.message;
+  const std::function<bool(BackbonePoint&)> keep = [&](BackbonePoint& b) {
+    curve.points.push_back(b);
+    return on_point ? on_point(curve.points.back()) : true;
+  };
+  const auto after_run = [&](const DiscreteBackboneSegment& run, const Result& r) {
+    curve.newton_iterations += r.corrector_iterations;
+    curve.rejected_steps += r.rejected_steps;
+    curve.error_seconds += run.error_seconds();
+    if (run.overflow_at()) overflow_at = run.overflow_at();
+  };
+  const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
+      options.accuracy, {options.mode.harmonics, options.mode.time_samples}, options.log10_amplitude_start,
+      options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
+  curve.reason = outcome.reason;
+  curve.message = outcome.message;
+  curve.level_changes = outcome.level_changes;
+  curve.short_of_accuracy = outcome.short_points;
   if (overflow_at) {
     curve.reason = StopReason::out_of_range;
     curve.message = fmt::format(
@@ -154,12 +237,10 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
         "on the last point before: narrow log10_amplitude",
         *overflow_at, contact::kMaxSlipRatio);
   }
-  if (!r.completed() && !overflow_at && r.reason != StopReason::stopped_by_user && !curve.points.empty()) {
-    const std::string why = internal_resonance(system, epmc.balance().basis(), curve.points.back().state.omega);
+  if (!curve.completed() && !overflow_at && outcome.reason != StopReason::stopped_by_user && !curve.points.empty()) {
+    const std::string why = internal_resonance(system, *last_basis, curve.points.back().state.omega);
     if (!why.empty()) curve.message += ". " + why;
   }
-  curve.newton_iterations = r.corrector_iterations;
-  curve.rejected_steps = r.rejected_steps;
   curve.seconds = support::seconds_since(start_time);
   return curve;
 }

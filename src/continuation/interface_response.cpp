@@ -1,4 +1,5 @@
-// Damping curves and FRFs of a preloaded FE joint (interface_response.hpp).
+// FRFs of a preloaded FE joint and the timing record of its curves (interface_response.hpp); the
+// damping curves are in interface_backbone.cpp.
 #include "jointhb/continuation/interface_response.hpp"
 
 #include <fmt/format.h>
@@ -13,46 +14,9 @@
 #include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
-#include "mode_outputs.hpp"
+#include "interface_curve_support.hpp"
 
 namespace jointhb::continuation {
-namespace {
-
-// The arclength counts the interface gaps as if there were at most this many contact points:
-// their share of ‖Δy‖ grows like √P (every point's gaps change with the amplitude), so without
-// this a fine interface would take steps √(P / 100) times shorter in amplitude or frequency for
-// the same accuracy of the predictor (1600 points: 43 instead of ~15 points per damping curve).
-// Curves of up to 100 points are unchanged.
-constexpr double kArclengthPoints = 100.0;
-
-// unknown_scale() with the gap unknowns weighted for kArclengthPoints (above).
-Eigen::VectorXd arclength_scale(const hb::InterfaceBalance& balance) {
-  Eigen::VectorXd s = balance.unknown_scale();
-  const double factor = std::sqrt(std::max(1.0, balance.points() / kArclengthPoints));
-  const Eigen::Index gaps = static_cast<Eigen::Index>(3) * balance.points() * balance.basis().size();
-  s.tail(gaps) *= factor;
-  return s;
-}
-
-InterfaceTimings curve_timings(const hb::InterfaceBalanceTimings& t, const Result& r, double total) {
-  InterfaceTimings c;
-  c.aft = t.aft;
-  c.assembly = t.assembly;
-  c.linear_solve = r.linear_solve_seconds;
-  c.total = total;
-  c.evaluations = t.evaluations;
-  c.jacobians = t.jacobians;
-  c.factorisations = r.factorisations;
-  c.krylov_iterations = r.krylov_iterations;
-  c.products = t.products;
-  c.preconditioner = t.preconditioner;
-  c.preconditioner_apply = t.preconditioner_apply;
-  c.product_calls = t.product_calls;
-  c.preconditioner_calls = t.preconditioner_calls;
-  return c;
-}
-
-}  // namespace
 
 std::string InterfaceTimings::breakdown() const {
   const double other = std::max(total - aft - assembly - linear_solve - error_estimate, 0.0);
@@ -71,105 +35,6 @@ std::string InterfaceTimings::breakdown() const {
                      total, aft, evaluations, assembly, linear_solve, krylov_iterations, factorisations,
                      preconditioner, preconditioner_calls, preconditioner_apply, products, product_calls, estimates,
                      other);
-}
-
-std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) const {
-  if (std::string msg = mode.validate(model); !msg.empty()) return msg;
-  if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
-    return "log10_amplitude: must be finite";
-  if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
-  return {};
-}
-
-InterfaceBackbone trace_interface_backbone(
-    const hb::InterfaceModel& model, const InterfaceBackboneOptions& options,
-    const std::function<bool(const InterfaceBackbonePoint&)>& on_point) {
-  const auto start = support::Clock::now();
-  if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
-  const bool matrix_free =
-      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
-  hb::InterfaceModeOptions mode = options.mode;
-  if (matrix_free) mode.balance.dense_jacobian = false;
-  const hb::InterfaceModeResidual epmc(model, mode);
-  InterfaceBackbone curve;
-  curve.linear_omega = epmc.linear_omega();
-  curve.linear_damping_ratio = epmc.linear_damping_ratio();
-  curve.unknowns = epmc.unknowns();
-
-  Options c = options.continuation;
-  c.parameter_start = options.log10_amplitude_start;
-  c.parameter_end = options.log10_amplitude_end;
-  c.direction = c.parameter_end > c.parameter_start ? 1 : -1;
-  c.parameter_scale = std::abs(c.parameter_end - c.parameter_start);
-  const Eigen::Index U = epmc.balance().unknowns();
-  c.state_scale.resize(U + 2);
-  c.state_scale.head(U) = arclength_scale(epmc.balance());
-  c.state_scale[U] = epmc.linear_omega();
-  c.state_scale[U + 1] = 0.1 * epmc.linear_omega();
-  c.residual_scale = 1.0;  // rows are in units of the (unit) modal amplitude
-  c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
-
-  std::optional<InterfaceBackboneErrorEstimator> estimator;
-  if (options.error_estimate) estimator.emplace(model, mode);
-  double error_seconds = 0.0;
-
-  hb::InterfaceModeResidual::Evaluation last;
-  Eigen::VectorXd last_y;
-  double last_lambda = std::numeric_limits<double>::quiet_NaN();
-  const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
-    last_y.resize(0);
-    epmc.evaluate(y, lambda, jacobian, last);
-    last_y = y;
-    last_lambda = lambda;
-    Evaluation out;
-    out.ok = last.ok;
-    out.message = last.message;
-    out.residual = last.residual;
-    if (jacobian && matrix_free) {
-      // The operator keeps its own copy of the point blocks: `last` is overwritten by the next call.
-      auto at = std::make_shared<const hb::InterfaceModeResidual::Evaluation>(last);
-      out.d_parameter = last.d_parameter;
-      out.d_state_product = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
-        return epmc.apply_jacobian(*at, y, lambda, v);
-      };
-      if (options.mixed_precision)
-        out.d_state_product_inner = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
-          return epmc.apply_jacobian(*at, y, lambda, v, true);
-        };
-      out.make_preconditioner = [&epmc, at, y, lambda, kind = options.preconditioner]() -> LinearOperator {
-        return epmc.preconditioner(*at, y, lambda, kind);
-      };
-    } else if (jacobian) {
-      out.d_state = std::move(last.d_state);
-      out.d_parameter = std::move(last.d_parameter);
-    }
-    return out;
-  };
-  const AcceptCallback accept = [&](const Point& p) {
-    InterfaceBackbonePoint b;
-    const bool cached = p.lambda == last_lambda && p.x.size() == last_y.size() && p.x == last_y;
-    b.state = epmc.state(p.x, p.lambda, cached ? &last : nullptr);
-    b.iterations = p.iterations;
-    b.step = p.step;
-    b.unknowns = p.x;
-    if (estimator) {
-      const auto estimate_start = support::Clock::now();
-      // The corrector's last evaluation is at the point and, matrix-free, keeps its point blocks.
-      b.error = estimator->estimate(epmc, p.x, p.lambda, cached ? &last : nullptr);
-      error_seconds += support::seconds_since(estimate_start);
-    }
-    curve.points.push_back(b);
-    return on_point ? on_point(b) : true;
-  };
-  const Result r = trace(residual, epmc.linear_start(), c, accept);
-  curve.reason = r.reason;
-  curve.message = r.message;
-  curve.newton_iterations = r.corrector_iterations;
-  curve.rejected_steps = r.rejected_steps;
-  const hb::InterfaceBalanceTimings t = epmc.balance().timings();
-  curve.timings = curve_timings(t, r, support::seconds_since(start));
-  curve.timings.error_estimate = error_seconds;
-  return curve;
 }
 
 std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const {
@@ -212,7 +77,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   const int elastic = model.rigid_modes;
   const double zeta = std::max(
       (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[elastic]) / (2.0 * std::sqrt(model.omega2[elastic])), 1e-4);
-  c.state_scale = eta / (2.0 * zeta) * arclength_scale(balance);
+  c.state_scale = eta / (2.0 * zeta) * interface_detail::arclength_scale(balance);
   c.residual_scale = eta;
 
   std::optional<InterfaceFrfErrorEstimator> estimator;
@@ -278,8 +143,8 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   curve.message = r.message;
   curve.newton_iterations = r.corrector_iterations;
   curve.rejected_steps = r.rejected_steps;
-  const hb::InterfaceBalanceTimings t = balance.timings();
-  curve.timings = curve_timings(t, r, support::seconds_since(start));
+  interface_detail::add_curve_timings(curve.timings, balance.timings(), r);
+  curve.timings.total = support::seconds_since(start);
   curve.timings.error_estimate = error_seconds;
   return curve;
 }

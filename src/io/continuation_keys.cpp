@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "jointhb/io/value_checks.hpp"
 
 namespace jointhb::io {
@@ -59,6 +62,46 @@ void read_continuation_keys(const yaml::Reader& reader_, const YAML::Node& node,
                  fmt::format("must be >= {}, got {}", value_of("initial_step", o.initial_step),
                              o.max_step));
   }
+}
+
+void read_accuracy_keys(const yaml::Reader& reader_, const YAML::Node& node, const std::string& path,
+                        int harmonics, int time_samples, continuation::Accuracy& a) {
+  const Fields f =
+      reader_.fields(node, path, {"frequency", "damping", "min_harmonics", "max_harmonics", "max_time_samples"});
+  const auto tolerance = [&](const char* name, double& target) {
+    if (const auto* e = f.find(name)) {
+      target = reader_.number(e->value, f.path_of(name));
+      if (!(std::isfinite(target) && target >= 0.0 && target < 1.0))
+        reader_.fail(e->value, f.path_of(name), fmt::format("must be a relative tolerance in [0, 1), got {}", target));
+    }
+  };
+  tolerance("frequency", a.frequency);
+  tolerance("damping", a.damping);
+  if (!a.active()) reader_.fail(node, path, "give frequency or damping > 0 (relative tolerances per point)");
+  const auto count = [&](const char* name, int& target, long long lo, long long hi) {
+    if (const auto* e = f.find(name)) {
+      const long long v = reader_.integer(e->value, f.path_of(name));
+      reader_.check(e->value, f.path_of(name), check_in_range(v, lo, hi));
+      target = static_cast<int>(v);
+    }
+  };
+  count("min_harmonics", a.min_harmonics, 1, 99);
+  count("max_harmonics", a.max_harmonics, 1, 99);
+  count("max_time_samples", a.max_time_samples, 4, 1 << 16);
+  if (a.max_harmonics < a.min_harmonics)
+    reader_.fail(node, f.path_of(f.has("max_harmonics") ? "max_harmonics" : "min_harmonics"),
+                 fmt::format("max_harmonics = {} must be >= min_harmonics = {}", a.max_harmonics, a.min_harmonics));
+  if (a.max_time_samples < 2 * a.max_harmonics + 2)
+    reader_.fail(node, f.path_of("max_time_samples"),
+                 fmt::format("must be >= 2 max_harmonics + 2 = {}, got {}", 2 * a.max_harmonics + 2, a.max_time_samples));
+  a.min_time_samples = std::min(a.min_time_samples, time_samples);
+  if (harmonics < a.min_harmonics || harmonics > a.max_harmonics)
+    reader_.fail(node, path,
+                 fmt::format("the starting harmonics = {} must lie in [min_harmonics, max_harmonics] = [{}, {}]",
+                             harmonics, a.min_harmonics, a.max_harmonics));
+  if (time_samples > a.max_time_samples)
+    reader_.fail(node, f.path_of("max_time_samples"),
+                 fmt::format("must be >= the starting time_samples = {}, got {}", time_samples, a.max_time_samples));
 }
 
 }  // namespace jointhb::io

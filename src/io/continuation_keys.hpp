@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "yaml_support.hpp"
 
@@ -13,5 +14,12 @@ namespace jointhb::io {
 /// keep o's values) and checks min_step ≤ initial_step ≤ max_step, blaming a value the file gives.
 void read_continuation_keys(const yaml::Reader& reader, const YAML::Node& node,
                             const std::string& path, continuation::Options& o);
+
+/// Reads the `accuracy:` mapping of a damping curve (docs/case-files.md; continuation/accuracy.hpp):
+/// frequency, damping (relative, [0, 1), at least one > 0), min_harmonics, max_harmonics,
+/// max_time_samples; then checks that the starting level (harmonics, time_samples) lies in the
+/// range, blaming the accuracy key.
+void read_accuracy_keys(const yaml::Reader& reader, const YAML::Node& node, const std::string& path,
+                        int harmonics, int time_samples, continuation::Accuracy& a);
 
 }  // namespace jointhb::io

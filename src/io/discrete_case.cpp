@@ -672,7 +672,7 @@ class DiscreteCaseReader {
     const Fields f = reader_.fields(node, path,
                                     {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
                                      "harmonic_selection", "periodic_tolerance", "error_estimate",
-                                     "continuation", "points_per_decade", "max_output_change"});
+                                     "continuation", "points_per_decade", "max_output_change", "accuracy"});
     continuation::BackboneOptions o;
     modes_.clear();
     if (const auto* mode = f.find("mode")) {
@@ -724,6 +724,9 @@ class DiscreteCaseReader {
     read_harmonics(f, o.mode.harmonics, o.mode.time_samples);
     read_selection(f, o.mode.selection, o.mode.periodic_tolerance);
     reader_.flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
+    // H and N_t per point from the estimates, starting from harmonics/time_samples (continuation/accuracy.hpp).
+    if (const auto* e = f.find("accuracy"))
+      read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.mode.harmonics, o.mode.time_samples, o.accuracy);
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

@@ -190,7 +190,7 @@ class DynamicsReader {
     const Fields f = r_.fields(node, path, {"mode", "log10_amplitude", "frequency_drop", "harmonics", "time_samples",
                                             "periodic_tolerance", "tangential_stiffness", "continuation",
                                             "points_per_decade", "max_output_change", "fields", "volume_fields",
-                                            "error_estimate"});
+                                            "error_estimate", "accuracy"});
     FeNonlinearModesSpec o;
     o.balance.harmonics = 1;
     if (const auto* e = f.find("mode")) {
@@ -226,6 +226,9 @@ class DynamicsReader {
     r_.flag(f, "volume_fields", o.volume_fields);
     r_.flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
+    // H and N_t per point from the estimates, starting from harmonics/time_samples (continuation/accuracy.hpp).
+    if (const auto* e = f.find("accuracy"))
+      read_accuracy_keys(r_, e->value, f.path_of("accuracy"), o.balance.harmonics, o.balance.time_samples, o.accuracy);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
     if (f.has("points_per_decade"))

@@ -89,6 +89,9 @@ PredictedCurve predict_backbone(const DiscreteProblem& c, const Target& target) 
   }
   continuation::BackboneOptions options = *c.nonlinear_modes;
   options.mode.mode = target.mode;
+  // One level (the case's starting harmonics): the unknowns are interpolated between points and the
+  // objective must be smooth in the parameters, not switch levels per point.
+  options.accuracy = continuation::Accuracy{};
   // Trace only as far as the measurements need (a tenth of a decade beyond the largest): less
   // work, and no failure beyond the data.
   double largest = 0.0;

@@ -118,6 +118,9 @@ fit::PredictedCurve FeFitModel::backbone_curve(const fit::Target& t) {
   nm.log10_amplitude_end = std::min(nm.log10_amplitude_end, std::log10(q_max) + 0.1);
   nm.frequency_drop = 0.0;
   nm.error_estimate = false;  // a fit uses the points alone: the estimates would cost for nothing
+  // A fit interpolates the unknowns between points and needs an objective that is smooth in the
+  // parameters: one level (the case's starting harmonics), not levels that switch per point.
+  nm.accuracy = continuation::Accuracy{};
   if (!(nm.log10_amplitude_end > nm.log10_amplitude_start))
     return failed(fmt::format("{}: the measured amplitudes lie below the curve's start", t.name));
   const BackboneCurve bb = pipeline_.backbone(t.mode, nm);

@@ -4,7 +4,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <utility>
 
 #include "jointhb/hb/interface_balance.hpp"
 #include "jointhb/pipeline/stage_names.hpp"
@@ -259,19 +261,32 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
   o.log10_amplitude_end = nm.log10_amplitude_end;
   o.continuation = nm.continuation;
   o.error_estimate = nm.error_estimate;
+  o.accuracy = nm.accuracy;
   BackboneCurve out;
   out.mode = mode;
   out.harmonics = nm.balance.harmonics;
   out.time_samples = nm.balance.time_samples;
-  // Output amplitudes: one more evaluation per accepted point on a balance of its own.
-  const std::optional<hb::InterfaceBalance> output_balance =
-      im.outputs.empty() ? std::nullopt : std::optional<hb::InterfaceBalance>(hb::InterfaceBalance(im, nm.balance));
+  // Output amplitudes: one more evaluation per accepted point on a balance of its own, one per
+  // level (H, N_t) the curve uses (one unless o.accuracy is active).
+  std::map<std::pair<int, int>, hb::InterfaceBalance> output_balances;
+  const auto output_balance_at = [&](int harmonics, int time_samples) -> const hb::InterfaceBalance& {
+    const std::pair<int, int> key{harmonics, time_samples};
+    auto it = output_balances.find(key);
+    if (it == output_balances.end()) {
+      hb::InterfaceBalanceOptions bo = nm.balance;
+      bo.harmonics = harmonics;
+      bo.time_samples = time_samples;
+      it = output_balances.emplace(key, hb::InterfaceBalance(im, bo)).first;
+    }
+    return it->second;
+  };
   double linear_hz = 0.0;
   std::string failure;
   const auto accept = [&](const continuation::InterfaceBackbonePoint& p) {
     const hb::InterfaceModeState& s = p.state;
     double out_amp = 0.0;
-    if (output_balance) {
+    if (!im.outputs.empty()) {
+      const hb::InterfaceBalance* output_balance = &output_balance_at(p.harmonics, p.time_samples);
       const Eigen::Index U = output_balance->unknowns();
       const Eigen::VectorXd y = s.amplitude * p.unknowns.head(U);
       const double xi = p.unknowns[U + 1];
@@ -303,6 +318,8 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
     b.newton_iterations = p.iterations;
     b.step = p.step;
     b.error = p.error;
+    b.harmonics = p.harmonics;
+    b.time_samples = p.time_samples;
     out.points.push_back(b);
     if (linear_hz == 0.0) linear_hz = b.frequency_hz;
     // ζ (what the balance needs) against ζ_E (the sampled loops' W_D + viscous work): apart from

@@ -202,6 +202,35 @@ void put_frf_error_columns(py::dict& d, const std::vector<Point>& points, Error 
   estimate("amplitude_max_error_aliasing", [](const E& e) { return e.amplitude_max.aliasing; });
 }
 
+// continuation::Accuracy from a dict {'frequency', 'damping', 'min_harmonics', 'max_harmonics',
+// 'max_time_samples'}; ValueError for an unknown key or a value out of range (Accuracy::validate),
+// or a starting H outside [min_harmonics, max_harmonics].
+continuation::Accuracy accuracy_from(const py::object& value, int harmonics, int time_samples) {
+  if (!py::isinstance<py::dict>(value)) throw py::value_error("accuracy: must be a dict, e.g. {'damping': 1e-2}");
+  continuation::Accuracy a;
+  for (const auto& [key, item] : value.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    if (name == "frequency") a.frequency = item.cast<double>();
+    else if (name == "damping") a.damping = item.cast<double>();
+    else if (name == "min_harmonics") a.min_harmonics = item.cast<int>();
+    else if (name == "max_harmonics") a.max_harmonics = item.cast<int>();
+    else if (name == "max_time_samples") a.max_time_samples = item.cast<int>();
+    else
+      throw py::value_error(fmt::format("accuracy: unknown key '{}' (allowed: frequency, damping, min_harmonics, "
+                                        "max_harmonics, max_time_samples)", name));
+  }
+  if (const std::string e = a.validate(); !e.empty()) throw py::value_error(e);
+  if (!a.active()) throw py::value_error("accuracy: give frequency or damping > 0 (relative tolerances per point)");
+  if (harmonics < a.min_harmonics || harmonics > a.max_harmonics)
+    throw py::value_error(fmt::format("accuracy: the starting harmonics = {} must lie in [{}, {}]", harmonics,
+                                      a.min_harmonics, a.max_harmonics));
+  if (time_samples > a.max_time_samples)
+    throw py::value_error(fmt::format("accuracy: max_time_samples = {} is below the starting time_samples = {}",
+                                      a.max_time_samples, time_samples));
+  a.min_time_samples = std::min(a.min_time_samples, time_samples);  // as the case-file reader
+  return a;
+}
+
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   using P = pipeline::BackbonePoint;
   py::dict d;
@@ -223,8 +252,12 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["energy_warning"] = b.energy_warning;
   d["linear_frequency_hz"] = b.curve.linear_omega / kTwoPi;
   d["linear_damping_ratio"] = b.curve.linear_damping_ratio;
-  d["harmonics"] = b.harmonics;
+  d["harmonics"] = b.harmonics;  // the starting level; per point below (accuracy=...)
   d["time_samples"] = b.time_samples;
+  d["harmonics_of_points"] = column(b.points, [](const P& p) { return double(p.harmonics); });
+  d["time_samples_of_points"] = column(b.points, [](const P& p) { return double(p.time_samples); });
+  d["level_changes"] = b.curve.level_changes;
+  d["points_short_of_accuracy"] = b.curve.short_of_accuracy;
   d["unknowns"] = b.curve.unknowns;
   d["newton_iterations_total"] = b.curve.newton_iterations;
   d["seconds"] = timings_dict(b.curve.timings);
@@ -387,7 +420,7 @@ class Pipeline {
   py::dict backbone(int mode, const py::object& callback, const std::optional<std::pair<double, double>>& log10_amplitude,
                     const std::optional<double>& frequency_drop, const std::optional<int>& harmonics,
                     const std::optional<int>& time_samples, bool contact_fields,
-                    const std::optional<bool>& error_estimate) {
+                    const std::optional<bool>& error_estimate, const py::object& accuracy) {
     if (!case_->dynamics || !case_->dynamics->nonlinear_modes)
       throw py::value_error(case_->source + ": the case has no analysis.nonlinear_modes (give it one in the case file)");
     pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
@@ -396,6 +429,9 @@ class Pipeline {
     if (harmonics) nm.balance.harmonics = *harmonics, nm.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (time_samples) nm.balance.time_samples = *time_samples;
     if (error_estimate) nm.error_estimate = *error_estimate;
+    // A fixed level requested here replaces the case's accuracy (whose range it could miss).
+    if (harmonics || time_samples) nm.accuracy = continuation::Accuracy{};
+    if (!accuracy.is_none()) nm.accuracy = accuracy_from(accuracy, nm.balance.harmonics, nm.balance.time_samples);
     if (const std::string e = nm.balance.validate(); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
     pipeline::BackboneCurve b;
@@ -431,11 +467,17 @@ class Pipeline {
           ++k;
           interface_of.push_back(ci.geometry.name);
         }
-      const hb::InterfaceBalance balance(st.model, balance_options);
-      const Eigen::Index U = balance.unknowns();
+      std::optional<hb::InterfaceBalance> balance;  // at the level of the point (accuracy: per point)
       for (Eigen::Index i = 0; i < n; ++i) {
         const auto& p = b.curve.points[static_cast<std::size_t>(i)];
-        const std::vector<hb::InterfacePointSummary> s = balance.point_summaries(p.state.amplitude * p.unknowns.head(U));
+        if (!balance || balance->options().harmonics != p.harmonics || balance->options().time_samples != p.time_samples) {
+          hb::InterfaceBalanceOptions bo = balance_options;
+          bo.harmonics = p.harmonics;
+          bo.time_samples = p.time_samples;
+          balance.emplace(st.model, bo);
+        }
+        const Eigen::Index U = balance->unknowns();
+        const std::vector<hb::InterfacePointSummary> s = balance->point_summaries(p.state.amplitude * p.unknowns.head(U));
         for (Eigen::Index q = 0; q < fine; ++q) {
           const hb::InterfacePointSummary& v = s[static_cast<std::size_t>(st.patch_of_point[static_cast<std::size_t>(q)])];
           wd(i, q) = v.dissipation;
@@ -679,11 +721,15 @@ class DiscreteModel {
 
   /// Without keywords: the case's analysis.nonlinear_modes settings (or the defaults).
   py::dict backbone(int mode, const std::optional<std::pair<double, double>>& log10_amplitude,
-                    std::optional<int> harmonics, std::optional<int> time_samples, const py::object& callback) {
+                    std::optional<int> harmonics, std::optional<int> time_samples, const py::object& callback,
+                    const py::object& accuracy) {
     continuation::BackboneOptions o = pipe_->problem().nonlinear_modes.value_or(continuation::BackboneOptions{});
     o.mode.mode = mode;
     if (harmonics) o.mode.harmonics = *harmonics, o.mode.time_samples = io::default_time_samples(*harmonics);
     if (time_samples) o.mode.time_samples = *time_samples;
+    // A fixed level requested here replaces the case's accuracy (whose range it could miss).
+    if (harmonics || time_samples) o.accuracy = continuation::Accuracy{};
+    if (!accuracy.is_none()) o.accuracy = accuracy_from(accuracy, o.mode.harmonics, o.mode.time_samples);
     if (log10_amplitude) o.log10_amplitude_start = log10_amplitude->first, o.log10_amplitude_end = log10_amplitude->second;
     if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
@@ -704,6 +750,10 @@ class DiscreteModel {
     d["slipping_points"] = column(b.points, [](const P& p) { return double(p.state.slipping_points); });
     put_state_columns(d, b.points, [](const P& p) { return p.state.states; });  // gapping_points 0, as in backbone.csv
     put_backbone_error_columns(d, b.points, [](const P& p) -> const continuation::BackboneError& { return p.error; });
+    d["harmonics_of_points"] = column(b.points, [](const P& p) { return double(p.harmonics); });
+    d["time_samples_of_points"] = column(b.points, [](const P& p) { return double(p.time_samples); });
+    d["level_changes"] = b.level_changes;
+    d["points_short_of_accuracy"] = b.short_of_accuracy;
     put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;
@@ -866,7 +916,7 @@ PYBIND11_MODULE(_core, m) {
       .def("backbone", &Pipeline::backbone, py::arg("mode") = 1, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("log10_amplitude") = py::none(), py::arg("frequency_drop") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("contact_fields") = false,
-           py::arg("error_estimate") = py::none(),
+           py::arg("error_estimate") = py::none(), py::arg("accuracy") = py::none(),
            "The damping curve (EPMC) of elastic mode `mode`: numpy arrays amplitude (q [m sqrt(kg)]), "
            "frequency_hz, damping_ratio, W_D [J], output_amplitude [m], ...; status, message, seconds. "
            "callback(point: dict) is called at every accepted point; returning False stops the curve. "
@@ -876,7 +926,10 @@ PYBIND11_MODULE(_core, m) {
            "tangential and normal motion [m], pressure min/max [Pa], limit_ratio (max |t_T|/(mu p_N)), state "
            "(0 stuck, 1 microslip, 2 gross slip, 3 gapping, 4 open). error_estimate=True adds the estimated "
            "relative errors omega_error_truncation, omega_error_aliasing, damping_error_truncation, "
-           "damping_error_aliasing (NaN where not computed; docs/theory.md section 13).")
+           "damping_error_aliasing (NaN where not computed; docs/theory.md section 13). "
+           "accuracy={'frequency': 1e-4, 'damping': 1e-2} (also 'min_harmonics', 'max_harmonics', "
+           "'max_time_samples') chooses H and N_t per point from those estimates, starting from `harmonics`; "
+           "harmonics_of_points and time_samples_of_points give each point's level.")
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
            py::arg("error_estimate") = py::none(),
@@ -923,9 +976,12 @@ PYBIND11_MODULE(_core, m) {
            "amplitude_h1, error_bound, refined); status, message.")
       .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
+           py::arg("accuracy") = py::none(),
            "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude (the case's "
            "analysis.nonlinear_modes settings or the defaults): numpy arrays amplitude, omega, frequency_hz, "
-           "damping_ratio, W_D; status, message.")
+           "damping_ratio, W_D, the error estimates, harmonics_of_points, time_samples_of_points; status, "
+           "message. accuracy={'damping': 1e-3, ...} chooses H and N_t per point (as Pipeline.backbone); "
+           "harmonics or time_samples given here trace at that fixed level.")
       .def_property_readonly("parameter_names", [](DiscreteModel& d) { return d.pipe().parameter_names(); },
                              "contacts[i].kt0|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
       .def("set", [](DiscreteModel& d, const std::string& name, double value) { d.pipe().set_parameter(name, value); },

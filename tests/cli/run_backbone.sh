@@ -115,6 +115,32 @@ sed 's/^\(    log10_amplitude: .*\)$/\1\n    max_output_change: 2/' "$SOURCE_DIR
 expect_bad_input run "$bad" -o "$WORK/none"
 grep -q "key 'analysis.nonlinear_modes.max_output_change'.*must be in (0, 1]" "$ERR" || fail "max_output_change 2: $(cat "$ERR")"
 
+# accuracy: H and N_t chosen per point. Case 03 from H = 1: the stuck limit stays at H = 1, slip
+# raises it; every point's estimates are within the request or the point is counted short of it.
+sed 's/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 1.0e-3, frequency: 1.0e-5, max_harmonics: 21}/; s/^    harmonics: 7$/    harmonics: 1/; s/^    time_samples: 128$/    time_samples: 32/' \
+  "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$WORK/accuracy.yaml"
+grep -q 'accuracy: {damping' "$WORK/accuracy.yaml" || fail "could not set accuracy"
+run_capture run "$WORK/accuracy.yaml" -o "$WORK/accuracy"
+[ "$STATUS" -eq 0 ] || fail "accuracy run exited $STATUS: $(cat "$ERR")"
+"$PYTHON" - "$WORK/accuracy" <<'PY' || fail "accuracy"
+import csv, json, sys
+rows = list(csv.DictReader(open(f"{sys.argv[1]}/backbone.csv")))
+h = [int(float(r["harmonics"])) for r in rows]
+acc = json.load(open(f"{sys.argv[1]}/summary.json"))["backbones"][0]["accuracy"]
+assert h[0] == 1 and max(h) >= 5, h
+assert acc["harmonics_used"] == [min(h), max(h)] and acc["level_changes"] > 0, acc
+short = 0
+for r in rows:
+    over = abs(float(r["damping_error_truncation"])) > 1e-3 or abs(float(r["omega_error_truncation"])) > 1e-5 \
+        or abs(float(r["damping_error_aliasing"])) > 1e-3 or abs(float(r["omega_error_aliasing"])) > 1e-5
+    short += over
+assert short == acc["points_short_of_request"], (short, acc)
+print(f"ok: accuracy: {len(rows)} points, H {min(h)}..{max(h)}, {acc['level_changes']} level changes, {short} short")
+PY
+sed 's/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 2}/' "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$bad"
+expect_bad_input run "$bad" -o "$WORK/none"
+grep -q "key 'analysis.nonlinear_modes.accuracy.damping'.*relative tolerance in \[0, 1)" "$ERR" || fail "accuracy damping 2: $(cat "$ERR")"
+
 # nonlinear_modes with a static force is refused at the key, before anything is written.
 sed 's/- {dof: 0, amplitude: \[0.02, 0.1, 0.4\]}.*/- {dof: 0, amplitude: [0.02, 0.1, 0.4]}\n  - {dof: 0, static: 1.0}/' "$CASE" >"$WORK/static.yaml"
 expect_bad_input run "$WORK/static.yaml" -o "$WORK/none"

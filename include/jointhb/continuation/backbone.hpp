@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/nonlinear_mode.hpp"
@@ -28,6 +29,10 @@ struct BackboneOptions {
   /// Error estimates of every accepted point (continuation/error_estimate.hpp, docs/theory.md
   /// §13): one Jacobian at H + 2, one at H and a residual at 2 N_t per point
   bool error_estimate = true;
+  /// Accuracy on request (continuation/accuracy.hpp, docs/theory.md §13 eq. T-44): when active, H
+  /// and N_t are chosen per point from the point's estimates (computed whatever error_estimate
+  /// says), starting from mode's, which must lie in the request's range.
+  Accuracy accuracy;
   [[nodiscard]] std::string validate(int dofs) const;
 };
 
@@ -38,7 +43,8 @@ struct BackbonePoint {
   int iterations = 0;
   double step = 0.0;
   BackboneError error;       ///< estimated relative errors of Ω and ζ (with error_estimate)
-  Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ)
+  Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ) in the basis of (harmonics, time_samples)
+  int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
 };
 
 struct BackboneCurve {
@@ -51,6 +57,8 @@ struct BackboneCurve {
   double linear_damping_ratio = 0.0;  ///< φᵀCφ / (2ω)
   double seconds = 0.0;
   double error_seconds = 0.0;  ///< of the error estimates (included in seconds)
+  int level_changes = 0;       ///< restarts at another H or N_t (options.accuracy)
+  int short_of_accuracy = 0;   ///< points kept above the request at the largest level allowed
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/interface_mode.hpp"
@@ -70,6 +71,10 @@ struct InterfaceBackboneOptions {
   /// residual at 2 N_t and a linear solve at H. Off by default: on the default case (lap, H = 1)
   /// they cost 1.8× the curve itself (discrete curves, where one Newton step suffices: ~1×).
   bool error_estimate = false;
+  /// Accuracy on request (continuation/accuracy.hpp, docs/theory.md §13 eq. T-44): when active, H
+  /// and N_t are chosen per point from the point's estimates (computed whatever error_estimate
+  /// says), starting from mode.balance's, which must lie in the request's range.
+  Accuracy accuracy;
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -78,7 +83,8 @@ struct InterfaceBackbonePoint {
   int iterations = 0;
   double step = 0.0;  ///< arclength step that reached the point
   BackboneError error;  ///< estimated relative errors of Ω and ζ (with error_estimate)
-  Eigen::VectorXd unknowns;  ///< Ŷ = (ŷ, Ω, ξ)
+  Eigen::VectorXd unknowns;  ///< Ŷ = (ŷ, Ω, ξ) in the basis of (harmonics, time_samples)
+  int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
 };
 
 struct InterfaceBackbone {
@@ -87,8 +93,10 @@ struct InterfaceBackbone {
   std::string message;
   int newton_iterations = 0, rejected_steps = 0;
   double linear_omega = 0.0, linear_damping_ratio = 0.0;
-  Eigen::Index unknowns = 0;
+  Eigen::Index unknowns = 0;  ///< of the first point's level
   InterfaceTimings timings;
+  int level_changes = 0;      ///< restarts at another H or N_t (options.accuracy)
+  int short_of_accuracy = 0;  ///< points kept above the request at the largest level allowed
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

@@ -44,6 +44,9 @@ struct FeNonlinearModesSpec {
   /// Error estimates of Ω and ζ at every point (continuation/interface_error_estimate.hpp); off
   /// by default (they cost about twice the curve).
   bool error_estimate = false;
+  /// Harmonics and time samples chosen per point for a requested accuracy (continuation/accuracy.hpp),
+  /// starting from balance's; inactive by default (fixed harmonics and time_samples).
+  continuation::Accuracy accuracy;
   hb::InterfaceBalanceOptions balance;
   /// The library's defaults of the interface drivers (matrix-free GMRES, steps, tolerances): the
   /// case's `continuation:` keys change only what they name.

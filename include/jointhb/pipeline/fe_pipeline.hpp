@@ -89,6 +89,7 @@ struct BackbonePoint {
   int contact_points = 0;             ///< P, for the slip fraction
   double step = 0.0;                  ///< arclength step that reached the point
   continuation::BackboneError error;  ///< estimated relative errors of Ω and ζ (error_estimate)
+  int harmonics = 0, time_samples = 0;  ///< the level the point was computed at (accuracy: per point)
 };
 
 struct BackboneCurve {

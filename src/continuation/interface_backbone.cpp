@@ -1,0 +1,211 @@
+// Damping curves of a preloaded FE joint (continuation/interface_response.hpp): at fixed harmonics
+// and time samples, or with both chosen per point from the error estimates (continuation/accuracy.hpp,
+// docs/theory.md §13 eq. T-44).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <utility>
+
+#include "jointhb/continuation/accuracy.hpp"
+#include "jointhb/continuation/interface_error_estimate.hpp"
+#include "jointhb/continuation/interface_response.hpp"
+
+#include "../support/stopwatch.hpp"
+#include "interface_curve_support.hpp"
+#include "mode_outputs.hpp"
+#include "segmented_curve.hpp"
+
+namespace jointhb::continuation {
+namespace {
+
+// The options of the curve's EPMC residual at `level`.
+hb::InterfaceModeOptions interface_mode_at(const InterfaceBackboneOptions& options, Level level, bool matrix_free) {
+  hb::InterfaceModeOptions mode = options.mode;
+  mode.balance.harmonics = level.harmonics;
+  mode.balance.time_samples = level.time_samples;
+  if (matrix_free) mode.balance.dense_jacobian = false;
+  return mode;
+}
+
+// Ŷ = (ŷ, Ω, ξ) of level `from` in the basis of `to` (shared harmonics copied, new ones zero).
+Eigen::VectorXd transfer_interface_mode_unknowns(const Eigen::VectorXd& y, Level from, const hb::InterfaceBalance& to) {
+  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, false);
+  const int dofs = to.modes() + 3 * to.points();
+  const Eigen::Index u_from = static_cast<Eigen::Index>(dofs) * from_basis.size();
+  const Eigen::VectorXd head = hb::transfer_coefficients(from_basis, to.basis(), y.head(u_from), dofs);
+  Eigen::VectorXd out(head.size() + 2);
+  out << head, y.tail(2);
+  return out;
+}
+
+// One continuation run of a damping curve at one level (H, N_t): the EPMC residual, the error
+// estimator and the cached last evaluation. `judge` sees every accepted point (built here, with
+// its estimates) and returns false to end the run.
+class InterfaceBackboneSegment {
+ public:
+  using Judge = std::function<bool(InterfaceBackbonePoint&, const Point&)>;
+
+  InterfaceBackboneSegment(const hb::InterfaceModel& model, const InterfaceBackboneOptions& options, Level level)
+      : options_(options),
+        matrix_free_(options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov),
+        mode_(interface_mode_at(options, level, matrix_free_)),
+        epmc_(model, mode_),
+        level_(level) {
+    if (options.error_estimate || options.accuracy.active()) estimator_.emplace(model, mode_);
+  }
+
+  [[nodiscard]] const hb::InterfaceModeResidual& epmc() const { return epmc_; }
+
+  // The linear limit, or the start's unknowns transferred to this level.
+  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
+    return from.y.size() == 0 ? epmc_.linear_start() : transfer_interface_mode_unknowns(from.y, from.from, epmc_.balance());
+  }
+  [[nodiscard]] double error_seconds() const { return error_seconds_; }
+
+  // The options of the run from λ0 (range and scales of this level; steps and budget the caller's).
+  [[nodiscard]] Options continuation(double lambda0, double end) const {
+    Options c = options_.continuation;
+    c.parameter_start = lambda0;
+    c.parameter_end = end;
+    c.direction = end > lambda0 ? 1 : -1;
+    c.parameter_scale = std::abs(options_.log10_amplitude_end - options_.log10_amplitude_start);
+    const Eigen::Index U = epmc_.balance().unknowns();
+    c.state_scale.resize(U + 2);
+    c.state_scale.head(U) = interface_detail::arclength_scale(epmc_.balance());
+    c.state_scale[U] = epmc_.linear_omega();
+    c.state_scale[U + 1] = 0.1 * epmc_.linear_omega();
+    c.residual_scale = 1.0;    // rows are in units of the (unit) modal amplitude
+    c.outputs = mode_outputs;  // Ω and ζ, for max_output_change
+    return c;
+  }
+
+  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge) {
+    const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
+      return evaluate(y, lambda, jacobian);
+    };
+    const AcceptCallback accept = [&](const Point& p) {
+      InterfaceBackbonePoint b;
+      const bool cached = p.lambda == last_lambda_ && p.x.size() == last_y_.size() && p.x == last_y_;
+      b.state = epmc_.state(p.x, p.lambda, cached ? &last_ : nullptr);
+      b.iterations = p.iterations;
+      b.step = p.step;
+      b.unknowns = p.x;
+      b.harmonics = level_.harmonics;
+      b.time_samples = level_.time_samples;
+      if (estimator_) {
+        const auto estimate_start = support::Clock::now();
+        // The corrector's last evaluation is at the point and, matrix-free, keeps its point blocks.
+        b.error = estimator_->estimate(epmc_, p.x, p.lambda, cached ? &last_ : nullptr);
+        error_seconds_ += support::seconds_since(estimate_start);
+      }
+      return judge(b, p);
+    };
+    return trace(residual, y0, c, accept);
+  }
+
+ private:
+  Evaluation evaluate(const Eigen::VectorXd& y, double lambda, bool jacobian) {
+    last_y_.resize(0);
+    epmc_.evaluate(y, lambda, jacobian, last_);
+    last_y_ = y;
+    last_lambda_ = lambda;
+    Evaluation out;
+    out.ok = last_.ok;
+    out.message = last_.message;
+    out.residual = last_.residual;
+    if (jacobian && matrix_free_) {
+      // The operator keeps its own copy of the point blocks: `last_` is overwritten by the next call.
+      auto at = std::make_shared<const hb::InterfaceModeResidual::Evaluation>(last_);
+      const hb::InterfaceModeResidual& epmc = epmc_;
+      out.d_parameter = last_.d_parameter;
+      out.d_state_product = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
+        return epmc.apply_jacobian(*at, y, lambda, v);
+      };
+      if (options_.mixed_precision)
+        out.d_state_product_inner = [&epmc, at, y, lambda](const Eigen::VectorXd& v) {
+          return epmc.apply_jacobian(*at, y, lambda, v, true);
+        };
+      out.make_preconditioner = [&epmc, at, y, lambda, kind = options_.preconditioner]() -> LinearOperator {
+        return epmc.preconditioner(*at, y, lambda, kind);
+      };
+    } else if (jacobian) {
+      out.d_state = std::move(last_.d_state);
+      out.d_parameter = std::move(last_.d_parameter);
+    }
+    return out;
+  }
+
+  const InterfaceBackboneOptions& options_;
+  bool matrix_free_;
+  hb::InterfaceModeOptions mode_;
+  hb::InterfaceModeResidual epmc_;
+  Level level_;
+  std::optional<InterfaceBackboneErrorEstimator> estimator_;
+  double error_seconds_ = 0.0;
+  hb::InterfaceModeResidual::Evaluation last_;
+  Eigen::VectorXd last_y_;
+  double last_lambda_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace
+
+std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) const {
+  if (std::string msg = mode.validate(model); !msg.empty()) return msg;
+  if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
+    return "log10_amplitude: must be finite";
+  if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
+  if (std::string msg = accuracy.validate(); !msg.empty()) return msg;
+  if (accuracy.active()) {
+    const int h = mode.balance.harmonics, n = mode.balance.time_samples;
+    if (h < accuracy.min_harmonics || h > accuracy.max_harmonics)
+      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", h, accuracy.min_harmonics,
+                         accuracy.max_harmonics);
+    if (n < accuracy.min_time_samples || n > accuracy.max_time_samples)
+      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", n,
+                         accuracy.min_time_samples, accuracy.max_time_samples);
+  }
+  return {};
+}
+
+InterfaceBackbone trace_interface_backbone(const hb::InterfaceModel& model, const InterfaceBackboneOptions& options,
+                                           const std::function<bool(const InterfaceBackbonePoint&)>& on_point) {
+  const auto start = support::Clock::now();
+  if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
+  InterfaceBackbone curve;
+  const auto make_segment = [&](Level level) {
+    auto run = std::make_unique<InterfaceBackboneSegment>(model, options, level);
+    if (curve.unknowns == 0) {
+      curve.linear_omega = run->epmc().linear_omega();
+      curve.linear_damping_ratio = run->epmc().linear_damping_ratio();
+      curve.unknowns = run->epmc().unknowns();
+    }
+    return run;
+  };
+  const std::function<bool(InterfaceBackbonePoint&)> keep = [&](InterfaceBackbonePoint& b) {
+    curve.points.push_back(b);
+    return on_point ? on_point(curve.points.back()) : true;
+  };
+  const auto after_run = [&](const InterfaceBackboneSegment& run, const Result& r) {
+    curve.newton_iterations += r.corrector_iterations;
+    curve.rejected_steps += r.rejected_steps;
+    interface_detail::add_curve_timings(curve.timings, run.epmc().balance().timings(), r);
+    curve.timings.error_estimate += run.error_seconds();
+  };
+  const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
+      options.accuracy, {options.mode.balance.harmonics, options.mode.balance.time_samples},
+      options.log10_amplitude_start, options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
+  curve.reason = outcome.reason;
+  curve.message = outcome.message;
+  curve.level_changes = outcome.level_changes;
+  curve.short_of_accuracy = outcome.short_points;
+  curve.timings.total = support::seconds_since(start);
+  return curve;
+}
+
+}  // namespace jointhb::continuation
