@@ -21,11 +21,11 @@ constexpr double kAliasingSafety = 10.0;
 }  // namespace
 
 std::string Accuracy::validate() const {
-  if (!(frequency >= 0.0) || !std::isfinite(frequency))
-    return fmt::format("accuracy.frequency: must be finite and ≥ 0, got {}", frequency);
-  if (!(damping >= 0.0) || !std::isfinite(damping))
-    return fmt::format("accuracy.damping: must be finite and ≥ 0, got {}", damping);
-  if (frequency >= 1.0 || damping >= 1.0) return "accuracy: the relative tolerances must be < 1";
+  if (!std::isfinite(frequency) || !std::isfinite(damping)) return "accuracy: the tolerances must be finite numbers";
+  if (!(frequency >= 0.0 && frequency < 1.0))
+    return fmt::format("accuracy.frequency: must be a relative tolerance in [0, 1), got {}", frequency);
+  if (!(damping >= 0.0 && damping < 1.0))
+    return fmt::format("accuracy.damping: must be a relative tolerance in [0, 1), got {}", damping);
   if (min_harmonics < 1) return fmt::format("accuracy.min_harmonics: must be ≥ 1, got {}", min_harmonics);
   if (max_harmonics < min_harmonics)
     return fmt::format("accuracy.max_harmonics: must be ≥ min_harmonics ({}), got {}", min_harmonics, max_harmonics);

@@ -71,7 +71,8 @@ void read_accuracy_keys(const yaml::Reader& reader_, const YAML::Node& node, con
   const auto tolerance = [&](const char* name, double& target) {
     if (const auto* e = f.find(name)) {
       target = reader_.number(e->value, f.path_of(name));
-      if (!(std::isfinite(target) && target >= 0.0 && target < 1.0))
+      if (!std::isfinite(target)) reader_.fail(e->value, f.path_of(name), "must be a finite relative tolerance in [0, 1)");
+      if (!(target >= 0.0 && target < 1.0))
         reader_.fail(e->value, f.path_of(name), fmt::format("must be a relative tolerance in [0, 1), got {}", target));
     }
   };

@@ -117,7 +117,7 @@ grep -q "key 'analysis.nonlinear_modes.max_output_change'.*must be in (0, 1]" "$
 
 # accuracy: H and N_t chosen per point. Case 03 from H = 1: the stuck limit stays at H = 1, slip
 # raises it; every point's estimates are within the request or the point is counted short of it.
-sed 's/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 1.0e-3, frequency: 1.0e-5, max_harmonics: 21}/; s/^    harmonics: 7$/    harmonics: 1/; s/^    time_samples: 128$/    time_samples: 32/' \
+sed '/nonlinear_modes:/,/frf:/ { s/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 1.0e-3, frequency: 1.0e-5, max_harmonics: 21}/; s/^    harmonics: 7$/    harmonics: 1/; s/^    time_samples: 128$/    time_samples: 32/ }' \
   "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$WORK/accuracy.yaml"
 grep -q 'accuracy: {damping' "$WORK/accuracy.yaml" || fail "could not set accuracy"
 run_capture run "$WORK/accuracy.yaml" -o "$WORK/accuracy"

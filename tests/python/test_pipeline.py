@@ -342,3 +342,34 @@ def test_a_discrete_damping_curve_carries_the_programs_estimates_and_contact_sta
     # one contact: in exactly one state per point, stuck first and at its limit last (docs/theory.md §14)
     states = b["stuck_points"] + b["microslip_points"] + b["gross_slip_points"]
     assert np.all(states == 1) and b["stuck_points"][0] == 1 and b["gross_slip_points"][-1] == 1
+
+
+def test_accuracy_chooses_the_harmonics_per_point_as_the_program_does(tmp_path, lap):
+    """accuracy={...} traces case 03 with H and N_t per point (docs/theory.md §13, T-44): the same
+    points and levels as the program's backbone.csv with the same request; every kept point's estimates
+    meet the request; a bad request is a ValueError naming the key, on discrete and FE models."""
+    source = (SOURCE / "cases/03-one-dof-gaul-mayer/case.yaml").read_text()
+    request = "accuracy: {damping: 1.0e-3, max_harmonics: 9}"
+    text = source.replace("    log10_amplitude: [-8, -3.5]", "    log10_amplitude: [-8, -3.5]\n    " + request, 1)
+    text = text.replace("    harmonics: 7\n    time_samples: 128\n  frf:", "    harmonics: 1\n    time_samples: 32\n  frf:", 1)
+    assert request in text and "harmonics: 1\n" in text
+    case = tmp_path / "case.yaml"
+    case.write_text(text)
+    subprocess.run([PROGRAM, "run", str(case), "-o", str(tmp_path / "cli")], check=True, capture_output=True)
+    rows = list(csv.DictReader(open(tmp_path / "cli" / "backbone.csv")))
+    model = jointhb.load_case(str(SOURCE / "cases/03-one-dof-gaul-mayer/case.yaml"))
+    b = model.backbone(1, harmonics=1, time_samples=32, accuracy={"damping": 1e-3, "max_harmonics": 9})
+    assert b["status"] == "ok" and len(rows) == len(b["amplitude"])
+    for column in ("amplitude", "damping_ratio", "harmonics", "time_samples"):
+        mine = b[{"harmonics": "harmonics_of_points", "time_samples": "time_samples_of_points"}.get(column, column)]
+        assert np.array_equal(np.array([float(x[column]) for x in rows]), mine), column
+    assert b["harmonics_of_points"][0] == 1 and b["harmonics_of_points"].max() >= 3 and b["level_changes"] > 0
+    kept_within = (np.abs(b["damping_error_truncation"]) <= 1e-3) & (10 * np.abs(b["damping_error_aliasing"]) <= 1e-3)
+    at_limit = (b["harmonics_of_points"] == 9) | (b["time_samples_of_points"] == 2048)
+    assert np.all(kept_within | at_limit) and b["points_short_of_accuracy"] == np.sum(~kept_within)
+    for bad, key in (({"damping": 2.0}, "accuracy.damping"), ({"dampin": 1e-3}, "unknown key 'dampin'"),
+                     ({"frequency": 0.0}, "frequency or damping > 0")):
+        with pytest.raises(ValueError, match=key):
+            model.backbone(1, harmonics=1, time_samples=32, accuracy=bad)
+    with pytest.raises(ValueError, match="starting harmonics = 9"):
+        lap.backbone(1, harmonics=9, accuracy={"damping": 1e-2, "max_harmonics": 7})

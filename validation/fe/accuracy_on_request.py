@@ -3,7 +3,7 @@
 time samples N_t are chosen per point, against fixed levels and a converged reference.
 
 For each case: the curve traced with `accuracy` (starting at H = 1, N_t = 32), the same curve at
-fixed H = 1, 3, 5, ... (N_t the program's default for that H), timed as whole curves; at a sample of
+fixed levels (H, N_t), timed as whole curves; at a sample of
 the adaptive curve's amplitudes q the TRUE errors of f and zeta of every variant against the point
 solved at exactly that q with (H_ref, N_ref) — the adaptive curve's own point, the fixed curves' point
 solved at exactly that q (the first point of a curve started there). The estimated error of the
@@ -26,11 +26,12 @@ import jointhb
 SOURCE = Path(__file__).resolve().parents[2]
 CASES = {
     "03-one-dof-gaul-mayer": {"request": {"damping": 1e-3, "frequency": 1e-5, "max_harmonics": 21},
-                              "fixed": [1, 3, 5, 9, 15], "h_ref": 31, "n_ref": 1024, "samples": 12},
+                              "fixed": [(1, 32), (3, 32), (5, 64), (9, 128), (15, 128), (13, 2048), (21, 2048)],
+                              "h_ref": 31, "n_ref": 1024, "samples": 12},
     "08-lap-damping": {"request": {"damping": 1e-2, "frequency": 1e-4, "max_harmonics": 7},
-                       "fixed": [1, 3, 5], "h_ref": 7, "n_ref": 256, "samples": 8},
+                       "fixed": [(1, 32), (3, 32), (5, 64), (7, 512)], "h_ref": 7, "n_ref": 256, "samples": 8},
     "09-control-unit-damping": {"request": {"damping": 1e-2, "frequency": 1e-4, "max_harmonics": 5},
-                                "fixed": [1, 3], "h_ref": 5, "n_ref": 1024, "samples": 5},
+                                "fixed": [(1, 256), (3, 256), (5, 512)], "h_ref": 5, "n_ref": 1024, "samples": 5},
 }
 START = (1, 32)
 
@@ -53,15 +54,12 @@ def point_at(model, lam, harmonics, time_samples):
              callback=stop)
     if not first or abs(math.log10(first["amplitude"]) - lam) > 1e-9:
         return None
-    return first["omega"] / (2 * math.pi), first["damping_ratio"]
+    f = first["frequency_hz"] if "frequency_hz" in first else first["omega"] / (2 * math.pi)
+    return f, first["damping_ratio"]
 
 
 def rel(a, b):
     return (a - b) / abs(b)
-
-
-def default_samples(h):
-    return max(32, 2 ** math.ceil(math.log2(8 * (h + 1))))
 
 
 def main():
@@ -90,10 +88,10 @@ def main():
             wp.writerow(["variant", "q", "harmonics", "time_samples", "frequency_hz", "damping_ratio", "true_f",
                          "true_zeta", "estimated_f", "estimated_zeta"])
             variants = [("accuracy", adaptive, t_adaptive)]
-            for h in s["fixed"]:
+            for h, nt in s["fixed"]:
                 t0 = time.perf_counter()
-                c = curve_of(model, harmonics=h, time_samples=default_samples(h))
-                variants.append((f"H={h}", c, time.perf_counter() - t0))
+                c = curve_of(model, harmonics=h, time_samples=nt)
+                variants.append((f"H={h}/{nt}", c, time.perf_counter() - t0))
             for label, c, seconds in variants:
                 worst_f = worst_z = 0.0
                 for i in picks:
@@ -106,8 +104,7 @@ def main():
                         est_f = abs(c["omega_error_truncation"][i]) + abs(c["omega_error_aliasing"][i])
                         est_z = abs(c["damping_error_truncation"][i]) + abs(c["damping_error_aliasing"][i])
                     else:
-                        h = int(label[2:])
-                        nt = default_samples(h)
+                        h, nt = (int(v) for v in label[2:].split("/"))
                         value = point_at(model, lam, h, nt)
                         est_f = est_z = float("nan")
                         if value is None:
@@ -124,7 +121,7 @@ def main():
                 wc.writerow([label, len(c["amplitude"]), f"{seconds:.3f}", used_h, used_n, f"{worst_f:.3e}",
                              f"{worst_z:.3e}", c["status"]])
                 fc.flush()
-                print(f"{name}: {label:9s} {len(c['amplitude']):4d} points {seconds:8.2f} s  H {used_h:6s} "
+                print(f"{name}: {label:10s} {len(c['amplitude']):4d} points {seconds:8.2f} s  H {used_h:6s} "
                       f"N_t {used_n:9s} worst true error f {worst_f:.2e}  zeta {worst_z:.2e}  ({c['status']})",
                       flush=True)
         print(f"{name}: request {s['request']}; reference H = {s['h_ref']}, N_t = {s['n_ref']} at "
