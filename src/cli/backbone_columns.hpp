@@ -8,6 +8,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jointhb/continuation/accuracy.hpp"
@@ -74,7 +75,7 @@ inline std::vector<std::optional<double>> frf_error_fields(const continuation::F
   return {e.amplitude_h1.truncation, e.amplitude_h1.aliasing, e.amplitude_max.truncation, e.amplitude_max.aliasing};
 }
 
-/// summary.json's `accuracy` of a damping curve: the request, the range of H and N_t its points
+/// summary.json's `accuracy` of a damping curve or FRF: the request (its tolerances > 0), the range of H and N_t its points
 /// used, the restarts at another level and the points kept above the request; null when the
 /// request is not active.
 template <class Points>
@@ -88,14 +89,17 @@ nlohmann::ordered_json accuracy_json(const continuation::Accuracy& a, const Poin
     n_min = n_min == 0 ? p.time_samples : std::min(n_min, p.time_samples);
     n_max = std::max(n_max, p.time_samples);
   }
-  return {{"frequency", a.frequency},
-          {"damping", a.damping},
-          {"max_harmonics", a.max_harmonics},
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [name, tolerance] : {std::pair{"frequency", a.frequency}, std::pair{"damping", a.damping},
+                                        std::pair{"amplitude", a.amplitude}})
+    if (tolerance > 0.0) out[name] = tolerance;
+  out.update(nlohmann::ordered_json{{"max_harmonics", a.max_harmonics},
           {"max_time_samples", a.max_time_samples},
           {"harmonics_used", {h_min, h_max}},
           {"time_samples_used", {n_min, n_max}},
           {"level_changes", level_changes},
-          {"points_short_of_request", short_of_accuracy}};
+          {"points_short_of_request", short_of_accuracy}});
+  return out;
 }
 
 // The worst |estimate| of each source over the known points of a curve (summary.json).

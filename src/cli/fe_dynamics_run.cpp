@@ -33,7 +33,8 @@ const std::vector<std::string> kFeFrfColumns = {
     "stuck_points", "microslip_points", "gross_slip_points", "gapping_points",
     // estimated relative errors of amplitude_h1 and amplitude_max (as the discrete frf.csv)
     "amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
-    "amplitude_max_error_aliasing"};
+    "amplitude_max_error_aliasing",
+    "harmonics", "time_samples"};  // the point's level (per point with `accuracy`)
 
 // Contact points per state at every point of a damping curve (hb/contact_state.hpp):
 // {"amplitude": [q...], "stuck": [n...], "microslip": [...], "gross_slip": [...], "gapping": [...], "open": [...]}.
@@ -246,6 +247,8 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
             static_cast<double>(p.newton_iterations)};
         for (const auto& field : contact_state_fields(p.states)) row.push_back(field);
         for (const auto& field : frf_error_fields(p.error)) row.push_back(field);
+        row.push_back(static_cast<double>(p.harmonics));
+        row.push_back(static_cast<double>(p.time_samples));
         csv.write_row(std::span<const std::optional<double>>(row));
         if (tty)
           std::fprintf(stderr, "\rfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d   ", p.force, p.frequency_hz,
@@ -275,6 +278,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       for (const auto& p : r.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
       entry["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
       entry["error_estimate"]["seconds"] = r.curve.timings.error_estimate;
+      entry["accuracy"] = accuracy_json(fs.accuracy, r.points, r.curve.level_changes, r.curve.short_of_accuracy);
       summary["frfs"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }

@@ -35,7 +35,9 @@ const std::vector<std::string> kFrfColumns = {
     // Estimated relative errors (continuation/error_estimate.hpp, docs/theory.md §13), signed:
     // harmonic truncation (T-41) and time sampling (T-42) of amplitude_h1 and amplitude_max
     "amplitude_error_truncation", "amplitude_error_aliasing", "amplitude_max_error_truncation",
-    "amplitude_max_error_aliasing"};
+    "amplitude_max_error_aliasing",
+    // the harmonics H and time samples N_t of the point (per point with `accuracy`)
+    "harmonics", "time_samples"};
 
 std::vector<std::string> frf_columns(bool stability) {
   std::vector<std::string> columns = kFrfColumns;
@@ -179,7 +181,7 @@ StabilityCounts stability_counts(const continuation::FrfCurve& curve) {
 }
 
 Json curve_json(std::size_t level, double force, const continuation::FrfCurve& curve,
-                bool check_jacobian) {
+                bool check_jacobian, const continuation::Accuracy& accuracy) {
   Json j = {{"level", level}, {"force_amplitude", force}};
   put_status(j, curve.status());
   j["stop_reason"] = std::string(continuation::to_string(curve.reason));  // the detail of the status
@@ -241,6 +243,7 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   WorstErrors worst;
   for (const auto& p : curve.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
   j["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
+  j["accuracy"] = accuracy_json(accuracy, curve.points, curve.level_changes, curve.short_of_accuracy);
   j["seconds"] = {{"aft", curve.timings.aft},
                   {"assembly", curve.timings.assembly},
                   {"linear_solve", curve.timings.linear_solve},
@@ -323,6 +326,8 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
                                                 p.amplitude_max, p.dissipation,
                                                 static_cast<double>(p.iterations), p.step, p.fold ? 1.0 : 0.0};
       for (const auto& field : frf_error_fields(p.error)) row.push_back(field);
+      row.push_back(static_cast<double>(p.harmonics));
+      row.push_back(static_cast<double>(p.time_samples));
       if (stability) {
         row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
         row.push_back(p.stability_known ? p.max_multiplier : -1.0);
@@ -350,7 +355,7 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       curve.message = e.what();
     }
     outcome.curves.push_back({fmt::format("frf level {}", l), curve.status()});
-    summary["curves"].push_back(curve_json(l, force, curve, options.check_jacobian));
+    summary["curves"].push_back(curve_json(l, force, curve, options.check_jacobian, options.accuracy));
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';
     if (!curve.completed()) {
       std::cerr << fmt::format(

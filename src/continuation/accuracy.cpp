@@ -18,10 +18,20 @@ constexpr double kCalmShare = 0.1;
 // 10–25× at N_t = 2H + 2), while the truncation estimate is within 0.2–5× of its true part.
 constexpr double kAliasingSafety = 10.0;
 
+// |estimate| / tolerance of one output (0 where it is not controlled), the aliasing counted
+// kAliasingSafety times.
+double request_share(const ErrorPair& p, double tolerance, bool truncation) {
+  if (!(tolerance > 0.0)) return 0.0;
+  return truncation ? std::abs(p.truncation) / tolerance : kAliasingSafety * std::abs(p.aliasing) / tolerance;
+}
+
 }  // namespace
 
 std::string Accuracy::validate() const {
-  if (!std::isfinite(frequency) || !std::isfinite(damping)) return "accuracy: the tolerances must be finite numbers";
+  if (!std::isfinite(frequency) || !std::isfinite(damping) || !std::isfinite(amplitude))
+    return "accuracy: the tolerances must be finite numbers";
+  if (!(amplitude >= 0.0 && amplitude < 1.0))
+    return fmt::format("accuracy.amplitude: must be a relative tolerance in [0, 1), got {}", amplitude);
   if (!(frequency >= 0.0 && frequency < 1.0))
     return fmt::format("accuracy.frequency: must be a relative tolerance in [0, 1), got {}", frequency);
   if (!(damping >= 0.0 && damping < 1.0))
@@ -44,21 +54,32 @@ LevelController::LevelController(const Accuracy& request, Level start)
     : request_(request), current_(start), next_(start),
       calm_needed_harmonics_(request.calm_points), calm_needed_samples_(request.calm_points) {}
 
-double LevelController::ratio(const BackboneError& e, bool truncation) const {
-  const auto share = [&](const ErrorPair& p, double tolerance) {
-    if (!(tolerance > 0.0)) return 0.0;
-    return truncation ? std::abs(p.truncation) / tolerance : kAliasingSafety * std::abs(p.aliasing) / tolerance;
-  };
-  return std::max(share(e.omega, request_.frequency), share(e.damping, request_.damping));
-}
-
 LevelController::Verdict LevelController::judge(const BackboneError& e, bool restart) {
   next_ = current_;
   if (!e.known) {  // nothing to judge by: keep the level and start counting again
     calm_truncation_ = calm_aliasing_ = 0;
     return Verdict::keep;
   }
-  const double r_t = ratio(e, true), r_a = ratio(e, false);
+  const auto ratio = [&](bool truncation) {
+    return std::max(request_share(e.omega, request_.frequency, truncation), request_share(e.damping, request_.damping, truncation));
+  };
+  return judge_ratios(ratio(true), ratio(false), restart);
+}
+
+LevelController::Verdict LevelController::judge(const FrfError& e, bool restart) {
+  next_ = current_;
+  if (!e.known) {
+    calm_truncation_ = calm_aliasing_ = 0;
+    return Verdict::keep;
+  }
+  const auto ratio = [&](bool truncation) {
+    return std::max(request_share(e.amplitude_h1, request_.amplitude, truncation),
+                    request_share(e.amplitude_max, request_.amplitude, truncation));
+  };
+  return judge_ratios(ratio(true), ratio(false), restart);
+}
+
+LevelController::Verdict LevelController::judge_ratios(double r_t, double r_a, bool restart) {
   const bool more_harmonics = r_t > 1.0 && current_.harmonics + 2 <= request_.max_harmonics;
   const bool more_samples = r_a > 1.0 && 2 * current_.time_samples <= request_.max_time_samples;
   if (more_harmonics || more_samples) {

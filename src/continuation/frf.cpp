@@ -4,6 +4,7 @@
 #include "../support/stopwatch.hpp"
 #include "curve_refinement.hpp"
 #include "linear_limits.hpp"
+#include "segmented_curve.hpp"
 
 #include <fmt/format.h>
 
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -338,6 +340,15 @@ std::string FrfOptions::validate(int dofs) const {
   }
   if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
   if (auto msg = monodromy.validate(); !msg.empty()) return "monodromy." + msg;
+  if (auto msg = accuracy.validate(); !msg.empty()) return msg;
+  if (accuracy.active()) {
+    if (harmonics < accuracy.min_harmonics || harmonics > accuracy.max_harmonics)
+      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", harmonics,
+                         accuracy.min_harmonics, accuracy.max_harmonics);
+    if (time_samples < accuracy.min_time_samples || time_samples > accuracy.max_time_samples)
+      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", time_samples,
+                         accuracy.min_time_samples, accuracy.max_time_samples);
+  }
   return balance_options(*this).validate();
 }
 
@@ -349,176 +360,295 @@ bool computes_stability(const FrfOptions& options, int dofs) {
   return unknowns <= kAutomaticStabilityUnknowns;
 }
 
-FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
-                   const FrfOptions& options,
-                   const std::function<bool(const FrfPoint&)>& on_point) {
-  const auto start_time = Clock::now();
-  if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
-  const hb::HarmonicBalance balance(system, excitation, balance_options(options));
-  const hb::FourierBasis& basis = balance.basis();
+namespace {
 
-  Options c = options.continuation;
-  c.parameter_start = options.omega_start;
-  c.parameter_end = options.omega_end;
-  c.direction = options.omega_end > options.omega_start ? 1 : -1;
-  const Eigen::VectorXd x0 = start_guess(balance, options.omega_start);
-  c.state_scale =
-      Eigen::VectorXd::Constant(x0.size(), response_scale(system, excitation, options));
-  c.parameter_scale = std::abs(options.omega_end - options.omega_start);
-  double force_scale = 0.0;
-  for (const auto& f : excitation.forces)
-    force_scale = std::max(force_scale, std::abs(f.amplitude));
-  if (excitation.static_force.size() > 0) {
-    force_scale = std::max(force_scale, excitation.static_force.lpNorm<Eigen::Infinity>());
-  }
-  c.residual_scale = force_scale > 0.0 ? force_scale : 1.0;
-  // |fundamental| of the output DOF, for max_output_change.
-  c.outputs = [&balance, dof = options.output_dof](const Eigen::VectorXd& x, double) {
-    return Eigen::VectorXd::Constant(1, balance.fundamental_amplitude(x, dof));
-  };
+// The FRF's options at `level` (H, N_t).
+FrfOptions frf_options_at(const FrfOptions& options, Level level) {
+  FrfOptions o = options;
+  o.harmonics = level.harmonics;
+  o.time_samples = level.time_samples;
+  return o;
+}
 
-  // The last evaluation is kept so that an accepted point's diagnostics cost nothing extra when
-  // the corrector ended on it.
-  hb::HarmonicBalanceEvaluation last;
-  Eigen::VectorXd last_x;
-  double last_omega = std::numeric_limits<double>::quiet_NaN();
-  const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
-    Evaluation e;
-    last_x.resize(0);  // an evaluation that throws leaves no valid cache behind
-    balance.evaluate(x, omega, jacobian, last);
-    last_x = x;
-    last_omega = omega;
-    e.ok = last.ok;
-    e.message = last.message;
-    e.residual = last.residual;
-    if (jacobian) {
-      e.d_state = last.d_coefficients;
-      e.d_parameter = last.d_omega;
-    }
-    return e;
-  };
-
-  FrfCurve curve;
-  std::optional<hb::HillStability> hill;
-  const bool stability = computes_stability(options, system.dofs());
-  if (stability && options.stability_method == StabilityMethod::hill) {
-    hill.emplace(balance, options.hill);
-  } else if (!stability && options.stability == Stability::automatic) {
-    curve.stability_note =
-        options.stability_method == StabilityMethod::hill
-            ? fmt::format("stability not computed: Hill's eigenproblem has 2n(2H+1) = {} unknowns "
-                          "per point (automatic up to {}); set stability: true to compute it",
-                          2LL * system.dofs() * (2 * options.harmonics + 1),
-                          2 * kAutomaticStabilityUnknowns)
-            : fmt::format("stability not computed: {} DOFs (automatic up to {}); set "
-                          "stability: true to compute it",
-                          system.dofs(), kAutomaticStabilityDofs);
-  }
-  // The finer balances of the error estimates (error_estimate.hpp); none when the H + 2 basis
-  // cannot be built (the points then carry error.known = false).
-  std::optional<FrfErrorEstimator> estimator;
-  if (options.error_estimate) {
-    try {
-      estimator.emplace(system, excitation, balance_options(options));
-    } catch (const std::invalid_argument&) {
-      estimator.reset();
-    }
-  }
+// What every segment of one FRF shares: the system, the options, the scales of the arclength (one
+// probe per curve), the Floquet result of the last kept point and the curve being built.
+struct DiscreteFrfShared {
+  DiscreteFrfShared(const DiscreteSystem& s, const Excitation& e, const FrfOptions& o, FrfCurve& c)
+      : system(s), excitation(e), options(o), curve(c) {}
+  const DiscreteSystem& system;
+  const Excitation& excitation;
+  const FrfOptions& options;
+  FrfCurve& curve;
+  double state_scale = 1.0;
+  double residual_scale = 1.0;
   std::optional<hb::FloquetResult> previous_floquet;
-  std::vector<Eigen::VectorXd> tangents;  // of the accepted points, to locate folds and the peak
-  curve.kept_harmonics = basis.orders();
-  if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
-  // Ω of a converged point whose outputs are not finite or whose contacts slip beyond the range
-  // the laws are computed in, and that ratio.
   std::optional<double> overflow_at;
   double overflow_ratio = 0.0;
-  const AcceptCallback accept = [&](const Point& p) {
-    if (p.lambda != last_omega || p.x.size() != last_x.size() || p.x != last_x)
-      balance.evaluate(p.x, p.lambda, false, last);
+  int ladder_iterations = 0;
+};
+
+// One continuation run of a discrete FRF at one level (H, N_t) (segmented_curve.hpp): the balance,
+// its stability and error estimators, the cached last evaluation, and the kept points' positions
+// in the curve with their tangents (for the folds and the peak, located within a segment).
+class DiscreteFrfSegment {
+ public:
+  using Judge = std::function<bool(FrfPoint&, const Point&)>;
+
+  DiscreteFrfSegment(DiscreteFrfShared& shared, Level level)
+      : shared_(shared),
+        options_(frf_options_at(shared.options, level)),
+        balance_(shared.system, shared.excitation, balance_options(options_)),
+        stability_(computes_stability(options_, shared.system.dofs())) {
+    if (stability_ && options_.stability_method == StabilityMethod::hill) hill_.emplace(balance_, options_.hill);
+    // The finer balances of the error estimates; none when the H + 2 basis cannot be built (the
+    // points then carry error.known = false).
+    if (options_.error_estimate || options_.accuracy.active()) {
+      try {
+        estimator_.emplace(shared.system, shared.excitation, balance_options(options_));
+      } catch (const std::invalid_argument&) {
+        estimator_.reset();
+      }
+    }
+  }
+
+  [[nodiscard]] const hb::HarmonicBalance& balance() const { return balance_; }
+  [[nodiscard]] bool stability() const { return stability_; }
+  [[nodiscard]] const ResidualFunction& residual() const { return residual_; }
+  [[nodiscard]] const std::vector<std::size_t>& kept() const { return kept_; }
+  [[nodiscard]] const std::vector<Eigen::VectorXd>& tangents() const { return tangents_; }
+  [[nodiscard]] const Options& options() const { return continuation_; }
+
+  // The first guess at Ω_start (start_guess), or the start's coefficients transferred to this level.
+  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) {
+    first_segment_ = from.y.size() == 0;
+    if (first_segment_) return start_guess(balance_, options_.omega_start);
+    const hb::FourierBasis from_basis(from.from.harmonics, from.from.time_samples, balance_.basis().odd_only());
+    return hb::transfer_coefficients(from_basis, balance_.basis(), from.y, shared_.system.dofs());
+  }
+
+  [[nodiscard]] Options continuation(double omega0, double end) {
+    Options c = options_.continuation;
+    c.parameter_start = omega0;
+    c.parameter_end = end;
+    c.direction = end > omega0 ? 1 : -1;
+    c.state_scale = Eigen::VectorXd::Constant(balance_.unknowns(), shared_.state_scale);
+    c.parameter_scale = std::abs(options_.omega_end - options_.omega_start);
+    c.residual_scale = shared_.residual_scale;
+    // |fundamental| of the output DOF, for max_output_change.
+    c.outputs = [this](const Eigen::VectorXd& x, double) {
+      return Eigen::VectorXd::Constant(1, balance_.fundamental_amplitude(x, options_.output_dof));
+    };
+    continuation_ = c;
+    return c;
+  }
+
+  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge) {
+    const AcceptCallback accept = [&](const Point& p) { return accept_point(p, judge); };
+    Result r = trace(residual_, x0, c, accept);
+    if (r.reason == StopReason::start_failed && first_segment_) {
+      // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start (stiff
+      // Jenkins contacts make R piecewise linear with kinks wherever a sample switches between
+      // stick and slip). Find the start on a harmonic ladder instead (start_by_ladder).
+      std::string why;
+      int iterations = 0;
+      const std::optional<Eigen::VectorXd> start =
+          start_by_ladder(shared_.system, shared_.excitation, options_, balance_, c, iterations, why);
+      shared_.ladder_iterations += r.corrector_iterations + iterations;
+      if (start) {
+        r = trace(residual_, *start, c, accept);
+      } else {
+        r.message += "; " + why;
+      }
+    }
+    return r;
+  }
+
+ private:
+  bool accept_point(const Point& p, const Judge& judge) {
+    FrfCurve& curve = shared_.curve;
+    if (p.lambda != last_omega_ || p.x.size() != last_x_.size() || p.x != last_x_)
+      balance_.evaluate(p.x, p.lambda, false, last_);
     FrfPoint f;
     f.omega = p.lambda;
-    f.amplitude_h1 = balance.fundamental_amplitude(p.x, options.output_dof);
+    f.amplitude_h1 = balance_.fundamental_amplitude(p.x, options_.output_dof);
     f.amplitude_max =
-        basis.peak_magnitude(p.x.segment(balance.index(options.output_dof, 0), basis.size()));
-    f.dissipation = last.dissipation;
+        balance_.basis().peak_magnitude(p.x.segment(balance_.index(options_.output_dof, 0), balance_.basis().size()));
+    f.dissipation = last_.dissipation;
     f.iterations = p.iterations;
     f.step = p.step;
     f.fold = p.fold;
     f.coefficients = p.x;
-    if (const double ratio = balance.max_slip_ratio(p.x);
-        !std::isfinite(f.amplitude_h1) || !std::isfinite(f.amplitude_max) ||
-        !std::isfinite(f.dissipation) || !(ratio <= contact::kMaxSlipRatio)) {
-      overflow_at = p.lambda;
-      overflow_ratio = ratio;
+    f.harmonics = balance_.basis().harmonics();
+    f.time_samples = balance_.basis().time_samples();
+    if (const double ratio = balance_.max_slip_ratio(p.x);
+        !std::isfinite(f.amplitude_h1) || !std::isfinite(f.amplitude_max) || !std::isfinite(f.dissipation) ||
+        !(ratio <= contact::kMaxSlipRatio)) {
+      shared_.overflow_at = p.lambda;
+      shared_.overflow_ratio = ratio;
       return false;
     }
-    if (stability) {
+    std::optional<hb::FloquetResult> floquet;
+    if (stability_) {
       const auto stability_start = Clock::now();
-      hb::FloquetResult floquet = hill ? hill->evaluate(p.x, p.lambda)
-                                       : hb::orbit_floquet(balance, p.x, p.lambda, options.monodromy);
+      floquet = hill_ ? hill_->evaluate(p.x, p.lambda) : hb::orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
       curve.timings.stability += seconds_since(stability_start);
-      f.stability_known = floquet.ok;
-      f.stable = floquet.stable();
-      f.max_multiplier = floquet.max_multiplier;
-      f.unstable_multipliers = floquet.unstable;
-      f.multipliers = floquet.multipliers;
-      if (previous_floquet) f.bifurcation = hb::classify_bifurcation(*previous_floquet, floquet, p.fold);
-      previous_floquet = std::move(floquet);
+      f.stability_known = floquet->ok;
+      f.stable = floquet->stable();
+      f.max_multiplier = floquet->max_multiplier;
+      f.unstable_multipliers = floquet->unstable;
+      f.multipliers = floquet->multipliers;
+      if (shared_.previous_floquet) f.bifurcation = hb::classify_bifurcation(*shared_.previous_floquet, *floquet, p.fold);
     } else if (p.fold) {
       f.bifurcation = hb::Bifurcation::fold;
     }
-    if (estimator) {
+    if (estimator_) {
       const auto estimate_start = Clock::now();
-      f.error = estimator->estimate(balance, p.x, p.lambda, options.output_dof);
+      f.error = estimator_->estimate(balance_, p.x, p.lambda, options_.output_dof);
       curve.timings.error_estimate += seconds_since(estimate_start);
     }
-    if (options.refine_extrema) tangents.push_back(p.tangent);
-    if (options.check_jacobian) {
-      const hb::JacobianCheck check = hb::check_jacobian(balance, p.x, p.lambda);
+    if (options_.check_jacobian) {
+      const hb::JacobianCheck check = hb::check_jacobian(balance_, p.x, p.lambda);
       const double e = std::max(check.max_error, check.max_error_omega);
       if (!(e <= curve.jacobian_check_error)) {
         curve.jacobian_check_error = e;
         curve.jacobian_check_omega = p.lambda;
       }
     }
-    curve.points.push_back(f);
-    return on_point ? on_point(f) : true;
-  };
-
-  Result r = trace(residual, x0, c, accept);
-  if (r.reason == StopReason::start_failed) {
-    // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start (stiff
-    // Jenkins contacts make R piecewise linear with kinks wherever a sample switches between
-    // stick and slip). Find the start on a harmonic ladder instead (start_by_ladder).
-    std::string why;
-    int iterations = 0;
-    const std::optional<Eigen::VectorXd> start =
-        start_by_ladder(system, excitation, options, balance, c, iterations, why);
-    curve.newton_iterations += r.corrector_iterations + iterations;
-    if (start) {
-      curve.points.clear();
-      tangents.clear();
-      previous_floquet.reset();
-      r = trace(residual, *start, c, accept);
-    } else {
-      r.message += "; " + why;
+    const std::size_t before = curve.points.size();
+    const bool go_on = judge(f, p);
+    if (curve.points.size() > before) {  // kept (judge appended it)
+      kept_.push_back(before);
+      tangents_.push_back(p.tangent);
+      if (floquet) shared_.previous_floquet = std::move(floquet);
     }
+    return go_on;
   }
+
+  Evaluation evaluate(const Eigen::VectorXd& x, double omega, bool jacobian) {
+    Evaluation e;
+    last_x_.resize(0);  // an evaluation that throws leaves no valid cache behind
+    balance_.evaluate(x, omega, jacobian, last_);
+    last_x_ = x;
+    last_omega_ = omega;
+    e.ok = last_.ok;
+    e.message = last_.message;
+    e.residual = last_.residual;
+    if (jacobian) {
+      e.d_state = last_.d_coefficients;
+      e.d_parameter = last_.d_omega;
+    }
+    return e;
+  }
+
+  DiscreteFrfShared& shared_;
+  FrfOptions options_;
+  hb::HarmonicBalance balance_;
+  bool stability_;
+  std::optional<hb::HillStability> hill_;
+  std::optional<FrfErrorEstimator> estimator_;
+  // The last evaluation, kept so that an accepted point's diagnostics cost nothing extra when the
+  // corrector ended on it.
+  hb::HarmonicBalanceEvaluation last_;
+  Eigen::VectorXd last_x_;
+  double last_omega_ = std::numeric_limits<double>::quiet_NaN();
+  ResidualFunction residual_ = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    return evaluate(x, omega, jacobian);
+  };
+  Options continuation_;
+  bool first_segment_ = false;
+  std::vector<std::size_t> kept_;
+  std::vector<Eigen::VectorXd> tangents_;
+};
+
+// The folds and the peak of a curve traced in segments, located within each segment
+// (refine_extrema on the segment's points, its balance and residual); a peak at a segment's end
+// that is not the curve's end is reported at its accepted point.
+void refine_segments(const std::vector<std::unique_ptr<DiscreteFrfSegment>>& segments, int dof, FrfCurve& curve) {
+  std::size_t top = 0;
+  for (std::size_t k = 1; k < curve.points.size(); ++k)
+    if (curve.points[k].amplitude_h1 > curve.points[top].amplitude_h1) top = k;
+  for (const auto& segment : segments) {
+    if (segment->kept().empty()) continue;
+    FrfCurve part;
+    for (const std::size_t k : segment->kept()) part.points.push_back(curve.points[k]);
+    refine_extrema(segment->residual(), segment->options(), segment->balance(), dof, segment->tangents(), part);
+    for (auto& fold : part.folds) curve.folds.push_back(std::move(fold));
+    const auto& kept = segment->kept();
+    if (std::find(kept.begin(), kept.end(), top) == kept.end() || !part.peak) continue;
+    curve.peak = std::move(part.peak);
+    if (!curve.peak->refined && top != 0 && top + 1 != curve.points.size() && (kept.front() == top || kept.back() == top))
+      curve.peak->message = "the largest amplitude is where the curve changes its harmonics (accuracy)";
+  }
+}
+
+}  // namespace
+
+FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, const FrfOptions& options,
+                   const std::function<bool(const FrfPoint&)>& on_point) {
+  const auto start_time = Clock::now();
+  if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
+  FrfCurve curve;
+  DiscreteFrfShared shared(system, excitation, options, curve);
+  shared.state_scale = response_scale(system, excitation, options);
+  double force_scale = 0.0;
+  for (const auto& f : excitation.forces) force_scale = std::max(force_scale, std::abs(f.amplitude));
+  if (excitation.static_force.size() > 0)
+    force_scale = std::max(force_scale, excitation.static_force.lpNorm<Eigen::Infinity>());
+  shared.residual_scale = force_scale > 0.0 ? force_scale : 1.0;
+
+  std::vector<std::unique_ptr<DiscreteFrfSegment>> segments;  // kept alive for the folds and the peak
+  const auto make_segment = [&](Level level) {
+    segments.push_back(std::make_unique<DiscreteFrfSegment>(shared, level));
+    DiscreteFrfSegment* run = segments.back().get();
+    if (segments.size() == 1) {
+      const hb::FourierBasis& basis = run->balance().basis();
+      curve.kept_harmonics = basis.orders();
+      if (basis.has_mean()) curve.kept_harmonics.insert(curve.kept_harmonics.begin(), 0);
+      if (!run->stability() && options.stability == Stability::automatic)
+        curve.stability_note =
+            options.stability_method == StabilityMethod::hill
+                ? fmt::format("stability not computed: Hill's eigenproblem has 2n(2H+1) = {} unknowns "
+                              "per point (automatic up to {}); set stability: true to compute it",
+                              2LL * system.dofs() * (2 * options.harmonics + 1), 2 * kAutomaticStabilityUnknowns)
+                : fmt::format("stability not computed: {} DOFs (automatic up to {}); set "
+                              "stability: true to compute it",
+                              system.dofs(), kAutomaticStabilityDofs);
+    }
+    return run;
+  };
+  const std::function<bool(FrfPoint&)> keep = [&](FrfPoint& f) {
+    curve.points.push_back(f);
+    return on_point ? on_point(curve.points.back()) : true;
+  };
+  const auto after_run = [&](const DiscreteFrfSegment& run, const Result& r) {
+    curve.newton_iterations += r.corrector_iterations;
+    curve.rejected_steps += r.rejected_steps;
+    curve.timings.linear_solve += r.linear_solve_seconds;
+    const hb::HarmonicBalanceTimings t = run.balance().timings();
+    curve.timings.aft += t.aft;
+    curve.timings.assembly += t.assembly;
+  };
+  const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
+      options.accuracy, {options.harmonics, options.time_samples}, options.omega_start, options.omega_end,
+      options.continuation, make_segment, keep, after_run);
+  curve.newton_iterations += shared.ladder_iterations;
   if (options.refine_extrema) {
     const auto refinement_start = Clock::now();
-    refine_extrema(residual, c, balance, options.output_dof, tangents, curve);
+    refine_segments(segments, options.output_dof, curve);
     curve.timings.refinement = seconds_since(refinement_start);
   }
-  curve.reason = r.reason;
-  curve.message = r.message;
-  if (overflow_at) {
+  curve.reason = outcome.reason;
+  curve.message = outcome.message;
+  curve.level_changes = outcome.level_changes;
+  curve.short_of_accuracy = outcome.short_points;
+  if (shared.overflow_at) {
     curve.reason = StopReason::out_of_range;
     curve.message = fmt::format(
         "at Ω = {:.6g} rad/s the contacts slip {:.3g} times their stick range μF_N/k_T0 (or an "
         "output overflows): beyond {:g} the laws' energies leave the range of doubles; the curve "
         "ends on the last point before (rescale the units or the forces)",
-        *overflow_at, overflow_ratio, contact::kMaxSlipRatio);
-  } else if (!r.completed() && r.reason != StopReason::stopped_by_user) {
+        *shared.overflow_at, shared.overflow_ratio, contact::kMaxSlipRatio);
+  } else if (!curve.completed() && curve.reason != StopReason::stopped_by_user) {
     if (const std::string why = stop_diagnosis(system, curve); !why.empty()) curve.message += ". " + why;
     for (const auto& p : curve.points) {
       if (p.bifurcation != hb::Bifurcation::reversal) continue;
@@ -529,12 +659,6 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation,
       break;
     }
   }
-  curve.newton_iterations += r.corrector_iterations;
-  curve.rejected_steps = r.rejected_steps;
-  const hb::HarmonicBalanceTimings t = balance.timings();
-  curve.timings.aft = t.aft;
-  curve.timings.assembly = t.assembly;
-  curve.timings.linear_solve = r.linear_solve_seconds;
   curve.timings.total = seconds_since(start_time);
   return curve;
 }

@@ -10,11 +10,13 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
 #include "interface_curve_support.hpp"
+#include "segmented_curve.hpp"
 
 namespace jointhb::continuation {
 
@@ -47,105 +49,204 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
     return fmt::format("load_amplitude: must be finite and ≠ 0, got {}", load_amplitude);
   if (output < 0 || output >= static_cast<int>(model.outputs.size()))
     return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
+  if (std::string msg = accuracy.validate(); !msg.empty()) return msg;
+  if (accuracy.active()) {
+    const int h = balance.harmonics, n = balance.time_samples;
+    if (h < accuracy.min_harmonics || h > accuracy.max_harmonics)
+      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", h, accuracy.min_harmonics,
+                         accuracy.max_harmonics);
+    if (n < accuracy.min_time_samples || n > accuracy.max_time_samples)
+      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", n,
+                         accuracy.min_time_samples, accuracy.max_time_samples);
+  }
   return balance.validate();
 }
+
+namespace {
+
+// The FRF's interface unknowns y of level `from` in the basis of `to` (shared harmonics copied, new
+// ones zero).
+Eigen::VectorXd transfer_interface_frf_unknowns(const Eigen::VectorXd& y, Level from, const hb::InterfaceBalance& to) {
+  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, false);
+  return hb::transfer_coefficients(from_basis, to.basis(), y, to.modes() + 3 * to.points());
+}
+
+// One continuation run of a finite-element FRF at one level (H, N_t): the balance, the load, the
+// error estimator and the cached last evaluation (segmented_curve.hpp).
+class InterfaceFrfSegment {
+ public:
+  using Judge = std::function<bool(InterfaceFrfPoint&, const Point&)>;
+
+  InterfaceFrfSegment(const hb::InterfaceModel& model, const InterfaceFrfOptions& options, Level level)
+      : model_(model),
+        options_(options),
+        matrix_free_(options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov),
+        balance_options_(balance_at(options, level, matrix_free_)),
+        balance_(model, balance_options_),
+        load_(balance_.cosine_load(options.load_amplitude)),
+        level_(level) {
+    if (options.error_estimate || options.accuracy.active())
+      estimator_.emplace(model, balance_options_, options.load_amplitude, options.output);
+  }
+
+  [[nodiscard]] const hb::InterfaceBalance& balance() const { return balance_; }
+  [[nodiscard]] double error_seconds() const { return error_seconds_; }
+
+  // The linear response at Ω_start, or the start's unknowns transferred to this level.
+  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
+    return from.y.size() == 0 ? balance_.linear_solution(options_.omega_start, load_)
+                              : transfer_interface_frf_unknowns(from.y, from.from, balance_);
+  }
+
+  [[nodiscard]] Options continuation(double omega0, double end) {
+    Options c = options_.continuation;
+    c.parameter_start = omega0;
+    c.parameter_end = end;
+    c.direction = end > omega0 ? 1 : -1;
+    c.parameter_scale = std::abs(options_.omega_end - options_.omega_start);
+    // Scales: the static modal response |φᵀf| F / ω_ref² (rows and η), g_ref per unit η for gaps.
+    const double w2 = balance_.reference_omega() * balance_.reference_omega();
+    const double eta = std::abs(options_.load_amplitude) *
+                       std::max(model_.load_modal.lpNorm<Eigen::Infinity>(), 1e-300) / w2;
+    // Near resonance the response is the static one amplified by about 1/(2ζ) of the first elastic
+    // mode: scale the state by that, so that the arclength is not dominated by it.
+    const int elastic = model_.rigid_modes;
+    const double zeta = std::max((model_.rayleigh_mass + model_.rayleigh_stiffness * model_.omega2[elastic]) /
+                                     (2.0 * std::sqrt(model_.omega2[elastic])),
+                                 1e-4);
+    c.state_scale = eta / (2.0 * zeta) * interface_detail::arclength_scale(balance_);
+    c.residual_scale = eta;
+    // |fundamental| of the output, for max_output_change: from the corrector's last evaluation,
+    // which is at the converged point (one more evaluation otherwise).
+    c.outputs = [this](const Eigen::VectorXd& x, double omega) {
+      if (omega != last_omega_ || x.size() != last_x_.size() || x != last_x_) {
+        last_x_.resize(0);
+        balance_.evaluate(x, omega, 0.0, load_, false, last_);
+        last_x_ = x;
+        last_omega_ = omega;
+      }
+      const Eigen::VectorXd u = balance_.output_coefficients(options_.output, x, omega, 0.0, load_, last_.contact_force);
+      const int a1 = balance_.basis().cosine_index(1);
+      return Eigen::VectorXd::Constant(1, std::hypot(u[a1], u[a1 + 1]));
+    };
+    return c;
+  }
+
+  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge) {
+    const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
+      return evaluate(x, omega, jacobian);
+    };
+    const AcceptCallback accept = [&](const Point& p) {
+      if (p.lambda != last_omega_ || p.x.size() != last_x_.size() || p.x != last_x_)
+        balance_.evaluate(p.x, p.lambda, 0.0, load_, false, last_);
+      InterfaceFrfPoint f;
+      f.omega = p.lambda;
+      const Eigen::VectorXd u =
+          balance_.output_coefficients(options_.output, p.x, p.lambda, 0.0, load_, last_.contact_force);
+      const int a1 = balance_.basis().cosine_index(1);
+      f.amplitude_h1 = std::hypot(u[a1], u[a1 + 1]);
+      f.amplitude_max = balance_.basis().peak_magnitude(u);
+      f.dissipation = last_.dissipation;
+      f.open_points = last_.open_points;
+      f.slipping_points = last_.slipping_points;
+      f.states = last_.states;
+      f.iterations = p.iterations;
+      f.unknowns = p.x;
+      f.harmonics = level_.harmonics;
+      f.time_samples = level_.time_samples;
+      if (estimator_) {
+        const auto estimate_start = support::Clock::now();
+        f.error = estimator_->estimate(balance_, p.x, p.lambda, &last_);  // `last_` is at the point (above)
+        error_seconds_ += support::seconds_since(estimate_start);
+      }
+      return judge(f, p);
+    };
+    return trace(residual, x0, c, accept);
+  }
+
+ private:
+  static hb::InterfaceBalanceOptions balance_at(const InterfaceFrfOptions& options, Level level, bool matrix_free) {
+    hb::InterfaceBalanceOptions b = options.balance;
+    b.harmonics = level.harmonics;
+    b.time_samples = level.time_samples;
+    if (matrix_free) b.dense_jacobian = false;
+    return b;
+  }
+
+  Evaluation evaluate(const Eigen::VectorXd& x, double omega, bool jacobian) {
+    last_x_.resize(0);
+    balance_.evaluate(x, omega, 0.0, load_, jacobian, last_);
+    last_x_ = x;
+    last_omega_ = omega;
+    Evaluation e;
+    e.ok = last_.ok;
+    e.message = last_.message;
+    e.residual = last_.residual;
+    if (jacobian && matrix_free_) {
+      auto at = std::make_shared<const hb::InterfaceBalanceEvaluation>(last_);
+      const hb::InterfaceBalance& balance = balance_;
+      e.d_parameter = last_.d_omega;
+      e.d_state_product = [&balance, at, omega](const Eigen::VectorXd& v) {
+        return balance.apply_jacobian(*at, omega, 0.0, v);
+      };
+      if (options_.mixed_precision)
+        e.d_state_product_inner = [&balance, at, omega](const Eigen::VectorXd& v) {
+          return balance.apply_jacobian(*at, omega, 0.0, v, true);
+        };
+      e.make_preconditioner = [&balance, at, omega, kind = options_.preconditioner]() -> LinearOperator {
+        return balance.preconditioner(*at, omega, 0.0, kind);
+      };
+    } else if (jacobian) {
+      e.d_state = std::move(last_.jacobian);
+      e.d_parameter = last_.d_omega;
+    }
+    return e;
+  }
+
+  const hb::InterfaceModel& model_;
+  const InterfaceFrfOptions& options_;
+  bool matrix_free_;
+  hb::InterfaceBalanceOptions balance_options_;
+  hb::InterfaceBalance balance_;
+  Eigen::VectorXd load_;
+  Level level_;
+  std::optional<InterfaceFrfErrorEstimator> estimator_;
+  double error_seconds_ = 0.0;
+  hb::InterfaceBalanceEvaluation last_;
+  Eigen::VectorXd last_x_;
+  double last_omega_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace
 
 InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const InterfaceFrfOptions& options,
                                  const std::function<bool(const InterfaceFrfPoint&)>& on_point) {
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
-  const bool matrix_free =
-      options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov;
-  hb::InterfaceBalanceOptions balance_options = options.balance;
-  if (matrix_free) balance_options.dense_jacobian = false;
-  const hb::InterfaceBalance balance(model, balance_options);
-  const Eigen::VectorXd load = balance.cosine_load(options.load_amplitude);
   InterfaceFrf curve;
-  curve.unknowns = balance.unknowns();
-
-  Options c = options.continuation;
-  c.parameter_start = options.omega_start;
-  c.parameter_end = options.omega_end;
-  c.direction = options.omega_end > options.omega_start ? 1 : -1;
-  c.parameter_scale = std::abs(options.omega_end - options.omega_start);
-  // Scales: the static modal response |φᵀf| F / ω_ref² (rows and η), g_ref per unit η for gaps.
-  const double w2 = balance.reference_omega() * balance.reference_omega();
-  const double eta = std::abs(options.load_amplitude) *
-                     std::max(model.load_modal.lpNorm<Eigen::Infinity>(), 1e-300) / w2;
-  // Near resonance the response is the static one amplified by about 1/(2ζ) of the first elastic
-  // mode: scale the state by that, so that the arclength is not dominated by it.
-  const int elastic = model.rigid_modes;
-  const double zeta = std::max(
-      (model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[elastic]) / (2.0 * std::sqrt(model.omega2[elastic])), 1e-4);
-  c.state_scale = eta / (2.0 * zeta) * interface_detail::arclength_scale(balance);
-  c.residual_scale = eta;
-
-  std::optional<InterfaceFrfErrorEstimator> estimator;
-  if (options.error_estimate) estimator.emplace(model, balance_options, options.load_amplitude, options.output);
-  double error_seconds = 0.0;
-
-  hb::InterfaceBalanceEvaluation last;
-  Eigen::VectorXd last_x;
-  double last_omega = std::numeric_limits<double>::quiet_NaN();
-  const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
-    last_x.resize(0);
-    balance.evaluate(x, omega, 0.0, load, jacobian, last);
-    last_x = x;
-    last_omega = omega;
-    Evaluation e;
-    e.ok = last.ok;
-    e.message = last.message;
-    e.residual = last.residual;
-    if (jacobian && matrix_free) {
-      auto at = std::make_shared<const hb::InterfaceBalanceEvaluation>(last);
-      e.d_parameter = last.d_omega;
-      e.d_state_product = [&balance, at, omega](const Eigen::VectorXd& v) {
-        return balance.apply_jacobian(*at, omega, 0.0, v);
-      };
-      if (options.mixed_precision)
-        e.d_state_product_inner = [&balance, at, omega](const Eigen::VectorXd& v) {
-          return balance.apply_jacobian(*at, omega, 0.0, v, true);
-        };
-      e.make_preconditioner = [&balance, at, omega, kind = options.preconditioner]() -> LinearOperator {
-        return balance.preconditioner(*at, omega, 0.0, kind);
-      };
-    } else if (jacobian) {
-      e.d_state = std::move(last.jacobian);
-      e.d_parameter = last.d_omega;
-    }
-    return e;
+  const auto make_segment = [&](Level level) {
+    auto run = std::make_unique<InterfaceFrfSegment>(model, options, level);
+    if (curve.unknowns == 0) curve.unknowns = run->balance().unknowns();
+    return run;
   };
-  const AcceptCallback accept = [&](const Point& p) {
-    if (p.lambda != last_omega || p.x.size() != last_x.size() || p.x != last_x)
-      balance.evaluate(p.x, p.lambda, 0.0, load, false, last);
-    InterfaceFrfPoint f;
-    f.omega = p.lambda;
-    const Eigen::VectorXd u = balance.output_coefficients(options.output, p.x, p.lambda, 0.0, load, last.contact_force);
-    const int a1 = balance.basis().cosine_index(1);
-    f.amplitude_h1 = std::hypot(u[a1], u[a1 + 1]);
-    f.amplitude_max = balance.basis().peak_magnitude(u);
-    f.dissipation = last.dissipation;
-    f.open_points = last.open_points;
-    f.slipping_points = last.slipping_points;
-    f.states = last.states;
-    f.iterations = p.iterations;
-    f.unknowns = p.x;
-    if (estimator) {
-      const auto estimate_start = support::Clock::now();
-      f.error = estimator->estimate(balance, p.x, p.lambda, &last);  // `last` is at the point (above)
-      error_seconds += support::seconds_since(estimate_start);
-    }
+  const std::function<bool(InterfaceFrfPoint&)> keep = [&](InterfaceFrfPoint& f) {
     curve.points.push_back(f);
-    return on_point ? on_point(f) : true;
+    return on_point ? on_point(curve.points.back()) : true;
   };
-  const Result r = trace(residual, balance.linear_solution(options.omega_start, load), c, accept);
-  curve.reason = r.reason;
-  curve.message = r.message;
-  curve.newton_iterations = r.corrector_iterations;
-  curve.rejected_steps = r.rejected_steps;
-  interface_detail::add_curve_timings(curve.timings, balance.timings(), r);
+  const auto after_run = [&](const InterfaceFrfSegment& run, const Result& r) {
+    curve.newton_iterations += r.corrector_iterations;
+    curve.rejected_steps += r.rejected_steps;
+    interface_detail::add_curve_timings(curve.timings, run.balance().timings(), r);
+    curve.timings.error_estimate += run.error_seconds();
+  };
+  const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
+      options.accuracy, {options.balance.harmonics, options.balance.time_samples}, options.omega_start,
+      options.omega_end, options.continuation, make_segment, keep, after_run);
+  curve.reason = outcome.reason;
+  curve.message = outcome.message;
+  curve.level_changes = outcome.level_changes;
+  curve.short_of_accuracy = outcome.short_points;
   curve.timings.total = support::seconds_since(start);
-  curve.timings.error_estimate = error_seconds;
   return curve;
 }
 

@@ -65,9 +65,10 @@ void read_continuation_keys(const yaml::Reader& reader_, const YAML::Node& node,
 }
 
 void read_accuracy_keys(const yaml::Reader& reader_, const YAML::Node& node, const std::string& path,
-                        int harmonics, int time_samples, continuation::Accuracy& a) {
-  const Fields f =
-      reader_.fields(node, path, {"frequency", "damping", "min_harmonics", "max_harmonics", "max_time_samples"});
+                        int harmonics, int time_samples, bool frf, continuation::Accuracy& a) {
+  const Fields f = frf ? reader_.fields(node, path, {"amplitude", "min_harmonics", "max_harmonics", "max_time_samples"})
+                       : reader_.fields(node, path,
+                                        {"frequency", "damping", "min_harmonics", "max_harmonics", "max_time_samples"});
   const auto tolerance = [&](const char* name, double& target) {
     if (const auto* e = f.find(name)) {
       target = reader_.number(e->value, f.path_of(name));
@@ -78,7 +79,10 @@ void read_accuracy_keys(const yaml::Reader& reader_, const YAML::Node& node, con
   };
   tolerance("frequency", a.frequency);
   tolerance("damping", a.damping);
-  if (!a.active()) reader_.fail(node, path, "give frequency or damping > 0 (relative tolerances per point)");
+  tolerance("amplitude", a.amplitude);
+  if (!a.active())
+    reader_.fail(node, path, frf ? "give amplitude > 0 (relative tolerance per point)"
+                                 : "give frequency or damping > 0 (relative tolerances per point)");
   const auto count = [&](const char* name, int& target, long long lo, long long hi) {
     if (const auto* e = f.find(name)) {
       const long long v = reader_.integer(e->value, f.path_of(name));

@@ -15,11 +15,11 @@ namespace jointhb::io {
 void read_continuation_keys(const yaml::Reader& reader, const YAML::Node& node,
                             const std::string& path, continuation::Options& o);
 
-/// Reads the `accuracy:` mapping of a damping curve (docs/case-files.md; continuation/accuracy.hpp):
-/// frequency, damping (relative, [0, 1), at least one > 0), min_harmonics, max_harmonics,
-/// max_time_samples; then checks that the starting level (harmonics, time_samples) lies in the
-/// range, blaming the accuracy key.
+/// Reads the `accuracy:` mapping of a damping curve or, with `frf`, of an FRF (docs/case-files.md;
+/// continuation/accuracy.hpp): frequency and damping (damping curves) or amplitude (FRFs), relative
+/// in [0, 1), at least one > 0; min_harmonics, max_harmonics, max_time_samples; then checks that the
+/// starting level (harmonics, time_samples) lies in the range, blaming the accuracy key.
 void read_accuracy_keys(const yaml::Reader& reader, const YAML::Node& node, const std::string& path,
-                        int harmonics, int time_samples, continuation::Accuracy& a);
+                        int harmonics, int time_samples, bool frf, continuation::Accuracy& a);
 
 }  // namespace jointhb::io

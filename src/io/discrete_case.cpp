@@ -612,7 +612,7 @@ class DiscreteCaseReader {
         node, path,
         {"omega", "frequency_hz", "harmonics", "time_samples", "output_dof", "harmonic_selection",
          "periodic_tolerance", "check_jacobian", "stability", "stability_method",
-         "error_estimate", "continuation", "max_output_change"});
+         "error_estimate", "continuation", "max_output_change", "accuracy"});
     continuation::FrfOptions o;
 
     const auto* omega = f.find("omega");
@@ -645,6 +645,9 @@ class DiscreteCaseReader {
     }
     reader_.flag(f, "check_jacobian", o.check_jacobian);
     reader_.flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
+    // H and N_t per point from the estimates of the amplitudes (continuation/accuracy.hpp).
+    if (const auto* e = f.find("accuracy"))
+      read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.harmonics, o.time_samples, true, o.accuracy);
     if (const auto* stability = f.find("stability")) {  // Hill's method at every point
       const std::string key = f.path_of("stability");
       const std::string value = reader_.text(stability->value, key);
@@ -726,7 +729,7 @@ class DiscreteCaseReader {
     reader_.flag(f, "error_estimate", o.error_estimate);  // continuation/error_estimate.hpp
     // H and N_t per point from the estimates, starting from harmonics/time_samples (continuation/accuracy.hpp).
     if (const auto* e = f.find("accuracy"))
-      read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.mode.harmonics, o.mode.time_samples, o.accuracy);
+      read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.mode.harmonics, o.mode.time_samples, false, o.accuracy);
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

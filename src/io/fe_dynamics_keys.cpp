@@ -228,7 +228,7 @@ class DynamicsReader {
     read_balance(f, o.balance);
     // H and N_t per point from the estimates, starting from harmonics/time_samples (continuation/accuracy.hpp).
     if (const auto* e = f.find("accuracy"))
-      read_accuracy_keys(r_, e->value, f.path_of("accuracy"), o.balance.harmonics, o.balance.time_samples, o.accuracy);
+      read_accuracy_keys(r_, e->value, f.path_of("accuracy"), o.balance.harmonics, o.balance.time_samples, false, o.accuracy);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
     // At least this many points per decade of q: λ = log10 q advances by at most 1/points_per_decade.
     if (f.has("points_per_decade"))
@@ -241,7 +241,8 @@ class DynamicsReader {
 
   FeFrfSpec read_frf(const YAML::Node& node, const std::string& path, const FeDynamicsSpec& d) const {
     const Fields f = r_.fields(node, path, {"frequency_hz", "omega", "force", "output", "harmonics", "time_samples",
-                                            "periodic_tolerance", "tangential_stiffness", "continuation", "error_estimate"});
+                                            "periodic_tolerance", "tangential_stiffness", "continuation", "error_estimate",
+                                            "accuracy", "max_output_change"});
     FeFrfSpec o;
     o.balance.harmonics = 1;
     const auto* hz = f.find("frequency_hz");
@@ -290,7 +291,13 @@ class DynamicsReader {
     }
     r_.flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     read_balance(f, o.balance);
+    // H and N_t per point from the estimates of the amplitudes (continuation/accuracy.hpp).
+    if (const auto* e = f.find("accuracy"))
+      read_accuracy_keys(r_, e->value, f.path_of("accuracy"), o.balance.harmonics, o.balance.time_samples, true, o.accuracy);
     if (const auto* e = f.find("continuation")) read_continuation_keys(r_, e->value, f.path_of("continuation"), o.continuation);
+    // At most this relative change of amplitude_h1 between two points (continuation::Options).
+    if (f.has("max_output_change"))
+      o.continuation.max_output_change = number_in(f, "max_output_change", 0.0, 1.0, true, false);
     return o;
   }
 };

@@ -393,6 +393,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
   o.balance = fs.balance;
   o.continuation = fs.continuation;
   o.error_estimate = fs.error_estimate;
+  o.accuracy = fs.accuracy;
   FrfCurve out;
   out.level = level;
   out.force = fs.forces[level];
@@ -419,6 +420,8 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
     f.open_points = p.open_points;
     f.newton_iterations = p.iterations;
     f.error = p.error;
+    f.harmonics = p.harmonics;
+    f.time_samples = p.time_samples;
     out.points.push_back(f);
     if (f.amplitude_h1 > out.peak_amplitude) out.peak_amplitude = f.amplitude_h1, out.peak_frequency_hz = f.frequency_hz;
     if (on_point && !on_point(f)) {

@@ -14,6 +14,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -205,22 +206,27 @@ void put_frf_error_columns(py::dict& d, const std::vector<Point>& points, Error 
 // continuation::Accuracy from a dict {'frequency', 'damping', 'min_harmonics', 'max_harmonics',
 // 'max_time_samples'}; ValueError for an unknown key or a value out of range (Accuracy::validate),
 // or a starting H outside [min_harmonics, max_harmonics].
-continuation::Accuracy accuracy_from(const py::object& value, int harmonics, int time_samples) {
-  if (!py::isinstance<py::dict>(value)) throw py::value_error("accuracy: must be a dict, e.g. {'damping': 1e-2}");
+continuation::Accuracy accuracy_from(const py::object& value, int harmonics, int time_samples, bool frf = false) {
+  if (!py::isinstance<py::dict>(value))
+    throw py::value_error(frf ? "accuracy: must be a dict, e.g. {'amplitude': 1e-3}"
+                              : "accuracy: must be a dict, e.g. {'damping': 1e-2}");
   continuation::Accuracy a;
+  const char* outputs = frf ? "amplitude" : "frequency, damping";
   for (const auto& [key, item] : value.cast<py::dict>()) {
     const std::string name = py::str(key);
-    if (name == "frequency") a.frequency = item.cast<double>();
-    else if (name == "damping") a.damping = item.cast<double>();
+    if (!frf && name == "frequency") a.frequency = item.cast<double>();
+    else if (!frf && name == "damping") a.damping = item.cast<double>();
+    else if (frf && name == "amplitude") a.amplitude = item.cast<double>();
     else if (name == "min_harmonics") a.min_harmonics = item.cast<int>();
     else if (name == "max_harmonics") a.max_harmonics = item.cast<int>();
     else if (name == "max_time_samples") a.max_time_samples = item.cast<int>();
     else
-      throw py::value_error(fmt::format("accuracy: unknown key '{}' (allowed: frequency, damping, min_harmonics, "
-                                        "max_harmonics, max_time_samples)", name));
+      throw py::value_error(fmt::format("accuracy: unknown key '{}' (allowed: {}, min_harmonics, "
+                                        "max_harmonics, max_time_samples)", name, outputs));
   }
   if (const std::string e = a.validate(); !e.empty()) throw py::value_error(e);
-  if (!a.active()) throw py::value_error("accuracy: give frequency or damping > 0 (relative tolerances per point)");
+  if (!a.active()) throw py::value_error(fmt::format("accuracy: give {} > 0 (relative tolerances per point)",
+                                                     frf ? "amplitude" : "frequency or damping"));
   if (harmonics < a.min_harmonics || harmonics > a.max_harmonics)
     throw py::value_error(fmt::format("accuracy: the starting harmonics = {} must lie in [{}, {}]", harmonics,
                                       a.min_harmonics, a.max_harmonics));
@@ -229,6 +235,14 @@ continuation::Accuracy accuracy_from(const py::object& value, int harmonics, int
                                       a.max_time_samples, time_samples));
   a.min_time_samples = std::min(a.min_time_samples, time_samples);  // as the case-file reader
   return a;
+}
+
+// max_output_change of a curve (continuation::Options): in (0, 1], else ValueError.
+double output_change_from(double value) {
+  if (!(value > 0.0 && value <= 1.0))
+    throw py::value_error(std::isfinite(value) ? fmt::format("max_output_change: must be in (0, 1], got {}", value)
+                                              : std::string("max_output_change: must be a finite number in (0, 1]"));
+  return value;
 }
 
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
@@ -279,6 +293,10 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   put_state_columns(d, r.points, [](const P& p) { return p.states; });
   d["newton_iterations"] = column(r.points, [](const P& p) { return double(p.newton_iterations); });
   put_frf_error_columns(d, r.points, [](const P& p) -> const continuation::FrfError& { return p.error; });
+  d["harmonics_of_points"] = column(r.points, [](const P& p) { return double(p.harmonics); });
+  d["time_samples_of_points"] = column(r.points, [](const P& p) { return double(p.time_samples); });
+  d["level_changes"] = r.curve.level_changes;
+  d["points_short_of_accuracy"] = r.curve.short_of_accuracy;
   put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
   d["peak_frequency_hz"] = r.peak_frequency_hz;
@@ -420,7 +438,8 @@ class Pipeline {
   py::dict backbone(int mode, const py::object& callback, const std::optional<std::pair<double, double>>& log10_amplitude,
                     const std::optional<double>& frequency_drop, const std::optional<int>& harmonics,
                     const std::optional<int>& time_samples, bool contact_fields,
-                    const std::optional<bool>& error_estimate, const py::object& accuracy) {
+                    const std::optional<bool>& error_estimate, const py::object& accuracy,
+                    const std::optional<double>& max_output_change) {
     if (!case_->dynamics || !case_->dynamics->nonlinear_modes)
       throw py::value_error(case_->source + ": the case has no analysis.nonlinear_modes (give it one in the case file)");
     pipeline::FeNonlinearModesSpec nm = *case_->dynamics->nonlinear_modes;
@@ -432,6 +451,7 @@ class Pipeline {
     // A fixed level requested here replaces the case's accuracy (whose range it could miss).
     if (harmonics || time_samples) nm.accuracy = continuation::Accuracy{};
     if (!accuracy.is_none()) nm.accuracy = accuracy_from(accuracy, nm.balance.harmonics, nm.balance.time_samples);
+    if (max_output_change) nm.continuation.max_output_change = output_change_from(*max_output_change);
     if (const std::string e = nm.balance.validate(); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
     pipeline::BackboneCurve b;
@@ -506,7 +526,8 @@ class Pipeline {
 
   py::dict frf(std::size_t level, const py::object& callback, const std::optional<std::pair<double, double>>& frequency_hz,
                const std::optional<double>& force, const std::optional<int>& harmonics,
-               const std::optional<bool>& error_estimate) {
+               const std::optional<bool>& error_estimate, const py::object& accuracy,
+               const std::optional<double>& max_output_change) {
     if (!case_->dynamics || !case_->dynamics->frf)
       throw py::value_error(case_->source + ": the case has no analysis.frf (give it one in the case file)");
     pipeline::FeFrfSpec fs = *case_->dynamics->frf;
@@ -515,6 +536,10 @@ class Pipeline {
     if (force) fs.forces = {*force}, level = 0;
     if (harmonics) fs.balance.harmonics = *harmonics, fs.balance.time_samples = pipeline::default_time_samples(*harmonics);
     if (error_estimate) fs.error_estimate = *error_estimate;
+    if (harmonics) fs.accuracy = continuation::Accuracy{};  // a fixed level, as for backbone()
+    if (!accuracy.is_none())
+      fs.accuracy = accuracy_from(accuracy, fs.balance.harmonics, fs.balance.time_samples, true);
+    if (max_output_change) fs.continuation.max_output_change = output_change_from(*max_output_change);
     if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     pipeline::FrfCurve r;
@@ -658,7 +683,8 @@ class DiscreteModel {
   /// overridden by the keywords given.
   py::dict frf(const std::optional<Eigen::VectorXd>& force, const std::optional<std::pair<double, double>>& omega,
                std::optional<int> output_dof, std::optional<int> harmonics, std::optional<int> time_samples,
-               std::size_t level, const py::object& callback) {
+               std::size_t level, const py::object& callback, const py::object& accuracy,
+               const std::optional<double>& max_output_change) {
     const pipeline::DiscreteProblem& pr = pipe_->problem();
     continuation::FrfOptions o = pr.frf.value_or(continuation::FrfOptions{});
     hb::Excitation x;
@@ -676,6 +702,9 @@ class DiscreteModel {
     if (output_dof) o.output_dof = *output_dof;
     if (harmonics) o.harmonics = *harmonics, o.time_samples = io::default_time_samples(*harmonics);
     if (time_samples) o.time_samples = *time_samples;
+    if (harmonics || time_samples) o.accuracy = continuation::Accuracy{};  // a fixed level, as for backbone()
+    if (!accuracy.is_none()) o.accuracy = accuracy_from(accuracy, o.harmonics, o.time_samples, true);
+    if (max_output_change) o.continuation.max_output_change = output_change_from(*max_output_change);
     if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     continuation::FrfCurve r;
@@ -709,6 +738,10 @@ class DiscreteModel {
       return out;
     };
     put_frf_error_columns(d, r.points, [](const P& p) -> const continuation::FrfError& { return p.error; });
+    d["harmonics_of_points"] = column(r.points, [](const P& p) { return double(p.harmonics); });
+    d["time_samples_of_points"] = column(r.points, [](const P& p) { return double(p.time_samples); });
+    d["level_changes"] = r.level_changes;
+    d["points_short_of_accuracy"] = r.short_of_accuracy;
     if (r.peak) d["peak"] = extremum(*r.peak);
     py::list folds;
     for (const auto& f : r.folds) folds.append(extremum(f));
@@ -722,7 +755,7 @@ class DiscreteModel {
   /// Without keywords: the case's analysis.nonlinear_modes settings (or the defaults).
   py::dict backbone(int mode, const std::optional<std::pair<double, double>>& log10_amplitude,
                     std::optional<int> harmonics, std::optional<int> time_samples, const py::object& callback,
-                    const py::object& accuracy) {
+                    const py::object& accuracy, const std::optional<double>& max_output_change) {
     continuation::BackboneOptions o = pipe_->problem().nonlinear_modes.value_or(continuation::BackboneOptions{});
     o.mode.mode = mode;
     if (harmonics) o.mode.harmonics = *harmonics, o.mode.time_samples = io::default_time_samples(*harmonics);
@@ -730,6 +763,7 @@ class DiscreteModel {
     // A fixed level requested here replaces the case's accuracy (whose range it could miss).
     if (harmonics || time_samples) o.accuracy = continuation::Accuracy{};
     if (!accuracy.is_none()) o.accuracy = accuracy_from(accuracy, o.mode.harmonics, o.mode.time_samples);
+    if (max_output_change) o.continuation.max_output_change = output_change_from(*max_output_change);
     if (log10_amplitude) o.log10_amplitude_start = log10_amplitude->first, o.log10_amplitude_end = log10_amplitude->second;
     if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("backbone: " + e);
     PointCallback on_point(callback);
@@ -917,6 +951,7 @@ PYBIND11_MODULE(_core, m) {
            py::arg("log10_amplitude") = py::none(), py::arg("frequency_drop") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("contact_fields") = false,
            py::arg("error_estimate") = py::none(), py::arg("accuracy") = py::none(),
+           py::arg("max_output_change") = py::none(),
            "The damping curve (EPMC) of elastic mode `mode`: numpy arrays amplitude (q [m sqrt(kg)]), "
            "frequency_hz, damping_ratio, W_D [J], output_amplitude [m], ...; status, message, seconds. "
            "callback(point: dict) is called at every accepted point; returning False stops the curve. "
@@ -929,14 +964,19 @@ PYBIND11_MODULE(_core, m) {
            "damping_error_aliasing (NaN where not computed; docs/theory.md section 13). "
            "accuracy={'frequency': 1e-4, 'damping': 1e-2} (also 'min_harmonics', 'max_harmonics', "
            "'max_time_samples') chooses H and N_t per point from those estimates, starting from `harmonics`; "
-           "harmonics_of_points and time_samples_of_points give each point's level.")
+           "harmonics_of_points and time_samples_of_points give each point's level. max_output_change=0.05 "
+           "limits the relative change of f and zeta between two points (docs/continuation.md, step rule 7).")
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
-           py::arg("error_estimate") = py::none(),
+           py::arg("error_estimate") = py::none(), py::arg("accuracy") = py::none(),
+           py::arg("max_output_change") = py::none(),
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "
            "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message. "
            "error_estimate=True adds amplitude_error_truncation, amplitude_error_aliasing, "
-           "amplitude_max_error_truncation, amplitude_max_error_aliasing (NaN where not computed).")
+           "amplitude_max_error_truncation, amplitude_max_error_aliasing (NaN where not computed). "
+           "accuracy={'amplitude': 1e-3} (also min_harmonics, max_harmonics, max_time_samples) chooses H "
+           "and N_t per point; harmonics_of_points and time_samples_of_points give each point's level. "
+           "max_output_change=0.05 limits the relative change of amplitude_h1 between two points.")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
                              "interfaces.<name>.pressure|decay|cutoff_gap|normal_stiffness|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
       .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))
@@ -968,20 +1008,24 @@ PYBIND11_MODULE(_core, m) {
            "Linear modes with the contacts stuck (stiffness kt0) or removed: omega [rad/s], frequency_hz, shapes.")
       .def("frf", &DiscreteModel::frf, py::arg("force") = py::none(), py::arg("omega") = py::none(),
            py::arg("output_dof") = py::none(), py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(),
-           py::arg("level") = 0, py::arg("callback") = py::none(),
+           py::arg("level") = 0, py::arg("callback") = py::none(), py::arg("accuracy") = py::none(),
+           py::arg("max_output_change") = py::none(),
            "Nonlinear FRF under f(t) = force cos(Omega t) (force: amplitude per DOF [N]) over omega = (start, end) "
            "[rad/s]; without force, the case's excitation level `level` and analysis.frf settings. Numpy arrays "
            "omega, frequency_hz, amplitude_h1, amplitude_max [m], dissipation [J], stable (1/0, -1: not "
            "computed), max_floquet_multiplier, bifurcation (list of str); peak and folds (dicts: omega, "
-           "amplitude_h1, error_bound, refined); status, message.")
+           "amplitude_h1, error_bound, refined); status, message. accuracy={'amplitude': 1e-3} chooses H and "
+           "N_t per point (harmonics_of_points, time_samples_of_points); max_output_change limits the relative "
+           "change of amplitude_h1 between two points.")
       .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
-           py::arg("accuracy") = py::none(),
+           py::arg("accuracy") = py::none(), py::arg("max_output_change") = py::none(),
            "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude (the case's "
            "analysis.nonlinear_modes settings or the defaults): numpy arrays amplitude, omega, frequency_hz, "
            "damping_ratio, W_D, the error estimates, harmonics_of_points, time_samples_of_points; status, "
            "message. accuracy={'damping': 1e-3, ...} chooses H and N_t per point (as Pipeline.backbone); "
-           "harmonics or time_samples given here trace at that fixed level.")
+           "harmonics or time_samples given here trace at that fixed level; max_output_change as "
+           "Pipeline.backbone.")
       .def_property_readonly("parameter_names", [](DiscreteModel& d) { return d.pipe().parameter_names(); },
                              "contacts[i].kt0|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
       .def("set", [](DiscreteModel& d, const std::string& name, double value) { d.pipe().set_parameter(name, value); },

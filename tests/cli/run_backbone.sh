@@ -117,7 +117,7 @@ grep -q "key 'analysis.nonlinear_modes.max_output_change'.*must be in (0, 1]" "$
 
 # accuracy: H and N_t chosen per point. Case 03 from H = 1: the stuck limit stays at H = 1, slip
 # raises it; every point's estimates are within the request or the point is counted short of it.
-sed '/nonlinear_modes:/,/frf:/ { s/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 1.0e-3, frequency: 1.0e-5, max_harmonics: 21}/; s/^    harmonics: 7$/    harmonics: 1/; s/^    time_samples: 128$/    time_samples: 32/ }' \
+sed '/nonlinear_modes:/,/frf:/ { s/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 1.0e-3, frequency: 1.0e-5, max_harmonics: 21}/; s/^    harmonics: 7$/    harmonics: 1/; s/^    time_samples: 128$/    time_samples: 32/ }; /^  frf:/,$ { s/^    harmonics: 7$/    harmonics: 1\n    accuracy: {amplitude: 1.0e-4}/; s/^    time_samples: 128$/    time_samples: 32/ }' \
   "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$WORK/accuracy.yaml"
 grep -q 'accuracy: {damping' "$WORK/accuracy.yaml" || fail "could not set accuracy"
 run_capture run "$WORK/accuracy.yaml" -o "$WORK/accuracy"
@@ -136,6 +136,15 @@ for r in rows:
     short += over
 assert short == acc["points_short_of_request"], (short, acc)
 print(f"ok: accuracy: {len(rows)} points, H {min(h)}..{max(h)}, {acc['level_changes']} level changes, {short} short")
+# The FRFs with accuracy: {amplitude: 1e-4}: H per point, every curve complete with its peak.
+frf = list(csv.DictReader(open(f"{sys.argv[1]}/frf.csv")))
+curves = json.load(open(f"{sys.argv[1]}/summary.json"))["curves"]
+for c in curves:
+    mine = [int(float(r["harmonics"])) for r in frf if int(float(r["level"])) == c["level"]]
+    assert c["ok"] and c["accuracy"]["harmonics_used"] == [min(mine), max(mine)], (c["accuracy"], mine)
+    assert c["accuracy"]["amplitude"] == 1e-4 and "peak" in c, c
+assert max(c["accuracy"]["harmonics_used"][1] for c in curves) >= 3, [c["accuracy"] for c in curves]
+print("ok: FRFs with accuracy: H " + ", ".join(f"{c['accuracy']['harmonics_used']}" for c in curves))
 PY
 sed 's/^\(    log10_amplitude: .*\)$/\1\n    accuracy: {damping: 2}/' "$SOURCE_DIR/cases/03-one-dof-gaul-mayer/case.yaml" >"$bad"
 expect_bad_input run "$bad" -o "$WORK/none"

@@ -9,6 +9,9 @@ solved at exactly that q with (H_ref, N_ref) — the adaptive curve's own point,
 solved at exactly that q (the first point of a curve started there). The estimated error of the
 adaptive point (|e_T| + |e_A| per output) is listed beside its true error.
 
+For case 03 also its FRF at the middle force level with `accuracy: {amplitude: 1e-4}` against fixed
+levels, the true error of amplitude_h1 against the point at exactly the same Omega at (H_ref, N_ref).
+
 Usage: accuracy_on_request.py OUT_DIR [CASE ...]   (default: cases 03, 08 and 09; needs the
 Python module of a Release build on PYTHONPATH, e.g. build/python). Writes
 OUT_DIR/accuracy_<case>_points.csv and accuracy_<case>_curves.csv row by row and prints a table.
@@ -128,5 +131,76 @@ def main():
               f"{sum(r is not None for r in refs.values())} of {len(picks)} amplitudes -> {curves_path}", flush=True)
 
 
+FRF_CASES = {
+    "03-one-dof-gaul-mayer": {"level": 1, "request": {"amplitude": 1e-4, "max_harmonics": 21},
+                              "fixed": [(1, 32), (3, 32), (7, 128), (15, 256), (21, 1024)],
+                              "h_ref": 31, "n_ref": 1024, "samples": 10},
+}
+
+
+def frf_at(model, level, omega, harmonics, time_samples):
+    """amplitude_h1 of the FRF point at exactly Omega (the first point of a curve started there)."""
+    first = {}
+
+    def stop(pt):
+        first.update(pt)
+        return False
+
+    model.frf(level=level, omega=(omega, omega * 1.001), harmonics=harmonics, time_samples=time_samples,
+              callback=stop)
+    if not first or first["omega"] != omega:
+        return None
+    return first["amplitude_h1"]
+
+
+def frf_study(out, name):
+    """The case's FRF at one force level with `accuracy: {amplitude}` against fixed levels."""
+    s = FRF_CASES[name]
+    model = jointhb.load_case(str(SOURCE / "cases" / name / "case.yaml"))
+    t0 = time.perf_counter()
+    adaptive = model.frf(level=s["level"], harmonics=START[0], time_samples=START[1], accuracy=s["request"])
+    t_adaptive = time.perf_counter() - t0
+    omega = np.asarray(adaptive["omega"])
+    picks = sorted(set(np.linspace(0, len(omega) - 1, s["samples"]).round().astype(int)))
+    refs = {i: frf_at(model, s["level"], omega[i], s["h_ref"], s["n_ref"]) for i in picks}
+    path = out / f"accuracy_{name}_frf.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["variant", "points", "seconds", "harmonics_used", "time_samples_used", "worst_true_amplitude",
+                    "worst_estimated_amplitude", "status"])
+        variants = [("accuracy", adaptive, t_adaptive)]
+        for h, nt in s["fixed"]:
+            t0 = time.perf_counter()
+            c = model.frf(level=s["level"], harmonics=h, time_samples=nt)
+            variants.append((f"H={h}/{nt}", c, time.perf_counter() - t0))
+        for label, c, seconds in variants:
+            worst = worst_est = 0.0
+            for i in picks:
+                if refs[i] is None:
+                    continue
+                if label == "accuracy":
+                    value = c["amplitude_h1"][i]
+                    worst_est = max(worst_est, abs(c["amplitude_error_truncation"][i]) +
+                                    abs(c["amplitude_error_aliasing"][i]))
+                else:
+                    h, nt = (int(v) for v in label[2:].split("/"))
+                    value = frf_at(model, s["level"], omega[i], h, nt)
+                    if value is None:
+                        continue
+                worst = max(worst, abs(rel(value, refs[i])))
+            hs, ns = c["harmonics_of_points"], c["time_samples_of_points"]
+            w.writerow([label, len(c["omega"]), f"{seconds:.3f}", f"{int(min(hs))}-{int(max(hs))}",
+                        f"{int(min(ns))}-{int(max(ns))}", f"{worst:.3e}", f"{worst_est:.3e}", c["status"]])
+            f.flush()
+            print(f"{name} FRF: {label:10s} {len(c['omega']):4d} points {seconds:8.2f} s  H {int(min(hs))}-{int(max(hs))} "
+                  f"N_t {int(min(ns))}-{int(max(ns))}  worst true error {worst:.2e}"
+                  + (f" (estimated {worst_est:.2e})" if label == "accuracy" else "") + f"  ({c['status']})", flush=True)
+    print(f"{name} FRF: request {s['request']}; reference H = {s['h_ref']}, N_t = {s['n_ref']} at "
+          f"{sum(r is not None for r in refs.values())} of {len(picks)} frequencies -> {path}", flush=True)
+
+
 if __name__ == "__main__":
     main()
+    for case in sys.argv[2:] or list(CASES):
+        if case in FRF_CASES:
+            frf_study(Path(sys.argv[1]), case)

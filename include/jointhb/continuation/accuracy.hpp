@@ -22,17 +22,19 @@
 
 namespace jointhb::continuation {
 
-/// The request: relative tolerances of Ω and ζ (0: that output is not controlled; at least one > 0
-/// makes the request active) and the range of levels the curve may use.
+/// The request: relative tolerances of the outputs — Ω and ζ of a damping curve, the amplitudes of
+/// an FRF (0: that output is not controlled; one > 0 makes the request active) — and the range of
+/// levels the curve may use.
 struct Accuracy {
-  double frequency = 0.0;      ///< ≥ 0: |δΩ/Ω| per point
-  double damping = 0.0;        ///< ≥ 0: |δζ/ζ| per point
+  double frequency = 0.0;      ///< ≥ 0: |δΩ/Ω| per point (damping curves)
+  double damping = 0.0;        ///< ≥ 0: |δζ/ζ| per point (damping curves)
+  double amplitude = 0.0;      ///< ≥ 0: |δA/A| of amplitude_h1 and amplitude_max per point (FRFs)
   int min_harmonics = 1;       ///< ≥ 1, odd or even as the basis
   int max_harmonics = 15;      ///< ≥ min_harmonics
   int min_time_samples = 16;   ///< ≥ 4
   int max_time_samples = 2048; ///< ≥ min_time_samples
   int calm_points = 3;         ///< ≥ 1: points below 1/10 of the request before a level is lowered
-  [[nodiscard]] bool active() const { return frequency > 0.0 || damping > 0.0; }
+  [[nodiscard]] bool active() const { return frequency > 0.0 || damping > 0.0 || amplitude > 0.0; }
   [[nodiscard]] std::string validate() const;  ///< empty when valid
 };
 
@@ -56,6 +58,8 @@ class LevelController {
   /// `restart`: the point is the first of a segment whose start repeats a kept point (after a
   /// lowering): it is never kept, only judged (a raise sends the level back up).
   Verdict judge(const BackboneError& e, bool restart = false);
+  /// The same for an FRF point (amplitude_h1 and amplitude_max against `amplitude`).
+  Verdict judge(const FrfError& e, bool restart = false);
   [[nodiscard]] Level current() const { return current_; }
   [[nodiscard]] Level next() const { return next_; }
   /// Move to next() (after the caller restarted the curve there).
@@ -70,8 +74,8 @@ class LevelController {
   }
 
  private:
-  // max over the controlled outputs of |estimate| / tolerance, for the truncation or the aliasing.
-  [[nodiscard]] double ratio(const BackboneError& e, bool truncation) const;
+  // The rule on r_T and r_A (T-44) of a point with known estimates.
+  Verdict judge_ratios(double r_t, double r_a, bool restart);
   Accuracy request_;
   Level current_, next_;
   int calm_truncation_ = 0, calm_aliasing_ = 0;

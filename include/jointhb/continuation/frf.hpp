@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/discrete_system.hpp"
@@ -71,6 +72,11 @@ struct FrfOptions {
   /// Error estimates of every accepted point (continuation/error_estimate.hpp, docs/theory.md
   /// §13): one Jacobian at H + 2, one at H and a residual at 2 N_t per point
   bool error_estimate = true;
+  /// Accuracy on request (accuracy.amplitude; continuation/accuracy.hpp, docs/theory.md §13 T-44):
+  /// H and N_t chosen per point from the estimates of amplitude_h1 and amplitude_max, starting from
+  /// harmonics/time_samples; stability per point at its level, folds and the peak located within
+  /// the stretches of one level.
+  Accuracy accuracy;
   Options continuation;         ///< steps, tolerances (start/end/scales set by trace_frf)
 
   [[nodiscard]] std::string validate(int dofs) const;  ///< empty when valid
@@ -99,6 +105,7 @@ struct FrfPoint {
   Eigen::VectorXcd multipliers;  ///< the 2n multipliers, |ρ| descending (empty when not known)
   FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
   Eigen::VectorXd coefficients;  ///< X: harmonic coefficients of all DOFs (hb/fourier.hpp order)
+  int harmonics = 0, time_samples = 0;  ///< the level of the point (of `coefficients`)
 };
 
 /// An extremum located between accepted points (continuation/curve_refinement.hpp): a fold of
@@ -133,7 +140,7 @@ struct FrfCurve {
   std::string message;
   int newton_iterations = 0;
   int rejected_steps = 0;
-  std::vector<int> kept_harmonics;  ///< the harmonic orders used
+  std::vector<int> kept_harmonics;  ///< the harmonic orders used (of the first level)
   /// With check_jacobian: the largest relative discrepancy between the analytic Jacobian and
   /// central differences over the points (hb/jacobian_check.hpp), and where it occurred.
   double jacobian_check_error = 0.0;
@@ -145,6 +152,8 @@ struct FrfCurve {
   /// Why stability was not computed (Stability::automatic on a large problem), else empty
   std::string stability_note;
   FrfTimings timings;
+  int level_changes = 0;      ///< restarts at another H or N_t (options.accuracy)
+  int short_of_accuracy = 0;  ///< points kept above the request at the largest level allowed
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

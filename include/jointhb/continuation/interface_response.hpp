@@ -130,6 +130,9 @@ struct InterfaceFrfOptions {
   /// As InterfaceBackboneOptions::error_estimate (one or two more evaluations per point for the
   /// outputs); off by default.
   bool error_estimate = false;
+  /// Accuracy on request (accuracy.amplitude: amplitude_h1 and amplitude_max): H and N_t chosen per
+  /// point, as InterfaceBackboneOptions::accuracy.
+  Accuracy accuracy;
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -141,7 +144,8 @@ struct InterfaceFrfPoint {
   int open_points = 0, slipping_points = 0, iterations = 0;
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
-  Eigen::VectorXd unknowns;
+  Eigen::VectorXd unknowns;  ///< in the basis of (harmonics, time_samples)
+  int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
 };
 
 struct InterfaceFrf {
@@ -149,8 +153,10 @@ struct InterfaceFrf {
   StopReason reason = StopReason::start_failed;
   std::string message;
   int newton_iterations = 0, rejected_steps = 0;
-  Eigen::Index unknowns = 0;
+  Eigen::Index unknowns = 0;  ///< of the first point's level
   InterfaceTimings timings;
+  int level_changes = 0;      ///< restarts at another H or N_t (options.accuracy)
+  int short_of_accuracy = 0;  ///< points kept above the request at the largest level allowed
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

@@ -60,6 +60,9 @@ struct FeFrfSpec {
   /// Error estimates of the amplitudes at every point (continuation/interface_error_estimate.hpp);
   /// off by default.
   bool error_estimate = false;
+  /// H and N_t chosen per point for a requested accuracy of the amplitudes (accuracy.amplitude;
+  /// continuation/accuracy.hpp), starting from balance's; inactive by default.
+  continuation::Accuracy accuracy;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation = continuation::InterfaceFrfOptions{}.continuation;  ///< as above
 };

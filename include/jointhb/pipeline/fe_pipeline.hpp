@@ -120,6 +120,7 @@ struct FrfPoint {
   int slipping_points = 0, open_points = 0, newton_iterations = 0;
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   continuation::FrfError error;   ///< estimated relative errors of the amplitudes (error_estimate)
+  int harmonics = 0, time_samples = 0;  ///< the level the point was computed at (accuracy: per point)
 };
 
 struct FrfCurve {

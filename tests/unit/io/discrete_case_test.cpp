@@ -328,7 +328,7 @@ TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
                "unknown key; allowed: frf, nonlinear_modes");
   expect_error(with("", excitation, "analysis:\n  frf: {omega: [1, 2], harmonic: 3}\n"), 8,
                "harmonic", "analysis.frf.harmonic",
-               "unknown key; allowed: check_jacobian, continuation, error_estimate, frequency_hz, "
+               "unknown key; allowed: accuracy, check_jacobian, continuation, error_estimate, frequency_hz, "
                "harmonic_selection, harmonics, "
                "max_output_change, omega, output_dof, periodic_tolerance, stability, stability_method, time_samples");
   expect_error(with("", excitation, "analysis:\n  frf: {omega: [1, 2], continuation: {step: 1}}\n"),
