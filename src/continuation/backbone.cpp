@@ -80,17 +80,6 @@ std::string BackboneOptions::validate(int dofs) const {
 
 namespace {
 
-// Y = (X̂, Ω, ξ) of level `from` in the basis of `to` (shared harmonics copied, new ones zero).
-Eigen::VectorXd transfer_discrete_mode_unknowns(const Eigen::VectorXd& y, Level from, const hb::HarmonicBalance& to) {
-  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, to.basis().odd_only());
-  const int dofs = to.system().dofs();
-  const Eigen::Index u_from = static_cast<Eigen::Index>(dofs) * from_basis.size();
-  const Eigen::VectorXd head = hb::transfer_coefficients(from_basis, to.basis(), y.head(u_from), dofs);
-  Eigen::VectorXd out(head.size() + 2);
-  out << head, y.tail(2);
-  return out;
-}
-
 // One continuation run of a discrete damping curve at one level (H, N_t): the EPMC residual, the
 // error estimator and the cached last evaluation (segmented_curve.hpp).
 class DiscreteBackboneSegment {
@@ -115,7 +104,9 @@ class DiscreteBackboneSegment {
   [[nodiscard]] std::optional<double> overflow_at() const { return overflow_at_; }
 
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
-    return from.y.size() == 0 ? epmc_.linear_start() : transfer_discrete_mode_unknowns(from.y, from.from, epmc_.balance());
+    return from.y.size() == 0 ? epmc_.linear_start()
+                              : segment_detail::transfer_unknowns(from.y, from.from, epmc_.balance().basis(),
+                                                                  epmc_.balance().system().dofs(), 2);
   }
 
   [[nodiscard]] Options continuation(double lambda0, double end) const {
@@ -225,10 +216,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.mode.harmonics, options.mode.time_samples}, options.log10_amplitude_start,
       options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
-  curve.reason = outcome.reason;
-  curve.message = outcome.message;
-  curve.level_changes = outcome.level_changes;
-  curve.short_of_accuracy = outcome.short_points;
+  segment_detail::put_outcome(outcome, curve);
   if (overflow_at) {
     curve.reason = StopReason::out_of_range;
     curve.message = fmt::format(

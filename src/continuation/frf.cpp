@@ -422,8 +422,7 @@ class DiscreteFrfSegment {
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) {
     first_segment_ = from.y.size() == 0;
     if (first_segment_) return start_guess(balance_, options_.omega_start);
-    const hb::FourierBasis from_basis(from.from.harmonics, from.from.time_samples, balance_.basis().odd_only());
-    return hb::transfer_coefficients(from_basis, balance_.basis(), from.y, shared_.system.dofs());
+    return segment_detail::transfer_unknowns(from.y, from.from, balance_.basis(), shared_.system.dofs());
   }
 
   [[nodiscard]] Options continuation(double omega0, double end) {
@@ -637,10 +636,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
     refine_segments(segments, options.output_dof, curve);
     curve.timings.refinement = seconds_since(refinement_start);
   }
-  curve.reason = outcome.reason;
-  curve.message = outcome.message;
-  curve.level_changes = outcome.level_changes;
-  curve.short_of_accuracy = outcome.short_points;
+  segment_detail::put_outcome(outcome, curve);
   if (shared.overflow_at) {
     curve.reason = StopReason::out_of_range;
     curve.message = fmt::format(

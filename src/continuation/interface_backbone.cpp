@@ -33,17 +33,6 @@ hb::InterfaceModeOptions interface_mode_at(const InterfaceBackboneOptions& optio
   return mode;
 }
 
-// Ŷ = (ŷ, Ω, ξ) of level `from` in the basis of `to` (shared harmonics copied, new ones zero).
-Eigen::VectorXd transfer_interface_mode_unknowns(const Eigen::VectorXd& y, Level from, const hb::InterfaceBalance& to) {
-  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, false);
-  const int dofs = to.modes() + 3 * to.points();
-  const Eigen::Index u_from = static_cast<Eigen::Index>(dofs) * from_basis.size();
-  const Eigen::VectorXd head = hb::transfer_coefficients(from_basis, to.basis(), y.head(u_from), dofs);
-  Eigen::VectorXd out(head.size() + 2);
-  out << head, y.tail(2);
-  return out;
-}
-
 // One continuation run of a damping curve at one level (H, N_t): the EPMC residual, the error
 // estimator and the cached last evaluation. `judge` sees every accepted point (built here, with
 // its estimates) and returns false to end the run.
@@ -64,7 +53,9 @@ class InterfaceBackboneSegment {
 
   // The linear limit, or the start's unknowns transferred to this level.
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
-    return from.y.size() == 0 ? epmc_.linear_start() : transfer_interface_mode_unknowns(from.y, from.from, epmc_.balance());
+    const hb::InterfaceBalance& b = epmc_.balance();
+    return from.y.size() == 0 ? epmc_.linear_start()
+                              : segment_detail::transfer_unknowns(from.y, from.from, b.basis(), b.modes() + 3 * b.points(), 2);
   }
   [[nodiscard]] double error_seconds() const { return error_seconds_; }
 
@@ -200,10 +191,7 @@ InterfaceBackbone trace_interface_backbone(const hb::InterfaceModel& model, cons
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.mode.balance.harmonics, options.mode.balance.time_samples},
       options.log10_amplitude_start, options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
-  curve.reason = outcome.reason;
-  curve.message = outcome.message;
-  curve.level_changes = outcome.level_changes;
-  curve.short_of_accuracy = outcome.short_points;
+  segment_detail::put_outcome(outcome, curve);
   curve.timings.total = support::seconds_since(start);
   return curve;
 }

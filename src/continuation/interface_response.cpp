@@ -64,13 +64,6 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
 
 namespace {
 
-// The FRF's interface unknowns y of level `from` in the basis of `to` (shared harmonics copied, new
-// ones zero).
-Eigen::VectorXd transfer_interface_frf_unknowns(const Eigen::VectorXd& y, Level from, const hb::InterfaceBalance& to) {
-  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, false);
-  return hb::transfer_coefficients(from_basis, to.basis(), y, to.modes() + 3 * to.points());
-}
-
 // One continuation run of a finite-element FRF at one level (H, N_t): the balance, the load, the
 // error estimator and the cached last evaluation (segmented_curve.hpp).
 class InterfaceFrfSegment {
@@ -95,7 +88,8 @@ class InterfaceFrfSegment {
   // The linear response at Ω_start, or the start's unknowns transferred to this level.
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
     return from.y.size() == 0 ? balance_.linear_solution(options_.omega_start, load_)
-                              : transfer_interface_frf_unknowns(from.y, from.from, balance_);
+                              : segment_detail::transfer_unknowns(from.y, from.from, balance_.basis(),
+                                                                  balance_.modes() + 3 * balance_.points());
   }
 
   [[nodiscard]] Options continuation(double omega0, double end) {
@@ -242,10 +236,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.balance.harmonics, options.balance.time_samples}, options.omega_start,
       options.omega_end, options.continuation, make_segment, keep, after_run);
-  curve.reason = outcome.reason;
-  curve.message = outcome.message;
-  curve.level_changes = outcome.level_changes;
-  curve.short_of_accuracy = outcome.short_points;
+  segment_detail::put_outcome(outcome, curve);
   curve.timings.total = support::seconds_since(start);
   return curve;
 }

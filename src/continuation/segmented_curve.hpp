@@ -16,6 +16,7 @@
 
 #include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
+#include "jointhb/hb/fourier.hpp"
 
 namespace jointhb::continuation::segment_detail {
 
@@ -37,6 +38,29 @@ struct SegmentedOutcome {
   int short_points = 0;  ///< kept above the request at the largest level allowed
   bool stopped_by_keep = false;  ///< `keep` returned false
 };
+
+/// The unknowns y of a point at level `from` in the basis `to` (`dofs` signals, DOF-major; the same
+/// harmonic selection): shared harmonics copied, new ones zero; the last `tail` entries (Ω and ξ of
+/// an EPMC point) kept as they are.
+inline Eigen::VectorXd transfer_unknowns(const Eigen::VectorXd& y, Level from, const hb::FourierBasis& to, int dofs,
+                                         int tail = 0) {
+  const hb::FourierBasis from_basis(from.harmonics, from.time_samples, to.odd_only());
+  const Eigen::Index coefficients = static_cast<Eigen::Index>(dofs) * from_basis.size();
+  const Eigen::Index size = static_cast<Eigen::Index>(dofs) * to.size();
+  Eigen::VectorXd out(size + tail);
+  out.head(size) = hb::transfer_coefficients(from_basis, to, y.head(coefficients), dofs);
+  out.tail(tail) = y.tail(tail);
+  return out;
+}
+
+/// The outcome's record in a curve (reason, message, level_changes, short_of_accuracy).
+template <class Curve>
+void put_outcome(const SegmentedOutcome& outcome, Curve& curve) {
+  curve.reason = outcome.reason;
+  curve.message = outcome.message;
+  curve.level_changes = outcome.level_changes;
+  curve.short_of_accuracy = outcome.short_points;
+}
 
 /// A bound on the segments of one curve per allowed point: every restart raises the level, or
 /// lowers it after calm_points kept points; this only guards against a rule that would cycle.

@@ -22,23 +22,8 @@ constexpr double kGaulMayerFactor = 5.0;
 constexpr double kTwoDofFactor = 5.0;
 constexpr double kFrfFactor = 5.0;
 
-// m = 1, k = 1e4, one contact to ground k_T0 = 3e4, μF_N = 1, ζ = 0.2 % of the stuck system
-// (validation/hb/epmc_convergence.cpp): Jenkins slips at |x| = 3.33e-5.
-hb::DiscreteSystem estimate_one_dof(const std::string& law) {
-  hb::DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.stiffness = Eigen::MatrixXd::Constant(1, 1, 1e4).sparseView();
-  s.damping = Eigen::MatrixXd::Constant(1, 1, 2.0 * 0.002 * std::sqrt(4e4)).sparseView();
-  hb::ContactElement c;
-  c.law = law;
-  c.exponent = 1.0 / 3.0;
-  c.dof_a = 0;
-  c.stiffness = 3e4;
-  c.friction_coefficient = 1.0;
-  c.normal_force = 1.0;
-  s.contacts.push_back(c);
-  return s;
-}
+// The 1-DOF systems (error_reference.hpp): Jenkins slips at |x| = 3.33e-5.
+hb::DiscreteSystem estimate_one_dof(const std::string& law) { return error_reference::one_dof_system(law); }
 
 // The 2-DOF system of tests/unit/hb/test_nonlinear_mode.cpp.
 hb::DiscreteSystem estimate_two_dof(const std::string& law) {

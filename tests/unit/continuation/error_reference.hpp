@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "jointhb/continuation/backbone.hpp"
@@ -33,6 +34,25 @@ struct FrfTruth {
   bool ok = false;
   TrueError amplitude_h1, amplitude_max;
 };
+
+/// m = 1, k = 1e4, one contact (`law`: "jenkins" or "gaul-mayer", n = 1/3) to ground with
+/// k_T0 = 3e4, μF_N = 1, ζ = 0.2 % of the stuck system (validation/hb/epmc_convergence.cpp):
+/// Jenkins slips at |x| = 3.33e-5, Gaul–Mayer reaches gross slip at g_max = 5e-5.
+inline hb::DiscreteSystem one_dof_system(const std::string& law) {
+  hb::DiscreteSystem s;
+  s.mass = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
+  s.stiffness = Eigen::MatrixXd::Constant(1, 1, 1e4).sparseView();
+  s.damping = Eigen::MatrixXd::Constant(1, 1, 2.0 * 0.002 * std::sqrt(4e4)).sparseView();
+  hb::ContactElement c;
+  c.law = law;
+  c.exponent = 1.0 / 3.0;
+  c.dof_a = 0;
+  c.stiffness = 3e4;
+  c.friction_coefficient = 1.0;
+  c.normal_force = 1.0;
+  s.contacts.push_back(c);
+  return s;
+}
 
 /// Options of a damping curve that stops at its first point, exactly at amplitude q (Newton from
 /// the linear mode at fixed λ = log10 q): the point whose estimate is compared with the truth.
