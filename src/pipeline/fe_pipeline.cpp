@@ -350,10 +350,15 @@ BackboneCurve FePipeline::backbone(int mode, const FeNonlinearModesSpec& nm, con
     out.stop_message = out.curve.message;
   }
   if (out.energy_gap > energy_gap_warning)
-    out.energy_warning = fmt::format(
-        "zeta differs from the loops' energy ratio by up to {:.0f} %: the contact forces are not resolved by "
-        "harmonics = {} and time_samples = {} (raise them)",
-        100.0 * out.energy_gap, nm.balance.harmonics, nm.balance.time_samples);
+    out.energy_warning =
+        nm.accuracy.active()
+            ? fmt::format("zeta differs from the loops' energy ratio by up to {:.0f} %: the contact forces are not "
+                          "resolved by the harmonics and time samples the accuracy request chose (tighten "
+                          "accuracy, or raise max_harmonics = {})",
+                          100.0 * out.energy_gap, nm.accuracy.max_harmonics)
+            : fmt::format("zeta differs from the loops' energy ratio by up to {:.0f} %: the contact forces are not "
+                          "resolved by harmonics = {} and time_samples = {} (raise them)",
+                          100.0 * out.energy_gap, nm.balance.harmonics, nm.balance.time_samples);
   return out;
 }
 
