@@ -50,6 +50,18 @@ std::string Accuracy::validate() const {
   return {};
 }
 
+std::string Accuracy::validate(Level start) const {
+  if (std::string msg = validate(); !msg.empty()) return msg;
+  if (!active()) return {};
+  if (start.harmonics < min_harmonics || start.harmonics > max_harmonics)
+    return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", start.harmonics,
+                       min_harmonics, max_harmonics);
+  if (start.time_samples < min_time_samples || start.time_samples > max_time_samples)
+    return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", start.time_samples,
+                       min_time_samples, max_time_samples);
+  return {};
+}
+
 LevelController::LevelController(const Accuracy& request, Level start)
     : request_(request), current_(start), next_(start),
       calm_needed_harmonics_(request.calm_points), calm_needed_samples_(request.calm_points) {}

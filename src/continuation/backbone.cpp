@@ -66,15 +66,7 @@ std::string BackboneOptions::validate(int dofs) const {
   if (output_dof < 0 || output_dof >= dofs) {
     return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
-  if (auto msg = accuracy.validate(); !msg.empty()) return msg;
-  if (accuracy.active()) {
-    if (mode.harmonics < accuracy.min_harmonics || mode.harmonics > accuracy.max_harmonics)
-      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", mode.harmonics,
-                         accuracy.min_harmonics, accuracy.max_harmonics);
-    if (mode.time_samples < accuracy.min_time_samples || mode.time_samples > accuracy.max_time_samples)
-      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", mode.time_samples,
-                         accuracy.min_time_samples, accuracy.max_time_samples);
-  }
+  if (std::string msg = accuracy.validate({mode.harmonics, mode.time_samples}); !msg.empty()) return msg;
   return {};
 }
 
@@ -203,10 +195,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
     last_basis = run->epmc().balance().basis();
     return run;
   };
-  const std::function<bool(BackbonePoint&)> keep = [&](BackbonePoint& b) {
-    curve.points.push_back(b);
-    return on_point ? on_point(curve.points.back()) : true;
-  };
+  const std::function<bool(BackbonePoint&)> keep = segment_detail::append_to(curve.points, on_point);
   const auto after_run = [&](const DiscreteBackboneSegment& run, const Result& r) {
     curve.newton_iterations += r.corrector_iterations;
     curve.rejected_steps += r.rejected_steps;

@@ -340,15 +340,7 @@ std::string FrfOptions::validate(int dofs) const {
   }
   if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
   if (auto msg = monodromy.validate(); !msg.empty()) return "monodromy." + msg;
-  if (auto msg = accuracy.validate(); !msg.empty()) return msg;
-  if (accuracy.active()) {
-    if (harmonics < accuracy.min_harmonics || harmonics > accuracy.max_harmonics)
-      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", harmonics,
-                         accuracy.min_harmonics, accuracy.max_harmonics);
-    if (time_samples < accuracy.min_time_samples || time_samples > accuracy.max_time_samples)
-      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", time_samples,
-                         accuracy.min_time_samples, accuracy.max_time_samples);
-  }
+  if (std::string msg = accuracy.validate({harmonics, time_samples}); !msg.empty()) return msg;
   return balance_options(*this).validate();
 }
 
@@ -615,10 +607,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
     }
     return run;
   };
-  const std::function<bool(FrfPoint&)> keep = [&](FrfPoint& f) {
-    curve.points.push_back(f);
-    return on_point ? on_point(curve.points.back()) : true;
-  };
+  const std::function<bool(FrfPoint&)> keep = segment_detail::append_to(curve.points, on_point);
   const auto after_run = [&](const DiscreteFrfSegment& run, const Result& r) {
     curve.newton_iterations += r.corrector_iterations;
     curve.rejected_steps += r.rejected_steps;

@@ -151,16 +151,7 @@ std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) 
   if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
     return "log10_amplitude: must be finite";
   if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
-  if (std::string msg = accuracy.validate(); !msg.empty()) return msg;
-  if (accuracy.active()) {
-    const int h = mode.balance.harmonics, n = mode.balance.time_samples;
-    if (h < accuracy.min_harmonics || h > accuracy.max_harmonics)
-      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", h, accuracy.min_harmonics,
-                         accuracy.max_harmonics);
-    if (n < accuracy.min_time_samples || n > accuracy.max_time_samples)
-      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", n,
-                         accuracy.min_time_samples, accuracy.max_time_samples);
-  }
+  if (std::string msg = accuracy.validate({mode.balance.harmonics, mode.balance.time_samples}); !msg.empty()) return msg;
   return {};
 }
 
@@ -178,10 +169,7 @@ InterfaceBackbone trace_interface_backbone(const hb::InterfaceModel& model, cons
     }
     return run;
   };
-  const std::function<bool(InterfaceBackbonePoint&)> keep = [&](InterfaceBackbonePoint& b) {
-    curve.points.push_back(b);
-    return on_point ? on_point(curve.points.back()) : true;
-  };
+  const std::function<bool(InterfaceBackbonePoint&)> keep = segment_detail::append_to(curve.points, on_point);
   const auto after_run = [&](const InterfaceBackboneSegment& run, const Result& r) {
     curve.newton_iterations += r.corrector_iterations;
     curve.rejected_steps += r.rejected_steps;

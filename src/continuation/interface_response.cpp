@@ -49,16 +49,7 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
     return fmt::format("load_amplitude: must be finite and ≠ 0, got {}", load_amplitude);
   if (output < 0 || output >= static_cast<int>(model.outputs.size()))
     return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
-  if (std::string msg = accuracy.validate(); !msg.empty()) return msg;
-  if (accuracy.active()) {
-    const int h = balance.harmonics, n = balance.time_samples;
-    if (h < accuracy.min_harmonics || h > accuracy.max_harmonics)
-      return fmt::format("harmonics: the starting H = {} must lie in accuracy's [{}, {}]", h, accuracy.min_harmonics,
-                         accuracy.max_harmonics);
-    if (n < accuracy.min_time_samples || n > accuracy.max_time_samples)
-      return fmt::format("time_samples: the starting N_t = {} must lie in accuracy's [{}, {}]", n,
-                         accuracy.min_time_samples, accuracy.max_time_samples);
-  }
+  if (std::string msg = accuracy.validate({balance.harmonics, balance.time_samples}); !msg.empty()) return msg;
   return balance.validate();
 }
 
@@ -223,10 +214,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     if (curve.unknowns == 0) curve.unknowns = run->balance().unknowns();
     return run;
   };
-  const std::function<bool(InterfaceFrfPoint&)> keep = [&](InterfaceFrfPoint& f) {
-    curve.points.push_back(f);
-    return on_point ? on_point(curve.points.back()) : true;
-  };
+  const std::function<bool(InterfaceFrfPoint&)> keep = segment_detail::append_to(curve.points, on_point);
   const auto after_run = [&](const InterfaceFrfSegment& run, const Result& r) {
     curve.newton_iterations += r.corrector_iterations;
     curve.rejected_steps += r.rejected_steps;

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
@@ -51,6 +52,16 @@ inline Eigen::VectorXd transfer_unknowns(const Eigen::VectorXd& y, Level from, c
   out.head(size) = hb::transfer_coefficients(from_basis, to, y.head(coefficients), dofs);
   out.tail(tail) = y.tail(tail);
   return out;
+}
+
+/// The `keep` of trace_in_segments for a curve whose kept points go to `points` and then to
+/// `on_point` (which returns false to end the curve; empty: go on).
+template <class PointT>
+std::function<bool(PointT&)> append_to(std::vector<PointT>& points, const std::function<bool(const PointT&)>& on_point) {
+  return [&points, &on_point](PointT& p) {
+    points.push_back(p);
+    return on_point ? on_point(points.back()) : true;
+  };
 }
 
 /// The outcome's record in a curve (reason, message, level_changes, short_of_accuracy).

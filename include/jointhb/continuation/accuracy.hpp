@@ -22,6 +22,13 @@
 
 namespace jointhb::continuation {
 
+/// Harmonics and time samples of one segment of a curve.
+struct Level {
+  int harmonics = 1;
+  int time_samples = 32;
+  friend bool operator==(const Level&, const Level&) = default;
+};
+
 /// The request: relative tolerances of the outputs — Ω and ζ of a damping curve, the amplitudes of
 /// an FRF (0: that output is not controlled; one > 0 makes the request active) — and the range of
 /// levels the curve may use.
@@ -36,13 +43,9 @@ struct Accuracy {
   int calm_points = 3;         ///< ≥ 1: points below 1/10 of the request before a level is lowered
   [[nodiscard]] bool active() const { return frequency > 0.0 || damping > 0.0 || amplitude > 0.0; }
   [[nodiscard]] std::string validate() const;  ///< empty when valid
-};
-
-/// Harmonics and time samples of one segment of a curve.
-struct Level {
-  int harmonics = 1;
-  int time_samples = 32;
-  friend bool operator==(const Level&, const Level&) = default;
+  /// validate(), and when the request is active, that the curve's starting level lies in its
+  /// range (names the field harmonics or time_samples); empty when valid.
+  [[nodiscard]] std::string validate(Level start) const;
 };
 
 /// The level rule above, fed with the estimates of each accepted point in order.
