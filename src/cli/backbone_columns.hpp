@@ -60,19 +60,21 @@ inline nlohmann::ordered_json contact_states_json(const hb::ContactStateCounts& 
   return out;
 }
 
-/// The fields of the error columns of kBackboneColumns, empty (nullopt) when not computed.
-inline std::vector<std::optional<double>> backbone_error_fields(bool known, double omega_truncation,
-                                                                double omega_aliasing, double damping_truncation,
-                                                                double damping_aliasing) {
-  if (!known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
-  return {omega_truncation, omega_aliasing, damping_truncation, damping_aliasing};
+/// The fields of the error columns of kBackboneColumns, empty (nullopt) where not computed (the
+/// truncation parts alone where e.truncation_known is false).
+inline std::vector<std::optional<double>> backbone_error_fields(const continuation::BackboneError& e) {
+  if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
+  const auto truncation = [&](double v) { return e.truncation_known ? std::optional<double>(v) : std::nullopt; };
+  return {truncation(e.omega.truncation), e.omega.aliasing, truncation(e.damping.truncation), e.damping.aliasing};
 }
 
 /// The fields of the four error columns of an FRF row (amplitude_h1, amplitude_max; truncation,
-/// aliasing), empty (nullopt) when not computed; discrete and finite-element frf.csv alike.
+/// aliasing), empty (nullopt) where not computed as above; discrete and finite-element frf.csv alike.
 inline std::vector<std::optional<double>> frf_error_fields(const continuation::FrfError& e) {
   if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
-  return {e.amplitude_h1.truncation, e.amplitude_h1.aliasing, e.amplitude_max.truncation, e.amplitude_max.aliasing};
+  const auto truncation = [&](double v) { return e.truncation_known ? std::optional<double>(v) : std::nullopt; };
+  return {truncation(e.amplitude_h1.truncation), e.amplitude_h1.aliasing, truncation(e.amplitude_max.truncation),
+          e.amplitude_max.aliasing};
 }
 
 /// summary.json's `accuracy` of a damping curve or FRF: the request (its tolerances > 0), the range of H and N_t its points
@@ -107,12 +109,17 @@ struct WorstErrors {
   int known = 0;
   double first_truncation = 0.0, first_aliasing = 0.0;    // Ω (damping curve), amplitude_h1 (FRF)
   double second_truncation = 0.0, second_aliasing = 0.0;  // ζ (damping curve), amplitude_max (FRF)
-  void add(bool point_known, const continuation::ErrorPair& first, const continuation::ErrorPair& second) {
+  void add(const continuation::BackboneError& e) { add(e.known, e.truncation_known, e.omega, e.damping); }
+  void add(const continuation::FrfError& e) { add(e.known, e.truncation_known, e.amplitude_h1, e.amplitude_max); }
+  void add(bool point_known, bool truncation_known, const continuation::ErrorPair& first,
+           const continuation::ErrorPair& second) {
     if (!point_known) return;
     ++known;
-    first_truncation = std::max(first_truncation, std::abs(first.truncation));
+    if (truncation_known) {
+      first_truncation = std::max(first_truncation, std::abs(first.truncation));
+      second_truncation = std::max(second_truncation, std::abs(second.truncation));
+    }
     first_aliasing = std::max(first_aliasing, std::abs(first.aliasing));
-    second_truncation = std::max(second_truncation, std::abs(second.truncation));
     second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
   }
   // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.

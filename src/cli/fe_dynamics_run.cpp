@@ -180,8 +180,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         row.push_back(static_cast<double>(s.newton_iterations));
         row.push_back(s.step);
         const continuation::BackboneError& e = s.error;
-        for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
-                                                       e.damping.truncation, e.damping.aliasing))
+        for (const auto& field : backbone_error_fields(e))
           row.push_back(field);
         row.push_back(static_cast<double>(s.harmonics));
         row.push_back(static_cast<double>(s.time_samples));
@@ -224,7 +223,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       if (!fields_json.is_null()) entry["fields"] = fields_json;
       entry["contact_states"] = contact_states_along(b.points);
       WorstErrors worst;
-      for (const auto& p : b.points) worst.add(p.error.known, p.error.omega, p.error.damping);
+      for (const auto& p : b.points) worst.add(p.error);
       entry["error_estimate"] = worst.json("omega", "damping");
       entry["error_estimate"]["seconds"] = bb.timings.error_estimate;
       entry["accuracy"] = accuracy_json(nm.accuracy, b.points, bb.level_changes, bb.short_of_accuracy);
@@ -275,7 +274,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
                                  {"rejected_steps", r.curve.rejected_steps},
                                  {"seconds", timings_json(r.curve.timings)}});
       WorstErrors worst;
-      for (const auto& p : r.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
+      for (const auto& p : r.points) worst.add(p.error);
       entry["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
       entry["error_estimate"]["seconds"] = r.curve.timings.error_estimate;
       entry["accuracy"] = accuracy_json(fs.accuracy, r.points, r.curve.level_changes, r.curve.short_of_accuracy);

@@ -241,7 +241,7 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
     j["jacobian_check_omega"] = curve.jacobian_check_omega;
   }
   WorstErrors worst;
-  for (const auto& p : curve.points) worst.add(p.error.known, p.error.amplitude_h1, p.error.amplitude_max);
+  for (const auto& p : curve.points) worst.add(p.error);
   j["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
   j["accuracy"] = accuracy_json(accuracy, curve.points, curve.level_changes, curve.short_of_accuracy);
   j["seconds"] = {{"aft", curve.timings.aft},
@@ -400,14 +400,13 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
       row.push_back(static_cast<double>(p.iterations));
       row.push_back(p.step);
       const continuation::BackboneError& e = p.error;
-      for (const auto& field : backbone_error_fields(e.known, e.omega.truncation, e.omega.aliasing,
-                                                     e.damping.truncation, e.damping.aliasing)) {
+      for (const auto& field : backbone_error_fields(e)) {
         row.push_back(field);
       }
       row.push_back(static_cast<double>(p.harmonics));
       row.push_back(static_cast<double>(p.time_samples));
       csv.write_row(std::span<const std::optional<double>>(row));
-      worst.add(e.known, e.omega, e.damping);
+      worst.add(e);
       points.push_back({{"amplitude", s.amplitude},
                         {"omega", s.omega},
                         {"frequency_hz", s.omega / (2.0 * std::numbers::pi)},

@@ -75,7 +75,7 @@ LevelController::Verdict LevelController::judge(const BackboneError& e, bool res
   const auto ratio = [&](bool truncation) {
     return std::max(request_share(e.omega, request_.frequency, truncation), request_share(e.damping, request_.damping, truncation));
   };
-  return judge_ratios(ratio(true), ratio(false), restart);
+  return judge_ratios(truncation_ratio(e.truncation_known, ratio), ratio(false), restart);
 }
 
 LevelController::Verdict LevelController::judge(const FrfError& e, bool restart) {
@@ -88,10 +88,20 @@ LevelController::Verdict LevelController::judge(const FrfError& e, bool restart)
     return std::max(request_share(e.amplitude_h1, request_.amplitude, truncation),
                     request_share(e.amplitude_max, request_.amplitude, truncation));
   };
-  return judge_ratios(ratio(true), ratio(false), restart);
+  return judge_ratios(truncation_ratio(e.truncation_known, ratio), ratio(false), restart);
+}
+
+bool LevelController::wants_truncation() const {
+  return current_.harmonics + 2 <= request_.max_harmonics || points_without_truncation_ + 1 >= kTopLevelTruncationStride;
 }
 
 LevelController::Verdict LevelController::judge_ratios(double r_t, double r_a, bool restart) {
+  if (holding_) {  // the point a finer level could not start from, at the level before (fall_back)
+    holding_ = false;
+    if (r_t > 1.0 || r_a > 1.0) ++short_points_;
+    calm_truncation_ = calm_aliasing_ = 0;
+    return Verdict::keep;
+  }
   const bool more_harmonics = r_t > 1.0 && current_.harmonics + 2 <= request_.max_harmonics;
   const bool more_samples = r_a > 1.0 && 2 * current_.time_samples <= request_.max_time_samples;
   if (more_harmonics || more_samples) {

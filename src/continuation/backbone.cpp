@@ -117,7 +117,9 @@ class DiscreteBackboneSegment {
     return c;
   }
 
-  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge) {
+  // Discrete estimates are one Newton step each: the truncation part is always made.
+  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge,
+             const std::function<bool()>& /*wants_truncation*/) {
     // The last evaluation's contact results are kept so that an accepted point's diagnostics cost
     // no extra evaluation when the corrector ended on it (as in trace_frf).
     const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {

@@ -433,7 +433,9 @@ class DiscreteFrfSegment {
     return c;
   }
 
-  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge) {
+  // Discrete estimates are one Newton step each: the truncation part is always made.
+  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge,
+             const std::function<bool()>& /*wants_truncation*/) {
     const AcceptCallback accept = [&](const Point& p) { return accept_point(p, judge); };
     Result r = trace(residual_, x0, c, accept);
     if (r.reason == StopReason::start_failed && first_segment_) {
@@ -478,20 +480,7 @@ class DiscreteFrfSegment {
       shared_.overflow_ratio = ratio;
       return false;
     }
-    std::optional<hb::FloquetResult> floquet;
-    if (stability_) {
-      const auto stability_start = Clock::now();
-      floquet = hill_ ? hill_->evaluate(p.x, p.lambda) : hb::orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
-      curve.timings.stability += seconds_since(stability_start);
-      f.stability_known = floquet->ok;
-      f.stable = floquet->stable();
-      f.max_multiplier = floquet->max_multiplier;
-      f.unstable_multipliers = floquet->unstable;
-      f.multipliers = floquet->multipliers;
-      if (shared_.previous_floquet) f.bifurcation = hb::classify_bifurcation(*shared_.previous_floquet, *floquet, p.fold);
-    } else if (p.fold) {
-      f.bifurcation = hb::Bifurcation::fold;
-    }
+    if (!stability_ && p.fold) f.bifurcation = hb::Bifurcation::fold;  // else complete()
     if (estimator_) {
       const auto estimate_start = Clock::now();
       f.error = estimator_->estimate(balance_, p.x, p.lambda, options_.output_dof);
@@ -510,10 +499,29 @@ class DiscreteFrfSegment {
     if (curve.points.size() > before) {  // kept (judge appended it)
       kept_.push_back(before);
       tangents_.push_back(p.tangent);
-      if (floquet) shared_.previous_floquet = std::move(floquet);
     }
     return go_on;
   }
+
+ public:
+  // A point about to be kept (segmented_curve.hpp): its Floquet multipliers and the bifurcation
+  // against the last kept point — only for kept points, not for those a finer level traces again.
+  void complete(FrfPoint& f, const Point& p) {
+    if (!stability_) return;
+    const auto stability_start = Clock::now();
+    hb::FloquetResult floquet =
+        hill_ ? hill_->evaluate(p.x, p.lambda) : hb::orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
+    shared_.curve.timings.stability += seconds_since(stability_start);
+    f.stability_known = floquet.ok;
+    f.stable = floquet.stable();
+    f.max_multiplier = floquet.max_multiplier;
+    f.unstable_multipliers = floquet.unstable;
+    f.multipliers = floquet.multipliers;
+    if (shared_.previous_floquet) f.bifurcation = hb::classify_bifurcation(*shared_.previous_floquet, floquet, p.fold);
+    shared_.previous_floquet = std::move(floquet);
+  }
+
+ private:
 
   Evaluation evaluate(const Eigen::VectorXd& x, double omega, bool jacobian) {
     Evaluation e;

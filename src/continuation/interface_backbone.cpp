@@ -76,7 +76,8 @@ class InterfaceBackboneSegment {
     return c;
   }
 
-  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge) {
+  Result run(const Eigen::VectorXd& y0, const Options& c, const Judge& judge,
+             const std::function<bool()>& wants_truncation) {
     const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
       return evaluate(y, lambda, jacobian);
     };
@@ -92,7 +93,9 @@ class InterfaceBackboneSegment {
       if (estimator_) {
         const auto estimate_start = support::Clock::now();
         // The corrector's last evaluation is at the point and, matrix-free, keeps its point blocks.
-        b.error = estimator_->estimate(epmc_, p.x, p.lambda, cached ? &last_ : nullptr);
+        // The truncation part always where estimates were asked for.
+        b.error = estimator_->estimate(epmc_, p.x, p.lambda, cached ? &last_ : nullptr,
+                                       options_.error_estimate || wants_truncation());
         error_seconds_ += support::seconds_since(estimate_start);
       }
       return judge(b, p);

@@ -157,8 +157,10 @@ InterfaceBackboneErrorEstimator::InterfaceBackboneErrorEstimator(const hb::Inter
 
 BackboneError InterfaceBackboneErrorEstimator::estimate(const hb::InterfaceModeResidual& base,
                                                         const Eigen::VectorXd& y_hat, double lambda,
-                                                        const hb::InterfaceModeResidual::Evaluation* at_point) {
+                                                        const hb::InterfaceModeResidual::Evaluation* at_point,
+                                                        bool truncation) {
   BackboneError e;
+  e.truncation_known = truncation;
   const hb::InterfaceBalance& coarse = base.balance();
   const hb::InterfaceBalance& fine = finer_.balance();
   const int dofs = interface_estimate_dofs(coarse);
@@ -183,12 +185,14 @@ BackboneError InterfaceBackboneErrorEstimator::estimate(const hb::InterfaceModeR
         at_fine, &stepped);
     return ok ? std::optional<Eigen::VectorXd>(std::move(start)) : std::nullopt;
   };
-  std::optional<Eigen::VectorXd> solved;
-  if (carried_.size() == transferred.size()) solved = solve(transferred + carried_);
-  if (!solved) solved = solve(transferred);  // from the point alone
-  carried_ = solved ? Eigen::VectorXd(*solved - transferred) : Eigen::VectorXd();
-  if (!solved) return e;
-  yf = *solved;
+  if (truncation) {
+    std::optional<Eigen::VectorXd> solved;
+    if (carried_.size() == transferred.size()) solved = solve(transferred + carried_);
+    if (!solved) solved = solve(transferred);  // from the point alone
+    carried_ = solved ? Eigen::VectorXd(*solved - transferred) : Eigen::VectorXd();
+    if (!solved) return e;
+    yf = *solved;
+  }
   // (T-42): the residual with 2 N_t samples, the step with the N_t Jacobian.
   hb::InterfaceModeResidual::Evaluation sampled, evaluated;
   sampled_.evaluate(y_hat, lambda, false, sampled);
@@ -200,8 +204,9 @@ BackboneError InterfaceBackboneErrorEstimator::estimate(const hb::InterfaceModeR
   if (!sampled.ok || !at.ok) return e;
   const std::optional<Eigen::VectorXd> aliasing = mode_estimate_step(base, at, y_hat, lambda, sampled.residual);
   if (!aliasing) return e;
-  std::tie(e.omega.truncation, e.damping.truncation) = estimate_detail::mode_changes(
-      y_hat.tail(2), yf.tail(2) - y_hat.tail(2));  // (Ω, ξ) of the H + 2 solution against the point's
+  if (truncation)
+    std::tie(e.omega.truncation, e.damping.truncation) = estimate_detail::mode_changes(
+        y_hat.tail(2), yf.tail(2) - y_hat.tail(2));  // (Ω, ξ) of the H + 2 solution against the point's
   std::tie(e.omega.aliasing, e.damping.aliasing) = estimate_detail::mode_changes(y_hat, *aliasing);
   e.known = std::isfinite(e.omega.worst()) && std::isfinite(e.damping.worst());
   if (!e.known) e = BackboneError{};
@@ -220,8 +225,10 @@ InterfaceFrfErrorEstimator::InterfaceFrfErrorEstimator(const hb::InterfaceModel&
                       (finer_.reference_omega() * finer_.reference_omega())) {}
 
 FrfError InterfaceFrfErrorEstimator::estimate(const hb::InterfaceBalance& base, const Eigen::VectorXd& y,
-                                              double omega, const hb::InterfaceBalanceEvaluation* given) {
+                                              double omega, const hb::InterfaceBalanceEvaluation* given,
+                                              bool truncation) {
   FrfError e;
+  e.truncation_known = truncation;
   const Eigen::VectorXd load = base.cosine_load(load_amplitude_);
   const Eigen::VectorXd load_fine = finer_.cosine_load(load_amplitude_);
   const bool has_jacobian =
@@ -248,29 +255,37 @@ FrfError InterfaceFrfErrorEstimator::estimate(const hb::InterfaceBalance& base, 
         at_fine, &stepped);
     return ok ? std::optional<Eigen::VectorXd>(std::move(start)) : std::nullopt;
   };
-  hb::InterfaceBalanceEvaluation at_fine;
-  std::optional<Eigen::VectorXd> solved;
-  if (carried_.size() == transferred.size()) solved = solve(transferred + carried_, at_fine);
-  if (!solved) solved = solve(transferred, at_fine);  // from the point alone
-  carried_ = solved ? Eigen::VectorXd(*solved - transferred) : Eigen::VectorXd();
-  if (!solved) return e;
-  const Eigen::VectorXd& yf = *solved;
-  // The outputs need the contact forces at yf: one evaluation without the Jacobian after a last
-  // step that was not evaluated.
-  const std::optional<std::pair<double, double>> truncated =
-      stepped ? interface_frf_outputs_at(finer_, output_, yf, omega, load_fine)
-              : std::optional<std::pair<double, double>>(interface_frf_outputs(finer_, output_, yf, omega, load_fine, at_fine));
+  // The outputs at H + 2 (the point's own where the truncation part is not asked for).
+  double h1_finer = h1, peak_finer = peak;
+  if (truncation) {
+    hb::InterfaceBalanceEvaluation at_fine;
+    std::optional<Eigen::VectorXd> solved;
+    if (carried_.size() == transferred.size()) solved = solve(transferred + carried_, at_fine);
+    if (!solved) solved = solve(transferred, at_fine);  // from the point alone
+    carried_ = solved ? Eigen::VectorXd(*solved - transferred) : Eigen::VectorXd();
+    if (!solved) return e;
+    const Eigen::VectorXd& yf = *solved;
+    // The outputs need the contact forces at yf: one evaluation without the Jacobian after a last
+    // step that was not evaluated.
+    if (stepped) {
+      const std::optional<std::pair<double, double>> truncated =
+          interface_frf_outputs_at(finer_, output_, yf, omega, load_fine);
+      if (!truncated) return e;
+      std::tie(h1_finer, peak_finer) = *truncated;
+    } else {
+      std::tie(h1_finer, peak_finer) = interface_frf_outputs(finer_, output_, yf, omega, load_fine, at_fine);
+    }
+  }
   // (T-42) at fixed Ω.
   hb::InterfaceBalanceEvaluation sampled;
   sampled_.evaluate(y, omega, 0.0, load, false, sampled);
-  if (!truncated || !sampled.ok) return e;
+  if (!sampled.ok) return e;
   const std::optional<Eigen::VectorXd> aliasing = balance_estimate_step(base, at_point, omega, sampled.residual);
   if (!aliasing) return e;
   const auto aliased = interface_frf_outputs_at(base, output_, y + *aliasing, omega, load);
   if (!aliased) return e;
-  e.amplitude_h1 = {estimate_detail::relative_change(truncated->first, h1),
-                    estimate_detail::relative_change(aliased->first, h1)};
-  e.amplitude_max = {estimate_detail::relative_change(truncated->second, peak),
+  e.amplitude_h1 = {estimate_detail::relative_change(h1_finer, h1), estimate_detail::relative_change(aliased->first, h1)};
+  e.amplitude_max = {estimate_detail::relative_change(peak_finer, peak),
                      estimate_detail::relative_change(aliased->second, peak)};
   e.known = std::isfinite(e.amplitude_h1.worst()) && std::isfinite(e.amplitude_max.worst());
   if (!e.known) e = FrfError{};

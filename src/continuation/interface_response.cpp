@@ -117,7 +117,8 @@ class InterfaceFrfSegment {
     return c;
   }
 
-  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge) {
+  Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge,
+             const std::function<bool()>& wants_truncation) {
     const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
       return evaluate(x, omega, jacobian);
     };
@@ -141,7 +142,8 @@ class InterfaceFrfSegment {
       f.time_samples = level_.time_samples;
       if (estimator_) {
         const auto estimate_start = support::Clock::now();
-        f.error = estimator_->estimate(balance_, p.x, p.lambda, &last_);  // `last_` is at the point (above)
+        // `last_` is at the point (above); the truncation part always where estimates were asked for.
+        f.error = estimator_->estimate(balance_, p.x, p.lambda, &last_, options_.error_estimate || wants_truncation());
         error_seconds_ += support::seconds_since(estimate_start);
       }
       return judge(f, p);

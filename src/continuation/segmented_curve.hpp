@@ -82,9 +82,12 @@ constexpr int kMaxSegmentsPerPoint = 4;
 ///   Eigen::VectorXd start_state(const SegmentStart&) — the linear limit when y is empty, else the
 ///     start's unknowns transferred to the segment's level;
 ///   Options continuation(double lambda0, double end) — the run's options (scales of its level);
-///   Result run(const Eigen::VectorXd& y0, const Options&, const Judge&) — the continuation, with
-///     Judge = std::function<bool(PointT&, const Point&)> called for every accepted point built with
-///     its level and its estimates PointT::error);
+///   Result run(const Eigen::VectorXd& y0, const Options&, const Judge&, const std::function<bool()>&
+///     wants_truncation) — the continuation, with Judge = std::function<bool(PointT&, const Point&)>
+///     called for every accepted point built with its level and its estimates PointT::error, whose
+///     truncation part may be skipped where wants_truncation() is false (LevelController);
+/// and optionally void complete(PointT&, const Point&) — called for a point just before it is
+///   kept (what is not needed for a point traced again at another level);
 /// `keep(point)` appends a kept point and returns false to end the curve; `after_run(segment, r)`
 /// adds each run's record.
 template <class PointT, class MakeSegment, class AfterRun>
@@ -97,6 +100,7 @@ SegmentedOutcome trace_in_segments(const Accuracy& accuracy, Level start, double
   SegmentedOutcome out;
   SegmentStart from{Eigen::VectorXd(), start, lambda_start, 0.0, false};
   int kept = 0;
+  std::optional<Level> raised_from;  // the level before a raise, until the raised segment has started
   const int max_segments = kMaxSegmentsPerPoint * base.max_points + 1;
   for (int segment = 0;; ++segment) {
     auto run = make_segment(control.current());
@@ -114,6 +118,8 @@ SegmentedOutcome trace_in_segments(const Accuracy& accuracy, Level start, double
       const bool repeat = first && from.repeats_kept_point;
       first = false;
       const auto keep_point = [&]() {
+        // What a segment computes only for the points it keeps (the discrete FRF: stability).
+        if constexpr (requires { run->complete(b, p); }) run->complete(b, p);
         ++kept;
         if (!keep(b)) {
           stopped = true;
@@ -140,12 +146,23 @@ SegmentedOutcome trace_in_segments(const Accuracy& accuracy, Level start, double
       }
       return true;
     };
-    const Result r = run->run(y0, c, judge);
+    const std::function<bool()> wants_truncation = [&] { return !adaptive || control.wants_truncation(); };
+    const Result r = run->run(y0, c, judge, wants_truncation);
     after_run(*run, r);
     if (restart && !stopped) {
+      raised_from = restart->repeats_kept_point ? std::nullopt : std::optional<Level>(control.current());
       control.advance();
       ++out.level_changes;
       from = std::move(*restart);
+      continue;
+    }
+    // A finer level that cannot start from the dropped point (its corrector at fixed λ fails, e.g.
+    // where the contacts clap): the curve goes on at the level before from that point, kept short
+    // of the request, instead of ending there.
+    if (raised_from && r.reason == StopReason::start_failed && !stopped && segment < max_segments) {
+      control.fall_back(*raised_from);
+      ++out.level_changes;
+      raised_from.reset();
       continue;
     }
     out.reason = r.reason;

@@ -184,9 +184,10 @@ void put_backbone_error_columns(py::dict& d, const std::vector<Point>& points, E
     d[name] = column(points, [pick, error](const Point& p) { return error(p).known ? pick(error(p)) : kNotComputed; });
   };
   using E = continuation::BackboneError;
-  estimate("omega_error_truncation", [](const E& e) { return e.omega.truncation; });
+  estimate("omega_error_truncation", [](const E& e) { return e.truncation_known ? e.omega.truncation : kNotComputed; });
   estimate("omega_error_aliasing", [](const E& e) { return e.omega.aliasing; });
-  estimate("damping_error_truncation", [](const E& e) { return e.damping.truncation; });
+  estimate("damping_error_truncation",
+           [](const E& e) { return e.truncation_known ? e.damping.truncation : kNotComputed; });
   estimate("damping_error_aliasing", [](const E& e) { return e.damping.aliasing; });
 }
 
@@ -197,9 +198,11 @@ void put_frf_error_columns(py::dict& d, const std::vector<Point>& points, Error 
     d[name] = column(points, [pick, error](const Point& p) { return error(p).known ? pick(error(p)) : kNotComputed; });
   };
   using E = continuation::FrfError;
-  estimate("amplitude_error_truncation", [](const E& e) { return e.amplitude_h1.truncation; });
+  estimate("amplitude_error_truncation",
+           [](const E& e) { return e.truncation_known ? e.amplitude_h1.truncation : kNotComputed; });
   estimate("amplitude_error_aliasing", [](const E& e) { return e.amplitude_h1.aliasing; });
-  estimate("amplitude_max_error_truncation", [](const E& e) { return e.amplitude_max.truncation; });
+  estimate("amplitude_max_error_truncation",
+           [](const E& e) { return e.truncation_known ? e.amplitude_max.truncation : kNotComputed; });
   estimate("amplitude_max_error_aliasing", [](const E& e) { return e.amplitude_max.aliasing; });
 }
 

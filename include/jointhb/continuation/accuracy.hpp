@@ -16,6 +16,10 @@
 //            is raised back at once and not lowered again for twice as many calm points.
 // Where H or N_t would exceed max_harmonics / max_time_samples the point is kept as it is and
 // counted as short of the request. Every point reports the level it was computed at.
+// At H = max_harmonics, where no raise is possible, the truncation estimate only decides the
+// lowering and the count of short points: it is asked for (wants_truncation) at the first point
+// of the level and then at every third point; the points between take the r_T of the last point
+// that had it (their truncation columns are empty). The aliasing estimate is made at every point.
 #include <string>
 
 #include "jointhb/continuation/error_estimate.hpp"
@@ -65,8 +69,24 @@ class LevelController {
   Verdict judge(const FrfError& e, bool restart = false);
   [[nodiscard]] Level current() const { return current_; }
   [[nodiscard]] Level next() const { return next_; }
+  /// Back to `level` after a finer level could not start from a dropped point: the next point
+  /// judged (that point, traced again at `level`) is kept whatever its estimates, counted short
+  /// where it exceeds the request.
+  void fall_back(Level level) {
+    current_ = next_ = level;
+    holding_ = true;
+    points_without_truncation_ = kTopLevelTruncationStride;
+  }
+  /// Whether the next point needs its truncation estimate (see above: false at H = max_harmonics
+  /// between every third point).
+  [[nodiscard]] bool wants_truncation() const;
   /// Move to next() (after the caller restarted the curve there).
-  void advance() { current_ = next_; }
+  void advance() {
+    current_ = next_;
+    points_without_truncation_ = kTopLevelTruncationStride;  // the new level's first point has it
+  }
+  /// At H = max_harmonics, the truncation estimate of one point in this many.
+  static constexpr int kTopLevelTruncationStride = 3;
   /// Points kept although their estimate exceeds the request: at the largest allowed level, or
   /// where the caller could not retry (count_short).
   [[nodiscard]] int short_points() const { return short_points_; }
@@ -79,11 +99,24 @@ class LevelController {
  private:
   // The rule on r_T and r_A (T-44) of a point with known estimates.
   Verdict judge_ratios(double r_t, double r_a, bool restart);
+  // r_T of a point: ratio(true) where its truncation estimate is known, else the last one's.
+  template <class Ratio>
+  double truncation_ratio(bool known, const Ratio& ratio) {
+    if (!known) {
+      ++points_without_truncation_;
+      return last_truncation_ratio_;
+    }
+    points_without_truncation_ = 0;
+    return last_truncation_ratio_ = ratio(true);
+  }
   Accuracy request_;
   Level current_, next_;
   int calm_truncation_ = 0, calm_aliasing_ = 0;
   int calm_needed_harmonics_ = 0, calm_needed_samples_ = 0;
   int short_points_ = 0;
+  bool holding_ = false;  // fall_back(): keep the next point judged
+  int points_without_truncation_ = kTopLevelTruncationStride;  // judged in a row without r_T
+  double last_truncation_ratio_ = 0.0;                         // r_T of the last point that had it
 };
 
 }  // namespace jointhb::continuation

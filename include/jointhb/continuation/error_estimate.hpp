@@ -35,6 +35,10 @@ struct ErrorPair {
 /// failed at the point (a contact's periodic state or the solve failed; the values are then 0).
 struct BackboneError {
   bool known = false;
+  /// false: the truncation parts were not computed at this point (they are 0; the aliasing parts
+  /// are): with `accuracy`, at the largest H it allows, where no raise is possible, finite-element
+  /// curves compute them at every third point only (accuracy.hpp).
+  bool truncation_known = true;
   ErrorPair omega;    ///< δΩ/Ω
   ErrorPair damping;  ///< δζ/|ζ| (δζ itself where ζ = 0)
 };
@@ -42,6 +46,7 @@ struct BackboneError {
 /// The estimates of an FRF point (known as in BackboneError).
 struct FrfError {
   bool known = false;
+  bool truncation_known = true;  ///< as in BackboneError
   ErrorPair amplitude_h1;   ///< δ|fundamental|/|fundamental| of the output DOF
   ErrorPair amplitude_max;  ///< δ max_t |x_out(t)| / max_t |x_out(t)|
 };

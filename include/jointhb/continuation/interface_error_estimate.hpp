@@ -30,9 +30,11 @@ class InterfaceBackboneErrorEstimator {
   /// from the point's coefficients plus what the previous point's H + 2 solution added to its own
   /// (the new harmonics carried over): 1–2 iterations instead of 3–6.
   /// `at_point`: an evaluation of `base` at exactly (Ŷ, λ) with its Jacobian (the corrector's
-  /// last), which saves one; nullptr: evaluated here.
+  /// last), which saves one; nullptr: evaluated here. `truncation` = false: the aliasing parts only
+  /// (truncation_known = false; the H + 2 start carried over is kept for the next point).
   [[nodiscard]] BackboneError estimate(const hb::InterfaceModeResidual& base, const Eigen::VectorXd& y_hat,
-                                       double lambda, const hb::InterfaceModeResidual::Evaluation* at_point = nullptr);
+                                       double lambda, const hb::InterfaceModeResidual::Evaluation* at_point = nullptr,
+                                       bool truncation = true);
 
  private:
   hb::InterfaceModeResidual finer_;    // H + 2, N_t'
@@ -49,9 +51,9 @@ class InterfaceFrfErrorEstimator {
                              double load_amplitude, int output);
   /// The estimates at the converged point (y, Ω) of `base` (the curve's own balance); the H + 2
   /// start carried over from the previous point as for damping curves.
-  /// `at_point` as for damping curves.
+  /// `at_point` and `truncation` as for damping curves.
   [[nodiscard]] FrfError estimate(const hb::InterfaceBalance& base, const Eigen::VectorXd& y, double omega,
-                                  const hb::InterfaceBalanceEvaluation* at_point = nullptr);
+                                  const hb::InterfaceBalanceEvaluation* at_point = nullptr, bool truncation = true);
 
  private:
   hb::InterfaceBalance finer_;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "../hb/interface_test_model.hpp"
 #include "error_reference.hpp"
@@ -88,6 +89,50 @@ TEST(AccuracyLevels, AtTheLargestLevelPointsAreKeptAndCountedShort) {
   Accuracy a = request(0.0, 1e-2);
   a.max_time_samples = 8;  // < 2 max_harmonics + 2
   EXPECT_NE(a.validate(), "");
+}
+
+// At H = max_harmonics no raise is possible: the truncation estimate is asked for at the level's
+// first point and then at every third; the points between take the last known r_T (for the count
+// of short points and for the calm points that lower the level).
+TEST(AccuracyLevels, AtTheLargestHTheTruncationEstimateIsAskedEveryThirdPoint) {
+  BackboneError skipped = estimate_of(0.0, 0.0, 5e-4);  // aliasing 0.5 of the request: N_t stays
+  skipped.truncation_known = false;
+  LevelController below(request(0.0, 1e-2), {5, 256});
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_TRUE(below.wants_truncation()) << k;
+    EXPECT_EQ(below.judge(estimate_of(0.0, 5e-3, 5e-4)), Verdict::keep);
+  }
+  // Short of the request at the top: the points between are counted short as well.
+  LevelController top(request(0.0, 1e-2), {7, 256});
+  std::vector<bool> asked;
+  for (int k = 0; k < 6; ++k) {
+    asked.push_back(top.wants_truncation());
+    EXPECT_EQ(top.judge(asked.back() ? estimate_of(0.0, 5e-2, 5e-4) : skipped), Verdict::keep) << k;
+  }
+  EXPECT_EQ(asked, (std::vector<bool>{true, false, false, true, false, false}));
+  EXPECT_EQ(top.short_points(), 6);
+  // Calm at the top: one calm estimate and the two points after it lower H.
+  LevelController calm(request(0.0, 1e-2), {7, 256});
+  EXPECT_EQ(calm.judge(estimate_of(0.0, 1e-4, 5e-4)), Verdict::keep);
+  EXPECT_EQ(calm.judge(skipped), Verdict::keep);
+  EXPECT_EQ(calm.judge(skipped), Verdict::keep_then_coarser);
+  EXPECT_EQ(calm.next().harmonics, 5);
+  calm.advance();
+  EXPECT_TRUE(calm.wants_truncation());
+}
+
+// A raised level that cannot start (its corrector at fixed λ fails) falls back: the dropped point,
+// traced again at the level before, is kept (counted short), and the rule then applies as before.
+TEST(AccuracyLevels, AFallBackKeepsThePointAtTheLevelBefore) {
+  LevelController c(request(0.0, 1e-2), {3, 64});
+  EXPECT_EQ(c.judge(estimate_of(0.0, 3e-2, 5e-4)), Verdict::retry_finer);
+  EXPECT_EQ(c.next(), (Level{5, 64}));
+  c.advance();
+  c.fall_back({3, 64});  // H = 5 could not start
+  EXPECT_EQ(c.current(), (Level{3, 64}));
+  EXPECT_EQ(c.judge(estimate_of(0.0, 3e-2, 5e-4)), Verdict::keep);
+  EXPECT_EQ(c.short_points(), 1);
+  EXPECT_EQ(c.judge(estimate_of(0.0, 3e-2, 5e-4)), Verdict::retry_finer);  // the next point tries again
 }
 
 // The 1-DOF system of error_reference.hpp with a Gaul–Mayer contact: m = 1, k = 1e4, k_T0 = 3e4,
@@ -241,6 +286,7 @@ TEST(AccuracyCurves, FiniteElementCurveRestartsCarryTheState) {
     h_max = std::max(h_max, p.harmonics);
     ASSERT_TRUE(p.error.known) << k;
     if (p.harmonics < o.accuracy.max_harmonics) {
+      EXPECT_TRUE(p.error.truncation_known) << k;
       EXPECT_LE(std::abs(p.error.damping.truncation), 1e-2) << k;
     }
     if (k % 4 != 0 && k + 1 != curve.points.size()) continue;
@@ -285,6 +331,7 @@ TEST(AccuracyCurves, FiniteElementFrfChoosesTheLevelPerPoint) {
     h_max = std::max(h_max, p.harmonics);
     ASSERT_TRUE(p.error.known) << k;
     if (p.harmonics < o.accuracy.max_harmonics) {
+      EXPECT_TRUE(p.error.truncation_known) << k;
       EXPECT_LE(std::abs(p.error.amplitude_h1.truncation), 1e-2) << k;
       EXPECT_LE(std::abs(p.error.amplitude_max.truncation), 1e-2) << k;
     }
@@ -303,10 +350,23 @@ TEST(AccuracyCurves, FiniteElementFrfChoosesTheLevelPerPoint) {
   }
   EXPECT_GE(h_max, 3);
   EXPECT_GE(compared, 3);
+  // At the largest H the truncation estimate is made at every third point judged (the rule itself:
+  // AccuracyLevels.AtTheLargestHTheTruncationEstimateIsAskedEveryThirdPoint): here some points go
+  // without it, and none below the largest H.
+  int skipped = 0, at_top = 0;
+  for (const auto& p : curve.points) {
+    skipped += p.error.truncation_known ? 0 : 1;
+    at_top += p.harmonics == o.accuracy.max_harmonics ? 1 : 0;
+    if (!p.error.truncation_known) {
+      EXPECT_EQ(p.harmonics, o.accuracy.max_harmonics);
+    }
+  }
+  EXPECT_GT(skipped, 0);
+  EXPECT_LT(skipped, at_top);
   int h_min = h_max;
   for (const auto& p : curve.points) h_min = std::min(h_min, p.harmonics);
-  std::printf("FE FRF: %zu points, H %d..%d, %d level changes\n", curve.points.size(), h_min, h_max,
-              curve.level_changes);
+  std::printf("FE FRF: %zu points, H %d..%d, %d level changes, %d points without the truncation estimate\n",
+              curve.points.size(), h_min, h_max, curve.level_changes, skipped);
   EXPECT_LT(h_min, h_max);
 }
 
