@@ -1,7 +1,8 @@
 #pragma once
 // C += A B for large dense blocks through the BLAS dgemm (the library CHOLMOD already uses:
 // OpenBLAS serial after .ci/setup, docs/performance.md), 5–10× faster than Eigen's own kernel
-// without -march=native. Single-threaded BLAS: the result does not depend on a thread count.
+// without -march=native. Single-threaded BLAS: the result does not depend on a thread count. Never
+// call it from two threads at once: the serial OpenBLAS is not reentrant (gemm_add_by_rows).
 
 #include <Eigen/Core>
 #include <stdexcept>
@@ -40,9 +41,8 @@ void gemm_add(const Matrix& A, const Matrix& B, Matrix& C) {
 }
 
 /// C0 += A0 B and C1 += A1 B for two large square A (the residual flexibility and inertia) and a
-/// few columns B: memory-bound, so both cores pay when the rows are split. The rows are always
-/// cut into the same kRowBlocks blocks, each computed by one BLAS call whatever thread takes it,
-/// so the result does not depend on the thread count.
+/// few columns B. The rows are always cut into the same kRowBlocks blocks, one BLAS call each, so
+/// the result is the one the earlier split over the threads gave with one thread.
 template <class Matrix>
 void gemm_add_by_rows(const Matrix& A0, const Matrix& B, Matrix& C0, const Matrix& A1, Matrix& C1) {
   constexpr int kRowBlocks = 8;
@@ -57,7 +57,11 @@ void gemm_add_by_rows(const Matrix& A0, const Matrix& B, Matrix& C0, const Matri
     return;
   }
   const int k = static_cast<int>(B.rows()), cols = static_cast<int>(B.cols()), ld = static_cast<int>(n);
-#pragma omp parallel for schedule(static, 1)
+  // One thread: the serial OpenBLAS (libopenblas0-serial 0.3.21) takes its packing buffer in
+  // blas_memory_alloc without a lock, so two threads calling dgemm/sgemm at once can pack into the
+  // same buffer; with the blocks split over two threads about 1 product in 100 came out wrong by
+  // O(1) (case 09: residuals and Jacobian products that differed from run to run, Newton
+  // failures).
   for (int task = 0; task < 2 * kRowBlocks; ++task) {
     const int block = task % kRowBlocks;
     const Eigen::Index first = n * block / kRowBlocks, rows = n * (block + 1) / kRowBlocks - first;
