@@ -644,7 +644,11 @@ std::shared_ptr<const InterfaceHarmonicPreconditioner> InterfaceBalance::harmoni
     }
     J.topRows(g0) *= row_modal;
     J.bottomRows(n - g0) *= row_gap;
-    h.lus[static_cast<std::size_t>(kk)] = std::make_unique<support::LapackLu>(J);
+  }
+  // Factored after the parallel loop, one block after the other: LAPACK (the serial OpenBLAS) is
+  // not reentrant and must not be called from two threads at once (support/blas_gemm.hpp).
+  for (int kk = 0; kk < harmonics; ++kk) {
+    h.lus[static_cast<std::size_t>(kk)] = std::make_unique<support::LapackLu>(h.blocks[static_cast<std::size_t>(kk)]);
     rconds[static_cast<std::size_t>(kk)] = h.lus[static_cast<std::size_t>(kk)]->rcond();
   }
   h.rcond = *std::min_element(rconds.begin(), rconds.end());
