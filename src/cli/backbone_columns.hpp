@@ -60,21 +60,26 @@ inline nlohmann::ordered_json contact_states_json(const hb::ContactStateCounts& 
   return out;
 }
 
+/// A truncation estimate's field: empty where the point's truncation part was not computed.
+template <class Error>
+std::optional<double> truncation_field(const Error& e, double value) {
+  return e.truncation_known ? std::optional<double>(value) : std::nullopt;
+}
+
 /// The fields of the error columns of kBackboneColumns, empty (nullopt) where not computed (the
 /// truncation parts alone where e.truncation_known is false).
 inline std::vector<std::optional<double>> backbone_error_fields(const continuation::BackboneError& e) {
   if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
-  const auto truncation = [&](double v) { return e.truncation_known ? std::optional<double>(v) : std::nullopt; };
-  return {truncation(e.omega.truncation), e.omega.aliasing, truncation(e.damping.truncation), e.damping.aliasing};
+  return {truncation_field(e, e.omega.truncation), e.omega.aliasing, truncation_field(e, e.damping.truncation),
+          e.damping.aliasing};
 }
 
 /// The fields of the four error columns of an FRF row (amplitude_h1, amplitude_max; truncation,
 /// aliasing), empty (nullopt) where not computed as above; discrete and finite-element frf.csv alike.
 inline std::vector<std::optional<double>> frf_error_fields(const continuation::FrfError& e) {
   if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
-  const auto truncation = [&](double v) { return e.truncation_known ? std::optional<double>(v) : std::nullopt; };
-  return {truncation(e.amplitude_h1.truncation), e.amplitude_h1.aliasing, truncation(e.amplitude_max.truncation),
-          e.amplitude_max.aliasing};
+  return {truncation_field(e, e.amplitude_h1.truncation), e.amplitude_h1.aliasing,
+          truncation_field(e, e.amplitude_max.truncation), e.amplitude_max.aliasing};
 }
 
 /// summary.json's `accuracy` of a damping curve or FRF: the request (its tolerances > 0), the range of H and N_t its points
@@ -111,6 +116,15 @@ struct WorstErrors {
   double second_truncation = 0.0, second_aliasing = 0.0;  // ζ (damping curve), amplitude_max (FRF)
   void add(const continuation::BackboneError& e) { add(e.known, e.truncation_known, e.omega, e.damping); }
   void add(const continuation::FrfError& e) { add(e.known, e.truncation_known, e.amplitude_h1, e.amplitude_max); }
+  // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.
+  [[nodiscard]] nlohmann::ordered_json json(const char* first, const char* second) const {
+    const auto value = [&](double v) { return known > 0 ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+    return {{"points_known", known},
+            {first, {{"truncation", value(first_truncation)}, {"aliasing", value(first_aliasing)}}},
+            {second, {{"truncation", value(second_truncation)}, {"aliasing", value(second_aliasing)}}}};
+  }
+
+ private:
   void add(bool point_known, bool truncation_known, const continuation::ErrorPair& first,
            const continuation::ErrorPair& second) {
     if (!point_known) return;
@@ -121,13 +135,6 @@ struct WorstErrors {
     }
     first_aliasing = std::max(first_aliasing, std::abs(first.aliasing));
     second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
-  }
-  // {"points_known": n, first: {truncation, aliasing}, second: {...}}; null values when none is known.
-  [[nodiscard]] nlohmann::ordered_json json(const char* first, const char* second) const {
-    const auto value = [&](double v) { return known > 0 ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
-    return {{"points_known", known},
-            {first, {{"truncation", value(first_truncation)}, {"aliasing", value(first_aliasing)}}},
-            {second, {{"truncation", value(second_truncation)}, {"aliasing", value(second_aliasing)}}}};
   }
 };
 

@@ -456,6 +456,23 @@ class DiscreteFrfSegment {
     return r;
   }
 
+  // A point about to be kept (segmented_curve.hpp): its Floquet multipliers and the bifurcation
+  // against the last kept point — only for kept points, not for those a finer level traces again.
+  void complete(FrfPoint& f, const Point& p) {
+    if (!stability_) return;
+    const auto stability_start = Clock::now();
+    hb::FloquetResult floquet =
+        hill_ ? hill_->evaluate(p.x, p.lambda) : hb::orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
+    shared_.curve.timings.stability += seconds_since(stability_start);
+    f.stability_known = floquet.ok;
+    f.stable = floquet.stable();
+    f.max_multiplier = floquet.max_multiplier;
+    f.unstable_multipliers = floquet.unstable;
+    f.multipliers = floquet.multipliers;
+    if (shared_.previous_floquet) f.bifurcation = hb::classify_bifurcation(*shared_.previous_floquet, floquet, p.fold);
+    shared_.previous_floquet = std::move(floquet);
+  }
+
  private:
   bool accept_point(const Point& p, const Judge& judge) {
     FrfCurve& curve = shared_.curve;
@@ -502,26 +519,6 @@ class DiscreteFrfSegment {
     }
     return go_on;
   }
-
- public:
-  // A point about to be kept (segmented_curve.hpp): its Floquet multipliers and the bifurcation
-  // against the last kept point — only for kept points, not for those a finer level traces again.
-  void complete(FrfPoint& f, const Point& p) {
-    if (!stability_) return;
-    const auto stability_start = Clock::now();
-    hb::FloquetResult floquet =
-        hill_ ? hill_->evaluate(p.x, p.lambda) : hb::orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
-    shared_.curve.timings.stability += seconds_since(stability_start);
-    f.stability_known = floquet.ok;
-    f.stable = floquet.stable();
-    f.max_multiplier = floquet.max_multiplier;
-    f.unstable_multipliers = floquet.unstable;
-    f.multipliers = floquet.multipliers;
-    if (shared_.previous_floquet) f.bifurcation = hb::classify_bifurcation(*shared_.previous_floquet, floquet, p.fold);
-    shared_.previous_floquet = std::move(floquet);
-  }
-
- private:
 
   Evaluation evaluate(const Eigen::VectorXd& x, double omega, bool jacobian) {
     Evaluation e;

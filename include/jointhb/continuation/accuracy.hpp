@@ -73,9 +73,9 @@ class LevelController {
   /// judged (that point, traced again at `level`) is kept whatever its estimates, counted short
   /// where it exceeds the request.
   void fall_back(Level level) {
-    current_ = next_ = level;
+    next_ = level;
+    advance();
     holding_ = true;
-    points_without_truncation_ = kTopLevelTruncationStride;
   }
   /// Whether the next point needs its truncation estimate (see above: false at H = max_harmonics
   /// between every third point).
