@@ -156,9 +156,9 @@ SegmentedOutcome trace_in_segments(const Accuracy& accuracy, Level start, double
       from = std::move(*restart);
       continue;
     }
-    // A finer level that cannot start from the dropped point (its corrector at fixed λ fails, e.g.
-    // where the contacts clap): the curve goes on at the level before from that point, kept short
-    // of the request, instead of ending there.
+    // A finer level that cannot start from the dropped point (its corrector at fixed λ fails): the
+    // curve goes on at the level before from that point, kept short of the request, instead of
+    // ending there (a guard: the one such failure seen came from a BLAS race since fixed).
     if (raised_from && r.reason == StopReason::start_failed && !stopped && segment < max_segments) {
       control.fall_back(*raised_from);
       ++out.level_changes;
