@@ -22,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -63,6 +64,17 @@ constexpr double kCornerStepFactor = 0.05;
 // reaches slip and the amplitude is held at the slip limit while the phase turns. Steps at or below kCornerStepFactor · max_step accept a corrector that moved up
 // to this many steps (turns up to atan 10 = 84°; the tangent test above still guards longer steps).
 constexpr double kCornerMoveFactor = 10.0;
+// A landing must be new branch: one nearer than this fraction of its jump |y_f − y_k| to the part
+// of the branch traced just before (the polyline of the last kRetraceWindow accepted points but
+// y_k) has landed back on it, and the run would then trace that part again — around and around a
+// sharp superharmonic loop, or back to λ_start (seen on a 10-DOF Gaul–Mayer chain at ζ = 1e-4:
+// steps as long as the loop landed near its beginning; a corner landing at Ω = 0.183 landed back
+// on the branch at 0.158). Rejected like a failed corrector: the halved step lands on the local
+// branch, while a genuine close approach of two parts of the branch passes once the step is
+// shorter than twice their distance. A forward step that turns by less than 90° lands farther than
+// |y_f − y_k| from the point before y_k.
+constexpr double kRetraceFraction = 0.5;
+constexpr std::size_t kRetraceWindow = 64;
 // Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
@@ -71,6 +83,18 @@ constexpr double kNaturalMinSlope = 1e-3;
 constexpr double kOutputMinStepFactor = 1e-3;
 // Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
 constexpr int kMaxRestarts = 4;
+
+// Distance from y to the polyline through the scaled points ys[0..m) (0 segments: infinity).
+double distance_to_polyline(const std::deque<VectorXd>& ys, const VectorXd& y) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+    const VectorXd d = ys[j + 1] - ys[j];
+    const double dd = d.squaredNorm();
+    const double t = dd > 0.0 ? std::clamp((y - ys[j]).dot(d) / dd, 0.0, 1.0) : 0.0;
+    best = std::min(best, (y - ys[j] - t * d).norm());
+  }
+  return best;
+}
 
 // Messages are one line: the residual function's own message may not be.
 std::string one_line(std::string text) {
@@ -698,6 +722,12 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     return step;
   };
   double s = capped(options.initial_step, tau);
+  // The scaled accepted points before y_k (at most kRetraceWindow), and the test of a landing y_f
+  // against their polyline (kRetraceFraction).
+  std::deque<VectorXd> traced;
+  const auto retraces = [&](const VectorXd& y_f) {
+    return distance_to_polyline(traced, y_f) < kRetraceFraction * (y_f - y).norm();
+  };
   // The outputs limited by max_output_change at the last accepted point, and the largest relative
   // change of one of them over a step (output_change).
   const bool limit_outputs = options.max_output_change > 0.0 && static_cast<bool>(options.outputs);
@@ -732,6 +762,10 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       failure = fmt::format("the corrector moved {:.3g} from the predictor, more than {}the step",
                             (c.sample.y - predicted).norm(), corner_step ? "10 times " : "");
     }
+    if (failure.empty() && retraces(c.sample.y)) {
+      failure = fmt::format("the corrector jumped {:.3g} back onto the branch already traced",
+                            (c.sample.y - y).norm());
+    }
 
     // A point beyond λ_end (or behind λ_start) is replaced by the corrector at fixed λ on that
     // bound, started from the linear interpolation between y_k and the crossing point.
@@ -765,6 +799,13 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       next_tau = tracer.tangent(c.sample, tau, why);
       if (!next_tau) failure = why;
     }
+    // After a landing longer than the step, the direction of travel is the secant y_f − y_k, not
+    // the old tangent: the landing can lie past two folds of a sharp loop (seen on the 10-DOF
+    // chain: the old tangent's orientation sent the run back down the loop and along the whole
+    // branch to λ_start). At the slip-onset corners of the unit tests' friction FRFs both agree.
+    if (failure.empty() && (c.sample.y - predicted).norm() > s &&
+        next_tau->dot(c.sample.y - y) < 0.0)
+      *next_tau = -*next_tau;
     // A tangent that turned by more than 60° over one step means the step jumped over a sharp
     // feature (e.g. a jagged peak); its orientation by continuity is then a guess and can send
     // the run back along the branch. Retry shorter, except at a genuine corner of the branch
@@ -788,7 +829,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       Correction b =
           tracer.correct(y, tracer.fixed_lambda(target), options.max_corrector_iterations,
                          Tracer::Safeguard::growth_test);
-      if (b.converged && (b.sample.y - y).norm() <= 1e3 * s + std::abs(dl)) {
+      if (b.converged && (b.sample.y - y).norm() <= 1e3 * s + std::abs(dl) &&
+          !retraces(b.sample.y)) {
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);
         if (next_tau) {
@@ -835,6 +877,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     p.iterations = c.iterations;
     p.residual = c.sample.norm;
     p.fold = tau(n) * (*next_tau)(n) < 0.0;
+    traced.push_back(y);
+    if (traced.size() > kRetraceWindow) traced.pop_front();
     y = c.sample.y;
     tau = *next_tau;
     if (limit_outputs) last_outputs = next_outputs;

@@ -159,8 +159,6 @@ const std::map<std::string, std::string>& known_stops() {
       {"frf 1dof jenkins zeta=0.0001 kt0/k=100 F=1", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.002591087 (point 1000)
       {"frf 1dof jenkins zeta=0.0001 kt0/k=100 F=10", "max_points"},
-      // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.5 (point 26)
-      {"frf 1dof jenkins zeta=0.01 kt0/k=1e+06 F=1", "left_range"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.004475125 (point 1000)
       {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=1e-06", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.004471701 (point 1000)
@@ -229,11 +227,15 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1.958150464 (point
       // 377): no convergence in 12 iterations (residual 3.93e-11, smallest 3.92e-11)
       {"damping 10dof gaul-mayer zeta=0", "min_step"},
-      // KNOWN STOP: step 5.29e-09 below min_step 1e-08 after the point at λ = 2.489077489 (point
-      // 444): no convergence in 12 iterations (residual 1.18e-11, smallest 1.18e-11)
+      // KNOWN STOP (stop 38): step 8.71e-09 below min_step 1e-08 after the point at
+      // λ = 1.058545285 (point 974): the corrector jumped 1.74e-08 back onto the branch already
+      // traced (7:1 internal resonance with mode 8 of the stuck system; before the retrace guard:
+      // no convergence at λ = 2.489, point 444)
       {"damping 10dof gaul-mayer zeta=0.0001", "min_step"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.062726849 (point 1000)
-      {"damping 10dof gaul-mayer zeta=0.01", "max_points"},
+      // KNOWN STOP (stop 38): step 7.95e-09 below min_step 1e-08 after the point at
+      // λ = 1.065373487 (point 229): the corrector jumped 1.59e-08 back onto the branch already
+      // traced (the same 7:1 resonance; before the retrace guard: max_points at λ = 1.0627)
+      {"damping 10dof gaul-mayer zeta=0.01", "min_step"},
   };
   return stops;
 }
@@ -381,7 +383,10 @@ std::vector<FrfScenario> frf_scenarios() {
         s.omega_end = 2.5;
         s.output_dof = 9;
         s.omega_stuck_max = stuck_frequencies(s.system).maxCoeff();
-        s.ci = law == "jenkins" && force == 0.5 && zeta == 1e-3;
+        // The Gaul–Mayer chain at ζ = 1e-4, F = 0.5: its sharp superharmonic loops sent the
+        // continuation back along the branch to Ω_start (pseudo_arclength.cpp, kRetraceFraction).
+        s.ci = force == 0.5 && ((law == "jenkins" && zeta == 1e-3) ||
+                                (law == "gaul-mayer" && zeta == 1e-4));
         // Time integration only at ζ = 1e-3: the higher modes of the chain, excited by the HB
         // truncation in the start state, settle in ~3000 periods there (5 s per point).
         s.newmark = zeta == 1e-3;
@@ -960,6 +965,7 @@ int run(int argc, char** argv) {
   const int nm_steps = args.ci ? 512 : 1024;
   for (const FrfScenario& s : frf_scenarios()) {
     if (args.ci && !s.ci && !s.newmark_ci) continue;
+    if (!args.only.empty() && s.name.find(args.only) == std::string::npos) continue;
     const FrfRun r = run_frf(s);
     const CurveOutcome& o = r.outcome;
     frf_seconds += o.seconds;
@@ -1083,6 +1089,7 @@ int run(int argc, char** argv) {
   // (2) Damping curves.
   for (const BackboneScenario& s : backbone_scenarios()) {
     if (args.ci && !s.ci) continue;
+    if (!args.only.empty() && s.name.find(args.only) == std::string::npos) continue;
     const BackboneRun r = run_backbone(s);
     const CurveOutcome& o = r.outcome;
     backbone_seconds += o.seconds;

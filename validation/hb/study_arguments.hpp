@@ -1,6 +1,9 @@
 #pragma once
-// The command line every harmonic-balance validation study takes: PROGRAM [--ci] OUTPUT_PREFIX
-// (validation/hb/CMakeLists.txt runs each with --ci under ctest).
+// The command line every harmonic-balance validation study takes:
+//   PROGRAM [--ci] [--only TEXT] OUTPUT_PREFIX
+// (validation/hb/CMakeLists.txt runs each with --ci under ctest). --only keeps the scenarios whose
+// name contains TEXT, in the studies that name their scenarios (light_damping): one curve
+// reproduced by itself.
 
 #include <cstdio>
 #include <string>
@@ -10,6 +13,7 @@ namespace study {
 struct Arguments {
   bool ci = false;     // reduced, still scored sweep (ctest)
   std::string prefix;  // tables are written to prefix + "_<table>.csv"
+  std::string only;    // non-empty: run only the scenarios whose name contains it
   bool ok = false;     // false: usage printed, exit with 2
 };
 
@@ -19,6 +23,8 @@ inline Arguments parse_arguments(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--ci") {
       a.ci = true;
+    } else if (arg == "--only" && i + 1 < argc) {
+      a.only = argv[++i];
     } else if (a.prefix.empty() && !arg.empty() && arg[0] != '-') {
       a.prefix = arg;
     } else {
@@ -27,7 +33,7 @@ inline Arguments parse_arguments(int argc, char** argv) {
     }
   }
   a.ok = !a.prefix.empty();
-  if (!a.ok) std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX\n", argv[0]);
+  if (!a.ok) std::fprintf(stderr, "usage: %s [--ci] [--only TEXT] OUTPUT_PREFIX\n", argv[0]);
   return a;
 }
 
