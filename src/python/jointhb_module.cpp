@@ -791,6 +791,17 @@ class DiscreteModel {
     d["time_samples_of_points"] = column(b.points, [](const P& p) { return double(p.time_samples); });
     d["level_changes"] = b.level_changes;
     d["points_short_of_accuracy"] = b.short_of_accuracy;
+    py::list turns;  // the located turns in amplitude (BackboneCurve::turns)
+    for (const auto& t : b.turns) {
+      py::dict turn;
+      turn["log10_amplitude"] = t.log10_amplitude;
+      turn["omega"] = t.omega;
+      turn["damping_ratio"] = t.damping_ratio;
+      turn["log10_amplitude_error_bound"] = t.log10_amplitude_bound;
+      turn["refined"] = t.refined;
+      turns.append(turn);
+    }
+    d["turns"] = turns;
     put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;

@@ -1,9 +1,12 @@
 // EPMC (hb/nonlinear_mode.hpp, continuation/backbone.hpp): analytic Jacobian against central
-// differences, the linear limit, and the energy balance at every point of a damping curve.
+// differences, the linear limit, the energy balance at every point of a damping curve, and the
+// turns of a damping curve in amplitude located by refinement (checked by Newton at fixed λ).
 #include "jointhb/hb/nonlinear_mode.hpp"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 #include "jointhb/continuation/backbone.hpp"
@@ -197,6 +200,36 @@ TEST(NonlinearMode, ChainDampingCurveNamesTheInternalResonanceWhereItStops) {
   if (!h7.completed()) {
     EXPECT_NE(h7.message.find("7:1 internal resonance"), std::string::npos) << h7.message;
     EXPECT_NE(h7.message.find("mode 4 of the stuck system"), std::string::npos) << h7.message;
+  }
+  // The turns in amplitude, located between accepted points (BackboneTurn), checked by Newton's
+  // method at fixed λ, independent of the continuation: a turn λ* is an extremum of λ along the
+  // branch, so the residual has a root near the turn's state on one side of λ* and none on the
+  // other (δ = 1e-6: roots within ~√δ); at a smooth fold located to round-off the Jacobian is
+  // singular there and Newton cannot start from it, which is checked instead (rcond).
+  ASSERT_FALSE(h7.turns.empty());
+  EXPECT_NEAR(h7.turns.front().log10_amplitude, -0.376, 0.01);  // the turn the issue reports
+  const NonlinearModeResidual epmc(chain30(), o.mode);
+  const auto root_near = [&](const Eigen::VectorXd& y0, double lambda) {
+    Eigen::VectorXd y = y0;
+    NonlinearModeResidual::Evaluation e;
+    for (int it = 0; it < 12; ++it) {
+      epmc.evaluate(y, lambda, true, e);
+      if (e.residual.lpNorm<Eigen::Infinity>() < 1e-9) return (y - y0).norm() < 1e-3 * y0.norm();
+      y -= e.d_state.partialPivLu().solve(e.residual);
+    }
+    return false;
+  };
+  for (std::size_t k = 0; k < std::min<std::size_t>(h7.turns.size(), 3); ++k) {
+    const continuation::BackboneTurn& t = h7.turns[k];
+    ASSERT_TRUE(t.refined) << k << ": " << t.message;
+    EXPECT_LT(t.log10_amplitude_bound, 1e-7) << k;
+    NonlinearModeResidual::Evaluation e;
+    epmc.evaluate(t.unknowns, t.log10_amplitude, true, e);
+    EXPECT_LT(e.residual.lpNorm<Eigen::Infinity>(), 1e-9) << k;
+    if (e.d_state.partialPivLu().rcond() < 1e-10) continue;  // the fold itself
+    const bool below = root_near(t.unknowns, t.log10_amplitude - 1e-6);
+    const bool above = root_near(t.unknowns, t.log10_amplitude + 1e-6);
+    EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
   }
 }
 
