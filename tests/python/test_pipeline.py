@@ -232,8 +232,32 @@ def test_a_discrete_model_from_arrays_meets_the_stuck_closed_form():
     assert abs(b["omega"][0] / np.sqrt(k + kt0) - 1.0) < 1e-9
     assert abs(b["damping_ratio"][0] - c / (2.0 * np.sqrt(k + kt0))) < 1e-9
     assert b["omega"][-1] < b["omega"][0] and b["damping_ratio"][-1] > b["damping_ratio"][0]  # slip softens, damps
+    assert b["turns"] == []  # the 1-DOF curve rises monotonically in amplitude
     with pytest.raises(ValueError, match="mass"):
         jointhb.DiscreteModel([[1.0, 0.0]], [[1.0]])
+
+
+def test_the_turns_of_a_damping_curve_are_extrema_of_its_amplitude():
+    # The 30-DOF chain of docs/stability.md §7 (10 Jenkins links): at H = 7 its damping curve turns
+    # back in amplitude near a 7:1 internal resonance. A located turn is an extremum of log10 q
+    # between two consecutive accepted points: beyond both of them (above for a maximum, below for
+    # a minimum), which interpolating between them would never give. (Newton's method at fixed
+    # log10 q checks the turns themselves in the C++ test NonlinearMode.ChainDampingCurve...)
+    n = 30
+    k = np.diag([450.0] * (n - 1) + [225.0]) - 225.0 * (np.eye(n, k=1) + np.eye(n, k=-1))
+    contacts = [{"law": "jenkins", "dofs": [a, a + 1], "kt0": 225.0, "mu": 0.557, "normal_force": 1.0}
+                for a in (0, 3, 6, 9, 12, 16, 19, 22, 25, 28)]
+    model = jointhb.DiscreteModel(np.eye(n), k, damping=0.02 * np.eye(n), contacts=contacts)
+    b = model.backbone(mode=1, log10_amplitude=(-3.0, 1.0), harmonics=7)
+    lam = np.log10(b["amplitude"])
+    assert len(b["turns"]) >= 1, b["message"]
+    assert abs(b["turns"][0]["log10_amplitude"] + 0.376) < 0.01
+    for t in b["turns"]:
+        x, e = t["log10_amplitude"], t["log10_amplitude_error_bound"]
+        assert t["refined"] and e < 1e-7 and 0.8 < t["omega"] < 0.85
+        lo, hi = np.minimum(lam[:-1], lam[1:]), np.maximum(lam[:-1], lam[1:])
+        near = np.abs(lam[1:] - x) < 0.01
+        assert np.any(near & ((x + e >= hi) | (x - e <= lo))), t
 
 
 def lap_dict(mu=0.3):
