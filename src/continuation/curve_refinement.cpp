@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <optional>
 
@@ -69,7 +70,17 @@ std::optional<BranchPoint> correct_at(const ResidualFunction& residual, const Op
   for (int it = 0; it <= o.max_corrector_iterations; ++it) {
     const Eigen::VectorXd x = y.head(n).cwiseProduct(s.state);
     const double lambda = y[n] * s.parameter;
-    const Evaluation e = residual(x, lambda, true);
+    // A residual that throws (e.g. a contact law handed a non-finite state by a diverging
+    // iteration) is a failed point, as in the continuation's own corrector: the refinement gives
+    // up and the caller keeps the accepted points (found on a 10-DOF damping curve, whose turn
+    // refinement threw "periodic path: … non-finite …" and lost the whole curve).
+    Evaluation e;
+    try {
+      e = residual(x, lambda, true);
+    } catch (const std::exception& error) {
+      why = fmt::format("the residual failed: {}", error.what());
+      return std::nullopt;
+    }
     if (!e.ok || !e.residual.allFinite() || e.d_state.rows() != n) {
       why = e.ok ? "the residual or its Jacobian is not available" : e.message;
       return std::nullopt;

@@ -79,6 +79,7 @@ constexpr std::size_t kRetraceWindow = 64;
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
 constexpr double kNaturalMinSlope = 1e-3;
+constexpr double kNaturalMaxSlope = 1.0 / kNaturalMinSlope;
 // Options::max_output_change is enforced down to this fraction of max_step (then accepted).
 constexpr double kOutputMinStepFactor = 1e-3;
 // Matrix-free Newton–Krylov: GMRES cycles (each of krylov_max_iterations) per linear solve.
@@ -829,7 +830,13 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       Correction b =
           tracer.correct(y, tracer.fixed_lambda(target), options.max_corrector_iterations,
                          Tracer::Safeguard::growth_test);
-      if (b.converged && (b.sample.y - y).norm() <= 1e3 * s + std::abs(dl) &&
+      // Accepted where the state moved by at most kNaturalMaxSlope times the λ move (both scaled):
+      // past the slip onset of a Jenkins contact the EPMC's ξ rises linearly (W_D = 4 μF_N
+      // (a − a_s)) with a scaled slope of ~290 (k_T0/k = 100); the earlier bound 1e3 s + |Δλ|
+      // (mixing scaled and unscaled units) admitted slopes up to ~250 only, and the six 1-DOF
+      // Jenkins damping curves whose point fell exactly on the onset stopped there.
+      const double scaled_dl = std::abs(dl) / options.parameter_scale;
+      if (b.converged && (b.sample.y - y).norm() <= (1.0 + kNaturalMaxSlope) * scaled_dl &&
           !retraces(b.sample.y)) {
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);

@@ -200,24 +200,15 @@ const std::map<std::string, std::string>& known_stops() {
       {"frf 10dof jenkins zeta=0.0001 F=1", "min_step"},
       // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.1 (point 27)
       {"frf 10dof jenkins zeta=0.001 F=1", "left_range"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -2 (point 10): the
-      // corrector moved 3.45e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0 kt0/k=100", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -6 (point 12): the
-      // corrector moved 3.48e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -2 (point 10): the
-      // corrector moved 3.45e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0.0001 kt0/k=100", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -6 (point 12): the
-      // corrector moved 3.48e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0.0001 kt0/k=1e+06", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -2 (point 10): the
-      // corrector moved 3.45e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0.01 kt0/k=100", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = -6 (point 12): the
-      // corrector moved 3.48e-06 from the predictor, more than 10 times the step
-      {"damping 1dof jenkins zeta=0.01 kt0/k=1e+06", "min_step"},
+      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
+      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "max_points"},
+      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
+      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      {"damping 1dof jenkins zeta=0.0001 kt0/k=1e+06", "max_points"},
+      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
+      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      {"damping 1dof jenkins zeta=0.01 kt0/k=1e+06", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 0.7262184555 (point 1000)
       {"damping 10dof jenkins zeta=0", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 0.7273693541 (point 1000)

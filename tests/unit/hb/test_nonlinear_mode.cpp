@@ -233,6 +233,40 @@ TEST(NonlinearMode, ChainDampingCurveNamesTheInternalResonanceWhereItStops) {
   }
 }
 
+// A 1-DOF Jenkins oscillator (m = k = 1, k_T0 = 100, μF_N = 1, ζ = 0.01) traced from log10 q = −8
+// lands a point exactly on the slip onset, q = μF_N/k_T0 = 10⁻² (steps of 1 and 0.5 decades).
+// Past it ξ rises linearly with the excess amplitude (W_D = 4 μF_N (a − a_s)): a corner of the
+// branch, 89.8° in the scaled unknowns, that only the natural-parameter fallback crosses
+// (docs/continuation.md); the curve used to stop there with "the corrector moved … more than 10
+// times the step".
+TEST(NonlinearMode, JenkinsDampingCurveCrossesTheSlipOnsetFromAPointOnIt) {
+  DiscreteSystem s;
+  s.mass = Eigen::MatrixXd::Identity(1, 1).sparseView();
+  s.stiffness = Eigen::MatrixXd::Identity(1, 1).sparseView();
+  s.damping = (2.0 * 0.01 * std::sqrt(101.0) * Eigen::MatrixXd::Identity(1, 1)).sparseView();
+  ContactElement c;
+  c.law = "jenkins";
+  c.stiffness = 100.0;
+  c.friction_coefficient = 1.0;
+  c.normal_force = 1.0;
+  s.contacts.push_back(c);
+  continuation::BackboneOptions o;
+  o.mode.harmonics = 7;
+  o.mode.time_samples = 256;
+  o.log10_amplitude_start = -8.0;
+  o.log10_amplitude_end = 2.0;
+  o.error_estimate = false;
+  const continuation::BackboneCurve curve = continuation::trace_backbone(s, o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  std::size_t onset = curve.points.size();
+  for (std::size_t k = 0; k < curve.points.size(); ++k)
+    if (std::abs(std::log10(curve.points[k].state.amplitude) + 2.0) < 1e-12) onset = k;
+  ASSERT_LT(onset + 1, curve.points.size()) << "no point on the onset";
+  EXPECT_NEAR(curve.points[onset].state.damping_ratio, 0.01, 1e-9);  // still stuck: ζ of C alone
+  EXPECT_GT(curve.points[onset + 1].state.damping_ratio, 0.01 * (1.0 + 1e-6));  // friction damps
+  EXPECT_LT(curve.points.back().state.omega, 1.01);  // gross slip: the contact-free ω = 1
+}
+
 TEST(NonlinearMode, RejectsAsymmetricCasesAndBadModes) {
   DiscreteSystem s = two_dof(true);
   NonlinearModeOptions o;
