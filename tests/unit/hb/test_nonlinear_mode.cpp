@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "jointhb/continuation/backbone.hpp"
 
@@ -115,21 +116,28 @@ TEST(NonlinearMode, StuckLimitIsTheLinearModeAndEnergyBalances) {
   EXPECT_GT(last.damping_ratio_energy, 0.0);
 }
 
+// m = 1, stiffness k, damping c, one contact to ground (law, k_T0, μ, F_N).
+DiscreteSystem contact_oscillator(const std::string& law, double k, double c, double kt0, double mu,
+                                  double normal_force) {
+  DiscreteSystem s;
+  s.mass = Eigen::MatrixXd::Identity(1, 1).sparseView();
+  s.stiffness = (k * Eigen::MatrixXd::Identity(1, 1)).sparseView();
+  s.damping = (c * Eigen::MatrixXd::Identity(1, 1)).sparseView();
+  ContactElement contact;
+  contact.law = law;
+  contact.stiffness = kt0;
+  contact.friction_coefficient = mu;
+  contact.normal_force = normal_force;
+  s.contacts.push_back(contact);
+  return s;
+}
+
 // A curve driven beyond what doubles hold ends on its last finite point with out_of_range
 // (W_D ∝ q² overflows near q = 1e154), keeping every point; one started at q = 1e-300 reports the
 // linear limit's energy ratio (the viscous share), not 0/0 (issue 20, item 2).
 TEST(NonlinearMode, ExtremeAmplitudesEndOnFinitePoints) {
   // The one-DOF Gaul–Mayer oscillator of cases/03 (m = 1, k = 1e4, c = 0.4; k_T0 = 3e4, μF_N = 1).
-  DiscreteSystem system;
-  system.mass = Eigen::MatrixXd::Identity(1, 1).sparseView();
-  system.stiffness = (1e4 * Eigen::MatrixXd::Identity(1, 1)).sparseView();
-  system.damping = (0.4 * Eigen::MatrixXd::Identity(1, 1)).sparseView();
-  ContactElement c;
-  c.law = "gaul-mayer";
-  c.stiffness = 3e4;
-  c.friction_coefficient = 0.2;
-  c.normal_force = 5.0;
-  system.contacts.push_back(c);
+  const DiscreteSystem system = contact_oscillator("gaul-mayer", 1e4, 0.4, 3e4, 0.2, 5.0);
   continuation::BackboneOptions o;
   o.mode.harmonics = 3;
   o.mode.time_samples = 32;
@@ -240,16 +248,8 @@ TEST(NonlinearMode, ChainDampingCurveNamesTheInternalResonanceWhereItStops) {
 // (docs/continuation.md); the curve used to stop there with "the corrector moved … more than 10
 // times the step".
 TEST(NonlinearMode, JenkinsDampingCurveCrossesTheSlipOnsetFromAPointOnIt) {
-  DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Identity(1, 1).sparseView();
-  s.stiffness = Eigen::MatrixXd::Identity(1, 1).sparseView();
-  s.damping = (2.0 * 0.01 * std::sqrt(101.0) * Eigen::MatrixXd::Identity(1, 1)).sparseView();
-  ContactElement c;
-  c.law = "jenkins";
-  c.stiffness = 100.0;
-  c.friction_coefficient = 1.0;
-  c.normal_force = 1.0;
-  s.contacts.push_back(c);
+  const DiscreteSystem s =
+      contact_oscillator("jenkins", 1.0, 2.0 * 0.01 * std::sqrt(101.0), 100.0, 1.0, 1.0);
   continuation::BackboneOptions o;
   o.mode.harmonics = 7;
   o.mode.time_samples = 256;
