@@ -254,8 +254,6 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   return j;
 }
 
-// Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: reported before any
-// output exists.
 // The located turns of a damping curve in amplitude (BackboneCurve::turns), as fold_points of FRFs.
 Json turns_json(const std::vector<continuation::BackboneTurn>& turns) {
   Json located = Json::array();
@@ -273,6 +271,8 @@ Json turns_json(const std::vector<continuation::BackboneTurn>& turns) {
   return located;
 }
 
+// Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: reported before any
+// output exists.
 void check_setup(const io::DiscreteCase& c) {
   try {
     if (c.frf) {

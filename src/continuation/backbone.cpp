@@ -167,7 +167,8 @@ class DiscreteBackboneSegment {
 
  private:
   // log10 q of a turn to 1e-8 of its value (|λ| ~ 1: q to ~2e-8 relative) in at most 40 corrected
-  // points: the turns of the 30-DOF chain of issue 18 took 9–40 points at 1e-10 (1.2 s of 5 s).
+  // points: the ten turns of the 30-DOF chain of issue 18 took 9–40 points each at 1e-10, 7–40 at
+  // 1e-8 (docs/stability.md §7 for the time).
   static constexpr detail::RefinementOptions kTurnRefinement{1e-8, 40};
 
   // Every turn of λ between accepted points of the run (Point::fold: the tangent's λ component

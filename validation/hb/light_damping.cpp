@@ -956,7 +956,7 @@ int run(int argc, char** argv) {
   const int nm_steps = args.ci ? 512 : 1024;
   for (const FrfScenario& s : frf_scenarios()) {
     if (args.ci && !s.ci && !s.newmark_ci) continue;
-    if (!args.only.empty() && s.name.find(args.only) == std::string::npos) continue;
+    if (args.skips(s.name)) continue;
     const FrfRun r = run_frf(s);
     const CurveOutcome& o = r.outcome;
     frf_seconds += o.seconds;
@@ -1080,7 +1080,7 @@ int run(int argc, char** argv) {
   // (2) Damping curves.
   for (const BackboneScenario& s : backbone_scenarios()) {
     if (args.ci && !s.ci) continue;
-    if (!args.only.empty() && s.name.find(args.only) == std::string::npos) continue;
+    if (args.skips(s.name)) continue;
     const BackboneRun r = run_backbone(s);
     const CurveOutcome& o = r.outcome;
     backbone_seconds += o.seconds;

@@ -15,6 +15,11 @@ struct Arguments {
   std::string prefix;  // tables are written to prefix + "_<table>.csv"
   std::string only;    // non-empty: run only the scenarios whose name contains it
   bool ok = false;     // false: usage printed, exit with 2
+
+  /// True when --only leaves out the scenario called `name`.
+  [[nodiscard]] bool skips(const std::string& name) const {
+    return !only.empty() && name.find(only) == std::string::npos;
+  }
 };
 
 inline Arguments parse_arguments(int argc, char** argv) {
