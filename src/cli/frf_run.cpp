@@ -333,11 +333,11 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
   for (std::size_t l = 0; l < c.levels.size(); ++l) {
     const double force = c.level_amplitudes[l];
     continuation::FrfCurve curve;
-    std::vector<continuation::FrfPoint> written;  // the rows of frf.csv, kept if an error ends the curve
-    const auto on_point = [&](const continuation::FrfPoint& p) {
-      for (double v : {p.omega, p.amplitude_h1, p.amplitude_max, p.dissipation}) {
-        require_finite_result("frf point", v);
-      }
+    // The curve's rows are written when it ends (from the returned points, whose bifurcations the
+    // curve may still revise: a fold split over two points, continuation/frf.cpp), or from the
+    // points received so far if an error ends it.
+    std::vector<continuation::FrfPoint> received;
+    const auto write_row = [&](const continuation::FrfPoint& p) {
       std::vector<std::optional<double>> row = {static_cast<double>(l), force, p.omega,
                                                 p.omega / (2.0 * std::numbers::pi), p.amplitude_h1,
                                                 p.amplitude_max, p.dissipation,
@@ -351,8 +351,13 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
       }
       const std::string bifurcation = hb::to_string(p.bifurcation);
       csv.write_row(std::span<const std::optional<double>>(row), std::span<const std::string>(&bifurcation, 1));
-      written.push_back(p);
       ++outcome.rows;
+    };
+    const auto on_point = [&](const continuation::FrfPoint& p) {
+      for (double v : {p.omega, p.amplitude_h1, p.amplitude_max, p.dissipation}) {
+        require_finite_result("frf point", v);
+      }
+      received.push_back(p);
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: level {}/{}  Ω = {:.6g} rad/s  |x| = {:.4g}  ",
                                  l + 1, c.levels.size(), p.omega, p.amplitude_h1)
@@ -367,10 +372,11 @@ AnalysisOutcome run_frf(const io::DiscreteCase& c, pipeline::DiscretePipeline& p
     } catch (const std::exception& e) {
       // The summary then describes exactly the rows written before the error.
       curve = continuation::FrfCurve{};
-      curve.points = std::move(written);
+      curve.points = std::move(received);
       curve.reason = continuation::StopReason::error;
       curve.message = e.what();
     }
+    for (const auto& p : curve.points) write_row(p);
     outcome.curves.push_back({fmt::format("frf level {}", l), curve.status()});
     summary["curves"].push_back(curve_json(l, force, curve, options.check_jacobian, options.accuracy));
     if (progress) std::cerr << '\r' << std::string(72, ' ') << '\r';

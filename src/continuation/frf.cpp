@@ -556,6 +556,25 @@ class DiscreteFrfSegment {
   std::vector<Eigen::VectorXd> tangents_;
 };
 
+// One fold detected on two neighbouring points: the turn of Ω at one accepted point and the count
+// of unstable multipliers changing at the next (or the previous) one. Next to a fold the crossing
+// multiplier is within its own error of +1 (the monodromy integrates the exact variational
+// equation along the truncated orbit, whose fold lies a little apart from the balance's), so the
+// verdicts of the two points can fall on the same side: a "reversal" beside a "branch point" whose
+// multiplier crossed +1 is that fold, reported at the turn.
+void merge_split_folds(std::vector<FrfPoint>& points) {
+  using hb::Bifurcation;
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    FrfPoint& a = points[k];
+    FrfPoint& b = points[k + 1];
+    const bool turn_first = a.bifurcation == Bifurcation::reversal && b.bifurcation == Bifurcation::branch_point;
+    const bool turn_second = a.bifurcation == Bifurcation::branch_point && b.bifurcation == Bifurcation::reversal;
+    if (!turn_first && !turn_second) continue;
+    (turn_first ? a : b).bifurcation = Bifurcation::fold;
+    (turn_first ? b : a).bifurcation = Bifurcation::none;
+  }
+}
+
 // The folds and the peak of a curve traced in segments, located within each segment
 // (refine_extrema on the segment's points, its balance and residual); a peak at a segment's end
 // that is not the curve's end is reported at its accepted point.
@@ -625,6 +644,7 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
       options.accuracy, {options.harmonics, options.time_samples}, options.omega_start, options.omega_end,
       options.continuation, make_segment, keep, after_run);
   curve.newton_iterations += shared.ladder_iterations;
+  merge_split_folds(curve.points);
   if (options.refine_extrema) {
     const auto refinement_start = Clock::now();
     refine_segments(segments, options.output_dof, curve);

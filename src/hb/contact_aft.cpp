@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "jointhb/contact/periodic_state.hpp"
+#include "jointhb/contact/preloaded_normal_law.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -26,6 +27,28 @@ void classify_contact(const ContactElement& element, const contact::TangentialLa
   r.state = classify_contact_state({0.0, m.share, m.ratio, law.sticks_below_limit()}, options);
 }
 
+// A normal element (N-3) has no memory: F(t_i) = F(g(t_i)) and ∂F/∂G = A diag(F'(g_i)) E. It is
+// closed ("stuck") while its contact force F_N0 − F stays above the gapping floor ε_gap F_N0 of the
+// finite-element points (contact/contact_point.hpp), gapping or open below it.
+ContactAftResult evaluate_normal_contact(const ContactElement& element, const FourierBasis& basis,
+                                         const Eigen::VectorXd& gap_samples, bool jacobian) {
+  constexpr double kGapPressureRatio = 1.0e-12;
+  const Eigen::Index n = gap_samples.size();
+  ContactAftResult r;
+  r.force_samples.resize(n);
+  Eigen::VectorXd tangent(n);
+  Eigen::Index open = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    r.force_samples[i] = contact::PreloadedNormalLaw::force(gap_samples[i], element.normal_force, element.stiffness);
+    tangent[i] = contact::PreloadedNormalLaw::tangent(gap_samples[i], element.normal_force, element.stiffness);
+    if (element.normal_force - r.force_samples[i] < kGapPressureRatio * element.normal_force) ++open;
+  }
+  const double open_fraction = static_cast<double>(open) / static_cast<double>(n);
+  r.state = classify_contact_state({open_fraction, 0.0, 0.0, true});
+  if (jacobian) r.d_force = basis.to_frequency(tangent.asDiagonal() * basis.synthesis_matrix());
+  return r;
+}
+
 }  // namespace
 
 ContactAftResult evaluate_contact(const ContactElement& element, const contact::TangentialLaw& law,
@@ -33,6 +56,7 @@ ContactAftResult evaluate_contact(const ContactElement& element, const contact::
                                   const ContactAftOptions& options) {
   const int n = basis.time_samples();
   const int m = basis.size();
+  if (element.normal()) return evaluate_normal_contact(element, basis, gap_samples, options.jacobian);
   ContactAftResult r;
 
   if (options.skip_stuck && law.sticks_below_limit()) {

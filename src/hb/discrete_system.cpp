@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "jointhb/contact/harmonic_loop.hpp"
+#include "jointhb/contact/preloaded_normal_law.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -53,20 +54,25 @@ std::string DiscreteSystem::validate() const {
       return fmt::format("{}.dofs: must be one DOF or two different DOFs in [0, {}], got [{}, {}]",
                          where, n - 1, c.dof_a, c.dof_b);
     }
-    if (c.law != "jenkins" && c.law != "gaul-mayer") {
-      return fmt::format("{}.law: must be one of jenkins, gaul-mayer, got '{}'", where, c.law);
+    if (c.law != "jenkins" && c.law != "gaul-mayer" && !c.normal()) {
+      return fmt::format("{}.law: must be one of jenkins, gaul-mayer, normal-exponential, got '{}'",
+                         where, c.law);
     }
     if (c.law == "gaul-mayer" && !(c.exponent > 0.0 && c.exponent < 1.0)) {
       return fmt::format("{}.n: must be in (0, 1), got {}", where, c.exponent);
     }
-    if (!(c.friction_coefficient > 0.0) || !std::isfinite(c.friction_coefficient)) {
+    if (!c.normal() && (!(c.friction_coefficient > 0.0) || !std::isfinite(c.friction_coefficient))) {
       return fmt::format("{}.mu: must be finite and > 0, got {}", where, c.friction_coefficient);
     }
     if (!(c.normal_force > 0.0) || !std::isfinite(c.normal_force)) {
       return fmt::format("{}.normal_force: must be finite and > 0, got {}", where, c.normal_force);
     }
     if (!(c.stiffness > 0.0) || !std::isfinite(c.stiffness)) {
-      return fmt::format("{}.kt0: must be finite and > 0, got {}", where, c.stiffness);
+      return fmt::format("{}.{}: must be finite and > 0, got {}", where, c.normal() ? "kn" : "kt0",
+                         c.stiffness);
+    }
+    if (c.normal() && (c.reference_force != 0.0 || c.reference_slip != 0.0)) {
+      return where + ".reference_force: a normal element is about its preloaded state (must be 0)";
     }
     if (!std::isfinite(c.reference_force) || std::abs(c.reference_force) > c.slip_limit()) {
       return fmt::format("{}.reference_force: must satisfy |F_ref| <= mu F_N, got {}", where,
@@ -79,6 +85,7 @@ std::string DiscreteSystem::validate() const {
 
 std::shared_ptr<const contact::TangentialLaw> DiscreteSystem::make_law(
     const ContactElement& element) {
+  if (element.normal()) return std::make_shared<contact::PreloadedNormalLaw>();
   return contact::make_tangential_law(element.law, element.exponent);
 }
 

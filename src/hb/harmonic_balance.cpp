@@ -30,7 +30,7 @@ bool is_symmetric(const DiscreteSystem& system, const Excitation& excitation) {
     if (f.harmonic % 2 == 0) return false;
   }
   for (const auto& c : system.contacts) {
-    if (c.reference_force != 0.0 || c.reference_slip != 0.0) return false;
+    if (c.reference_force != 0.0 || c.reference_slip != 0.0 || c.normal()) return false;
   }
   return true;
 }
@@ -322,6 +322,7 @@ double HarmonicBalance::max_slip_ratio(const Eigen::VectorXd& x) const {
   const Eigen::Index m = basis.size();
   double worst = 0.0;
   for (const ContactElement& c : impl_->system.contacts) {
+    if (c.normal()) continue;  // elastic: no stick range (overflow shows as non-finite forces)
     Eigen::VectorXd g = x.segment(index(c.dof_a, 0), m);
     if (c.dof_b >= 0) g -= x.segment(index(c.dof_b, 0), m);
     worst = std::max(worst, basis.peak_magnitude(g) * c.stiffness / c.slip_limit());

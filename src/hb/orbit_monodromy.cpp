@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "jointhb/contact/periodic_state.hpp"
+#include "jointhb/contact/preloaded_normal_law.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -86,15 +87,24 @@ FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorX
   for (int i = 0; i < n; ++i) c.col(i) = coefficients.segment(balance.index(i, 0), coarse.size());
   const Eigen::MatrixXd x = fine.to_time(c);  // nf × n
 
-  // Contacts: stuck ones become springs (K_total), slipping ones carry a force state.
+  // Contacts: stuck ones become springs (K_total), slipping ones carry a force state, normal ones
+  // (N-3, elastic) are springs whose stiffness F'(g(t)) varies over the period (no state).
   Eigen::MatrixXd k_total = Eigen::MatrixXd(s.stiffness);
   std::vector<ContactSteps> slipping;
   std::vector<Eigen::VectorXd> incidence;  // e_a − e_b of each slipping contact
+  std::vector<Eigen::VectorXd> normal_incidence, normal_tangent;  // F'(g(t_j)) per fine sample
   for (const auto& e : s.contacts) {
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
     b[e.dof_a] = 1.0;
     if (e.dof_b >= 0) b[e.dof_b] = -1.0;
     const Eigen::VectorXd gap = x * b;
+    if (e.normal()) {
+      normal_incidence.push_back(b);
+      normal_tangent.push_back(gap.unaryExpr([&e](double g) {
+        return contact::PreloadedNormalLaw::tangent(g, e.normal_force, e.stiffness);
+      }));
+      continue;
+    }
     std::string why;
     std::optional<ContactSteps> steps =
         contact_steps(e, gap, balance.options().periodic_tolerance, why);
@@ -123,13 +133,22 @@ FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorX
   y.leftCols(n).setIdentity();
   v.middleCols(n, n).setIdentity();
   f.rightCols(ns).setIdentity();
+  // K(t_j): K_total plus the normal elements' tangents at fine sample j.
+  const auto stiffness_at = [&](int j) {
+    Eigen::MatrixXd k = k_total;
+    for (std::size_t e = 0; e < normal_incidence.size(); ++e) {
+      k += normal_tangent[e][j] * normal_incidence[e] * normal_incidence[e].transpose();
+    }
+    return k;
+  };
+  const bool time_varying = !normal_incidence.empty();
   const Eigen::LLT<Eigen::MatrixXd> mass_llt(mass);
-  Eigen::MatrixXd a = mass_llt.solve(-(damping * v + k_total * y + bmat * f));
+  Eigen::MatrixXd a = mass_llt.solve(-(damping * v + stiffness_at(0) * y + bmat * f));
 
   const double period = 2.0 * std::numbers::pi / omega;
   const double dt = period / nf;
   const double c0 = 4.0 / (dt * dt), c1 = 2.0 / dt;
-  const Eigen::MatrixXd base = c0 * mass + c1 * damping + k_total;
+  const Eigen::MatrixXd inertial = c0 * mass + c1 * damping;
   Eigen::VectorXd b_step(ns), b_previous = Eigen::VectorXd::Constant(ns, -1.0), a_step(ns);
   Eigen::LLT<Eigen::MatrixXd> step_llt;
   for (int j = 0; j < nf; ++j) {
@@ -137,8 +156,9 @@ FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorX
       a_step[k] = slipping[static_cast<std::size_t>(k)].a[static_cast<std::size_t>(j)];
       b_step[k] = slipping[static_cast<std::size_t>(k)].b[static_cast<std::size_t>(j)];
     }
-    if (j == 0 || b_step != b_previous) {  // refactor only where a contact's tangent changes
-      step_llt.compute(base + bmat * b_step.asDiagonal() * bmat.transpose());
+    // Refactor only where a contact's tangent changes (at every step with normal elements).
+    if (j == 0 || time_varying || b_step != b_previous) {
+      step_llt.compute(inertial + stiffness_at((j + 1) % nf) + bmat * b_step.asDiagonal() * bmat.transpose());
       if (step_llt.info() != Eigen::Success) {
         out.message = fmt::format("the step matrix is not positive definite at t = {:.4g} T",
                                   static_cast<double>(j) / nf);

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <set>
 #include <stdexcept>
+#include <string_view>
 #include <tuple>
 
 #include "jointhb/io/input_error.hpp"
@@ -372,14 +373,32 @@ class DiscreteCaseReader {
   hb::ContactElement read_contact(const YAML::Node& node, const std::string& path, int n) const {
     const Fields f = reader_.fields(
         node, path,
-        {"law", "dofs", "kt0", "mu", "normal_force", "n", "reference_force", "reference_slip"});
-    for (const char* name : {"law", "dofs", "kt0", "mu", "normal_force"}) {
-      if (!f.has(name)) reader_.fail(node, f.path_of(name), "required");
-    }
+        {"law", "dofs", "kt0", "kn", "mu", "normal_force", "n", "reference_force", "reference_slip"});
+    if (!f.has("law")) reader_.fail(node, f.path_of("law"), "required");
     hb::ContactElement e;
     const YAML::Node law = f.find("law")->value;
     e.law = reader_.text(law, f.path_of("law"));
-    reader_.check(law, f.path_of("law"), check_one_of(e.law, {"gaul-mayer", "jenkins"}));
+    reader_.check(law, f.path_of("law"),
+                  check_one_of(e.law, {"gaul-mayer", "jenkins", "normal-exponential"}));
+    // The normal law (N-3) has its own keys: the preload and the normal stiffness k_N.
+    const std::vector<const char*> keys =
+        e.normal() ? std::vector<const char*>{"law", "dofs", "kn", "normal_force"}
+                   : std::vector<const char*>{"law", "dofs", "kt0", "mu", "normal_force"};
+    for (const char* name : keys) {
+      if (!f.has(name)) reader_.fail(node, f.path_of(name), "required for law " + e.law);
+    }
+    for (const char* name : {"kt0", "kn", "mu", "n", "reference_force", "reference_slip"}) {
+      const auto* entry = f.find(name);
+      if (entry == nullptr) continue;
+      if (e.normal() && std::string_view(name) != "kn") {
+        reader_.fail(entry->key, f.path_of(name),
+                     "not a parameter of law normal-exponential (its keys: law, dofs, kn, normal_force)");
+      }
+      if (!e.normal() && std::string_view(name) == "kn") {
+        reader_.fail(entry->key, f.path_of(name),
+                     "a parameter of law normal-exponential only (friction laws take kt0)");
+      }
+    }
     if (const auto* exponent = f.find("n")) {
       if (e.law == "jenkins") {
         reader_.fail(exponent->key, f.path_of("n"),
@@ -421,9 +440,13 @@ class DiscreteCaseReader {
       reader_.check(value, f.path_of(name), check_magnitude(x));
       return x;
     };
+    e.normal_force = positive("normal_force");
+    if (e.normal()) {
+      e.stiffness = positive("kn");
+      return e;
+    }
     e.stiffness = positive("kt0");
     e.friction_coefficient = positive("mu");
-    e.normal_force = positive("normal_force");
     if (const auto* force = f.find("reference_force")) {
       const std::string key = f.path_of("reference_force");
       e.reference_force = reader_.finite_number(force->value, key);

@@ -236,6 +236,10 @@ PredictedCurve predict_modal(const DiscreteProblem& c) {
 std::vector<std::string> discrete_parameter_names(const DiscreteProblem& c) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < c.system.contacts.size(); ++i) {
+    if (c.system.contacts[i].normal()) {
+      for (const char* field : {"kn", "normal_force"}) names.push_back(fmt::format("contacts[{}].{}", i, field));
+      continue;
+    }
     for (const char* field : {"kt0", "mu", "normal_force"}) {
       names.push_back(fmt::format("contacts[{}].{}", i, field));
     }
@@ -268,9 +272,9 @@ void set_model_parameters(DiscreteProblem& c, const std::vector<std::string>& na
     if (indexed(name, "contacts", i, field) && i < c.system.contacts.size()) {
       hb::ContactElement& e = c.system.contacts[i];
       known = true;
-      if (field == "kt0") {
+      if (field == (e.normal() ? "kn" : "kt0")) {
         e.stiffness = v;
-      } else if (field == "mu") {
+      } else if (field == "mu" && !e.normal()) {
         e.friction_coefficient = v;
       } else if (field == "normal_force") {
         e.normal_force = v;

@@ -657,7 +657,7 @@ class DiscreteModel {
         throw py::value_error("contacts[" + std::to_string(i) + "].dofs: one DOF (to ground) or two");
       e.dof_a = dofs[0];
       e.dof_b = dofs.size() == 2 ? dofs[1] : -1;
-      e.stiffness = item<double>(c, "kt0", e.stiffness);
+      e.stiffness = item<double>(c, e.law == "normal-exponential" ? "kn" : "kt0", e.stiffness);
       e.friction_coefficient = item<double>(c, "mu", e.friction_coefficient);
       e.normal_force = item<double>(c, "normal_force", e.normal_force);
       e.exponent = item<double>(c, "n", e.exponent);
@@ -1014,7 +1014,8 @@ PYBIND11_MODULE(_core, m) {
                     const std::vector<py::dict>&>(),
            py::arg("mass"), py::arg("stiffness"), py::arg("damping") = py::none(), py::arg("contacts") = std::vector<py::dict>{},
            "mass, stiffness, damping: n x n arrays [kg, N/m, N s/m]; contacts: dicts {law: 'jenkins' | 'gaul-mayer', "
-           "dofs: [a] (to ground) or [a, b], kt0 [N/m], mu, normal_force [N], n (gaul-mayer)}. ValueError names "
+           "dofs: [a] (to ground) or [a, b], kt0 [N/m], mu, normal_force [N], n (gaul-mayer)}, or {law: "
+           "normal-exponential, dofs, kn [N/m], normal_force [N] (the preload)}. ValueError names "
            "the violated constraint.")
       .def_property_readonly("dofs", &DiscreteModel::dofs)
       .def_property_readonly("source", &DiscreteModel::source, "the case file it was read from ('' when built)")
@@ -1041,7 +1042,7 @@ PYBIND11_MODULE(_core, m) {
            "harmonics or time_samples given here trace at that fixed level; max_output_change as "
            "Pipeline.backbone.")
       .def_property_readonly("parameter_names", [](DiscreteModel& d) { return d.pipe().parameter_names(); },
-                             "contacts[i].kt0|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
+                             "contacts[i].kt0|kn|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
       .def("set", [](DiscreteModel& d, const std::string& name, double value) { d.pipe().set_parameter(name, value); },
            py::arg("name"), py::arg("value"), "Sets a parameter (C is rebuilt for a damping parameter).");
 

@@ -33,6 +33,7 @@
 #include <stdexcept>
 
 #include "../support/numeric_constants.hpp"
+#include "jointhb/contact/preloaded_normal_law.hpp"
 
 namespace jointhb::timeint {
 namespace {
@@ -48,6 +49,10 @@ std::vector<double> reference_forces(const hb::DiscreteSystem& system, const Vec
   f.reserve(system.contacts.size());
   for (const auto& c : system.contacts) {
     const double limit = c.slip_limit();
+    if (c.normal()) {  // elastic (N-3): the force of the gap itself
+      f.push_back(contact::PreloadedNormalLaw::force(c.gap(x), c.normal_force, c.stiffness));
+      continue;
+    }
     f.push_back(
         std::clamp(c.reference_force + c.stiffness * (c.gap(x) - c.reference_slip), -limit, limit));
   }
@@ -98,9 +103,11 @@ void check_state(const State& s, const hb::DiscreteSystem& system) {
     }
     for (std::size_t c = 0; c < s.contact_forces.size(); ++c) {
       const double f = s.contact_forces[c];
-      if (!std::isfinite(f) || std::abs(f) > system.contacts[c].slip_limit() * (1.0 + 1e-12)) {
+      const hb::ContactElement& e = system.contacts[c];
+      if (!std::isfinite(f) || (e.normal() ? f > e.normal_force : std::abs(f) > e.slip_limit() * (1.0 + 1e-12))) {
         throw std::invalid_argument(fmt::format(
-            "time integration: state contact_forces[{}] must satisfy |F| <= mu F_N, got {}", c, f));
+            "time integration: state contact_forces[{}] must satisfy {}, got {}", c,
+            e.normal() ? "F <= F_N0 (a normal element)" : "|F| <= mu F_N", f));
       }
     }
   }

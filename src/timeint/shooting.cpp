@@ -341,6 +341,13 @@ ShootingResult periodic_orbit_by_shooting(const hb::DiscreteSystem& system,
     throw std::invalid_argument(
         fmt::format("shooting: omega must be finite and > 0, got {}", omega));
   }
+  for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+    if (system.contacts[c].normal()) {  // the period map carries friction forces as states
+      throw std::invalid_argument(fmt::format(
+          "shooting: contacts[{}] is a normal element (normal-exponential), which shooting does not "
+          "take yet; integrate with timeint::integrate or use harmonic balance", c));
+    }
+  }
   PeriodMap map(system, excitation, omega, options);
   ShootingResult result;
   result.period = map.period();

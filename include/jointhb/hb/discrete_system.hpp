@@ -4,7 +4,9 @@
 // M, C, K are n × n (sparse storage; dense input converts). Each contact element acts on the
 // relative displacement g of one DOF to ground (g = x_a) or of two DOFs (g = x_a - x_b) through a
 // 1D tangential law (Jenkins or Gaul–Mayer, eq. 10) with constant slip limit μF_N and stiffness
-// k_T0; its force F(t) acts as +F on DOF a and -F on DOF b. The excitation is
+// k_T0, or through the exponential normal law about its preload F_N0 (law "normal-exponential",
+// contact/preloaded_normal_law.hpp, N-3: g is then the opening of the gap and k_T0 holds k_N);
+// its force F(t) acts as +F on DOF a and -F on DOF b. The excitation is
 //   f_ex(t) = f_static + Σ_j f_j cos(h_j Ω t).
 // This is the model that harmonic balance (hb/harmonic_balance.hpp) and the time-domain reference
 // (timeint/) share; later a condensed FE model maps onto the same matrices and contacts.
@@ -21,19 +23,24 @@ namespace jointhb::hb {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-/// One friction contact between a DOF and ground or between two DOFs.
+/// One contact between a DOF and ground or between two DOFs: friction, or normal (N-3).
 struct ContactElement {
-  std::string law = "jenkins";        ///< "jenkins" or "gaul-mayer"
+  std::string law = "jenkins";        ///< "jenkins", "gaul-mayer" or "normal-exponential"
   double exponent = 1.0 / 3.0;        ///< n ∈ (0, 1) (gaul-mayer only)
   int dof_a = 0;                      ///< g = x[dof_a] - x[dof_b] (x[dof_b] ≡ 0 if dof_b < 0)
   int dof_b = -1;                     ///< -1: to ground
-  double friction_coefficient = 0.3;  ///< μ > 0
-  double normal_force = 1.0;          ///< F_N [N] > 0
-  double stiffness = 1.0;             ///< k_T0 [N/m] > 0
+  double friction_coefficient = 0.3;  ///< μ > 0 (friction laws only)
+  double normal_force = 1.0;          ///< F_N [N] > 0 (normal law: the preload F_N0)
+  double stiffness = 1.0;             ///< k_T0 [N/m] > 0 (normal law: k_N at the preload)
   double reference_force = 0.0;       ///< tangential force of the reference (preloaded) state [N]
   double reference_slip = 0.0;        ///< g of the reference state [m]
 
-  [[nodiscard]] double slip_limit() const { return friction_coefficient * normal_force; }
+  /// The exponential normal law about its preload (no friction, no reference offsets).
+  [[nodiscard]] bool normal() const { return law == "normal-exponential"; }
+  /// μF_N; for a normal element F_N0, the bound its force F = F_N0 − F_N(g) tends to as it opens.
+  [[nodiscard]] double slip_limit() const {
+    return normal() ? normal_force : friction_coefficient * normal_force;
+  }
   /// Relative displacement g = x_a - x_b.
   [[nodiscard]] double gap(const Eigen::Ref<const Eigen::VectorXd>& x) const {
     return x[dof_a] - (dof_b >= 0 ? x[dof_b] : 0.0);
