@@ -384,9 +384,6 @@ class DiscreteCaseReader {
     const std::vector<const char*> keys =
         e.normal() ? std::vector<const char*>{"law", "dofs", "kn", "normal_force"}
                    : std::vector<const char*>{"law", "dofs", "kt0", "mu", "normal_force"};
-    for (const char* name : keys) {
-      if (!f.has(name)) reader_.fail(node, f.path_of(name), "required for law " + e.law);
-    }
     for (const char* name : {"kt0", "kn", "mu", "n", "reference_force", "reference_slip"}) {
       const auto* entry = f.find(name);
       if (entry == nullptr) continue;
@@ -398,6 +395,9 @@ class DiscreteCaseReader {
         reader_.fail(entry->key, f.path_of(name),
                      "a parameter of law normal-exponential only (friction laws take kt0)");
       }
+    }
+    for (const char* name : keys) {
+      if (!f.has(name)) reader_.fail(node, f.path_of(name), "required for law " + e.law);
     }
     if (const auto* exponent = f.find("n")) {
       if (e.law == "jenkins") {

@@ -260,6 +260,30 @@ def test_the_turns_of_a_damping_curve_are_extrema_of_its_amplitude():
         assert np.any(near & ((x + e >= hi) | (x - e <= lo))), t
 
 
+def test_a_preloaded_normal_contact_softens_and_folds_the_frf():
+    # Case 15's block (bolt 2e8 N/m, rough contact F_N0 = 2 kN, k_N = 1e9 N/m, zeta = 0.1 %) built
+    # from numpy arrays: the backbone's curvature at small amplitude is the Lindstedt-Poincare
+    # kappa = (1.5 r - 2.5 r^2) lam^2 / 24 (docs/case-files.md, N-3), and the 8 N FRF folds twice with
+    # unstable points only between its folds.
+    kb, kn, fn = 2.0e8, 1.0e9, 2000.0
+    w0 = np.sqrt(kb + kn)
+    contact = {"law": "normal-exponential", "dofs": [0], "kn": kn, "normal_force": fn}
+    model = jointhb.DiscreteModel(np.eye(1), [[kb]], damping=[[2e-3 * w0]], contacts=[contact])
+    lam, r = kn / fn, kn / (kb + kn)
+    kappa = (1.5 * r - 2.5 * r * r) * lam ** 2 / 24.0
+    b = model.backbone(mode=1, log10_amplitude=(-8.0, -7.0), harmonics=6)
+    assert b["ok"], b["message"]
+    q, w = b["amplitude"], 2 * np.pi * b["frequency_hz"]
+    small = q < 6e-8  # lam q < 0.03: the O(a^4) remainder below 0.1 % of kappa
+    assert np.any(small)
+    assert np.allclose((w[small] / w0 - 1.0) / q[small] ** 2, kappa, rtol=5e-3)
+    f = model.frf(force=np.array([8.0]), omega=(31000.0, 36000.0), output_dof=0, harmonics=8)
+    assert f["ok"] and len(f["folds"]) == 2, f["message"]
+    lo, hi = sorted(x["omega"] for x in f["folds"])
+    unstable = f["omega"][f["stable"] == 0]
+    assert len(unstable) > 3 and np.all((unstable >= lo - 1e-3) & (unstable <= hi + 1e-3))
+
+
 def lap_dict(mu=0.3):
     """Case 08 written as Python values (the same numbers as cases/08-lap-damping/case.yaml)."""
     plate = lambda name, x0, z0: {"name": name, "material": "aluminium", "element": "C3D8I",

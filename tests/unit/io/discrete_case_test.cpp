@@ -320,7 +320,7 @@ TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
   expect_error(
       with("contacts:\n  - {law: jenkins, dofs: [1], kt0: 1, mu: 0.3, normal_force: 1, kto: 2}\n"),
       6, "kto", "contacts[0].kto",
-      "unknown key; allowed: dofs, kt0, law, mu, n, normal_force, reference_force, "
+      "unknown key; allowed: dofs, kn, kt0, law, mu, n, normal_force, reference_force, "
       "reference_slip");
   expect_error(with("", "excitation:\n  - {dof: 0, amp: 0.1}\n"), 6, "amp", "excitation[0].amp",
                "unknown key; allowed: amplitude, dof, harmonic, static");
@@ -507,9 +507,9 @@ TEST(io_DiscreteCase, ContactConstraintsAreChecked) {
   expect_error(contact("law: gaul-mayer, dofs: [1], kt0: 1, mu: 0.3, normal_force: 1, n: 1"), 7,
                "1}", "contacts[1].n", "must be in (0, 1), got 1");
   expect_error(contact("law: coulomb, dofs: [1], kt0: 1, mu: 0.3, normal_force: 1"), 7, "coulomb",
-               "contacts[1].law", "must be one of gaul-mayer, jenkins, got 'coulomb'");
+               "contacts[1].law", "must be one of gaul-mayer, jenkins, normal-exponential, got 'coulomb'");
   expect_error(contact("law: jenkins, dofs: [1], kt0: 1, normal_force: 1"), 7, "{",
-               "contacts[1].mu", "required");
+               "contacts[1].mu", "required for law jenkins");
   expect_error(contact("law: jenkins, dofs: [1], kt0: 1, mu: 0.3, mu: 0.4, normal_force: 1"), 7,
                "mu: 0.4", "contacts[1].mu", "duplicate key");
   expect_error(
