@@ -67,6 +67,9 @@ std::string BackboneOptions::validate(int dofs) const {
   if (output_dof < 0 || output_dof >= dofs) {
     return fmt::format("output_dof: must be in [0, {}], got {}", dofs - 1, output_dof);
   }
+  if (!(max_damping_ratio >= 0.0) || !std::isfinite(max_damping_ratio)) {
+    return fmt::format("max_damping_ratio: must be finite and >= 0 (0: none), got {}", max_damping_ratio);
+  }
   if (std::string msg = accuracy.validate({mode.harmonics, mode.time_samples}); !msg.empty()) return msg;
   return {};
 }
@@ -231,7 +234,16 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
     last_basis = run->epmc().balance().basis();
     return run;
   };
-  const std::function<bool(BackbonePoint&)> keep = segment_detail::append_to(curve.points, on_point);
+  const std::function<bool(BackbonePoint&)> append = segment_detail::append_to(curve.points, on_point);
+  std::optional<double> overdamped_at;  // λ of the first point with ζ ≥ max_damping_ratio
+  const std::function<bool(BackbonePoint&)> keep = [&](BackbonePoint& b) {
+    if (!append(b)) return false;
+    if (options.max_damping_ratio > 0.0 && b.state.damping_ratio >= options.max_damping_ratio) {
+      overdamped_at = std::log10(b.state.amplitude);
+      return false;
+    }
+    return true;
+  };
   const auto after_run = [&](const DiscreteBackboneSegment& run, const Result& r) {
     curve.newton_iterations += r.corrector_iterations;
     curve.rejected_steps += r.rejected_steps;
@@ -243,6 +255,17 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
       options.accuracy, {options.mode.harmonics, options.mode.time_samples}, options.log10_amplitude_start,
       options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
   segment_detail::put_outcome(outcome, curve);
+  if (overdamped_at && !overflow_at) {
+    const double zeta = curve.points.back().state.damping_ratio;
+    curve.reason = StopReason::reached_end;
+    curve.message = fmt::format(
+        "ended at log10 q = {:.6g} (log10_amplitude end {:g}) where ζ = {:.4g} reached max_damping_ratio {:g}{}",
+        *overdamped_at, options.log10_amplitude_end, zeta, options.max_damping_ratio,
+        options.max_damping_ratio >= 1.0
+            ? ": the mode is overdamped there (the joint dissipates more per cycle than a critically "
+              "damped oscillator), beyond it there is no free vibration whose damping the curve could describe"
+            : "");
+  }
   if (overflow_at) {
     curve.reason = StopReason::out_of_range;
     curve.message = fmt::format(
@@ -254,6 +277,13 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   if (!curve.completed() && !overflow_at && outcome.reason != StopReason::stopped_by_user && !curve.points.empty()) {
     const std::string why = internal_resonance(system, *last_basis, curve.points.back().state.omega);
     if (!why.empty()) curve.message += ". " + why;
+    if (const hb::NonlinearModeState& last = curve.points.back().state; last.damping_ratio >= 1.0) {
+      curve.message += fmt::format(
+          ". The curve stopped where the mode is overdamped (ζ = {:.4g} at log10 q = {:.6g}): it does not "
+          "vibrate freely there, and the extended periodic motion can turn back at its stick-slip kinks; "
+          "max_damping_ratio: 1 ends a damping curve where ζ reaches 1",
+          last.damping_ratio, std::log10(last.amplitude));
+    }
   }
   curve.seconds = support::seconds_since(start_time);
   return curve;

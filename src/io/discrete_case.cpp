@@ -698,7 +698,8 @@ class DiscreteCaseReader {
     const Fields f = reader_.fields(node, path,
                                     {"mode", "log10_amplitude", "harmonics", "time_samples", "output_dof",
                                      "harmonic_selection", "periodic_tolerance", "error_estimate",
-                                     "continuation", "points_per_decade", "max_output_change", "accuracy"});
+                                     "continuation", "points_per_decade", "max_output_change", "accuracy",
+                                     "max_damping_ratio"});
     continuation::BackboneOptions o;
     modes_.clear();
     if (const auto* mode = f.find("mode")) {
@@ -764,6 +765,13 @@ class DiscreteCaseReader {
       o.continuation.max_parameter_step = 1.0 / v;
     }
     read_output_change(f, o.continuation);  // of f and ζ
+    // The curve ends at the first point with ζ ≥ this (default 1: overdamped); 0: never.
+    if (const auto* e = f.find("max_damping_ratio")) {
+      const std::string key = f.path_of("max_damping_ratio");
+      const double v = reader_.number(e->value, key);
+      if (!(std::isfinite(v) && v >= 0.0)) reader_.fail(e->value, key, fmt::format("must be finite and >= 0 (0: none), got {}", v));
+      o.max_damping_ratio = v;
+    }
     return o;
   }
 

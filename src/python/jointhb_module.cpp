@@ -758,8 +758,10 @@ class DiscreteModel {
   /// Without keywords: the case's analysis.nonlinear_modes settings (or the defaults).
   py::dict backbone(int mode, const std::optional<std::pair<double, double>>& log10_amplitude,
                     std::optional<int> harmonics, std::optional<int> time_samples, const py::object& callback,
-                    const py::object& accuracy, const std::optional<double>& max_output_change) {
+                    const py::object& accuracy, const std::optional<double>& max_output_change,
+                    const std::optional<double>& max_damping_ratio) {
     continuation::BackboneOptions o = pipe_->problem().nonlinear_modes.value_or(continuation::BackboneOptions{});
+    if (max_damping_ratio) o.max_damping_ratio = *max_damping_ratio;
     o.mode.mode = mode;
     if (harmonics) o.mode.harmonics = *harmonics, o.mode.time_samples = io::default_time_samples(*harmonics);
     if (time_samples) o.mode.time_samples = *time_samples;
@@ -1035,12 +1037,14 @@ PYBIND11_MODULE(_core, m) {
       .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
            py::arg("accuracy") = py::none(), py::arg("max_output_change") = py::none(),
+           py::arg("max_damping_ratio") = py::none(),
            "Damping curve (EPMC) of linear mode `mode` over log10 of the modal amplitude (the case's "
            "analysis.nonlinear_modes settings or the defaults): numpy arrays amplitude, omega, frequency_hz, "
            "damping_ratio, W_D, the error estimates, harmonics_of_points, time_samples_of_points; status, "
            "message. accuracy={'damping': 1e-3, ...} chooses H and N_t per point (as Pipeline.backbone); "
            "harmonics or time_samples given here trace at that fixed level; max_output_change as "
-           "Pipeline.backbone.")
+           "Pipeline.backbone; max_damping_ratio (default 0: none; 1: where the mode becomes overdamped) "
+           "ends the curve at its first point with zeta >= it.")
       .def_property_readonly("parameter_names", [](DiscreteModel& d) { return d.pipe().parameter_names(); },
                              "contacts[i].kt0|kn|mu|normal_force|n, damping.rayleigh.alpha|beta, damping.modal[k]")
       .def("set", [](DiscreteModel& d, const std::string& name, double value) { d.pipe().set_parameter(name, value); },

@@ -201,7 +201,10 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.1 (point 27)
       {"frf 10dof jenkins zeta=0.001 F=1", "left_range"},
       // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
-      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12). Stop 39:
+      // the curve passes ζ = 1 at λ ≈ -5.16, turns back in λ at -5.0220 (ζ = 1.338, point 88) and
+      // creeps back on a sheet within 0.05 rad/s of the first one (the retrace guard halves most
+      // steps); with max_damping_ratio: 1 it ends at λ = -5.102 (80 points, reached_end)
       {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "max_points"},
       // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
       // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)

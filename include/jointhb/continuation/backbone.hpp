@@ -18,6 +18,11 @@ struct BackboneOptions {
   double log10_amplitude_start = -7.0;  ///< λ of the first point (should be in the linear range)
   double log10_amplitude_end = -3.0;    ///< λ of the last point, ≠ start
   int output_dof = 0;  ///< DOF whose |fundamental| each point reports (BackbonePoint::output_amplitude)
+  /// ≥ 0; 0 (default): none. The curve ends (reached_end, with a message saying so) at the first
+  /// point whose damping ratio ζ reaches this; 1 ends it where the mode becomes overdamped, where
+  /// it does not vibrate freely and a damping ratio of the extended periodic motion no longer
+  /// describes a decay (docs/continuation.md, "Where a damping curve ends").
+  double max_damping_ratio = 0.0;
   /// Steps and tolerances (range and scales are set by trace_backbone). The residual tolerance
   /// defaults to 1e-12 (not 1e-10): the energy balance injected = viscous + ΣW_D then holds to
   /// ~1e-10 at every point (at 1e-10 it drifts to ~2e-8; validation/hb/README_epmc_convergence.md).

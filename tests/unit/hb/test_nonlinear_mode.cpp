@@ -267,6 +267,39 @@ TEST(NonlinearMode, JenkinsDampingCurveCrossesTheSlipOnsetFromAPointOnIt) {
   EXPECT_LT(curve.points.back().state.omega, 1.01);  // gross slip: the contact-free ω = 1
 }
 
+// k_T0/k = 1e6 (ω = 1000 stuck, 1 slipped), μF_N = 1, ζ = 1e-4: once the contact slips, friction
+// dissipates W_D = 4 μF_N (a − a_s) per cycle against the small energy of the softened spring, and
+// ζ passes 1 about a decade above the slip amplitude a_s = 1e-6. With max_damping_ratio = 1 the
+// curve ends there, at its first point with ζ ≥ 1, as reached_end with a message that says so;
+// by default it goes on past ζ = 1 and, stopped there (here by its point budget), its message
+// names the overdamped range and the option (docs/continuation.md §6).
+TEST(NonlinearMode, DampingCurveEndsWhereTheModeBecomesOverdampedOnRequest) {
+  const DiscreteSystem s = contact_oscillator("jenkins", 1.0, 2.0 * 1e-4 * 1000.0, 1e6, 1.0, 1.0);
+  continuation::BackboneOptions o;
+  o.mode.harmonics = 7;
+  o.mode.time_samples = 256;
+  o.log10_amplitude_start = -12.0;
+  o.log10_amplitude_end = -2.0;
+  o.error_estimate = false;
+  o.max_damping_ratio = 1.0;
+  const continuation::BackboneCurve curve = continuation::trace_backbone(s, o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_NE(curve.message.find("overdamped"), std::string::npos) << curve.message;
+  const double last = std::log10(curve.points.back().state.amplitude);
+  EXPECT_GT(last, -6.0);
+  EXPECT_LT(last, -4.0);
+  EXPECT_GE(curve.points.back().state.damping_ratio, 1.0);
+  for (std::size_t k = 0; k + 1 < curve.points.size(); ++k) EXPECT_LT(curve.points[k].state.damping_ratio, 1.0);
+  o.max_damping_ratio = 0.0;
+  o.continuation.max_points = static_cast<int>(curve.points.size()) + 5;
+  const continuation::BackboneCurve on = continuation::trace_backbone(s, o);
+  EXPECT_EQ(on.reason, continuation::StopReason::max_points) << on.message;
+  EXPECT_GT(on.points.back().state.damping_ratio, 1.0);
+  EXPECT_NE(on.message.find("max_damping_ratio: 1"), std::string::npos) << on.message;
+  o.max_damping_ratio = -1.0;
+  EXPECT_THROW((void)continuation::trace_backbone(s, o), std::invalid_argument);
+}
+
 TEST(NonlinearMode, RejectsAsymmetricCasesAndBadModes) {
   DiscreteSystem s = two_dof(true);
   NonlinearModeOptions o;

@@ -352,7 +352,22 @@ TEST(io_DiscreteCase, NonlinearModesAreRead) {
   EXPECT_EQ(c.nonlinear_modes->mode.harmonics, 5);
   EXPECT_EQ(c.nonlinear_modes->mode.time_samples, 128);
   EXPECT_EQ(c.nonlinear_modes->continuation.max_points, 77);
+  EXPECT_EQ(c.nonlinear_modes->max_damping_ratio, 0.0);  // default: no end at a damping ratio
   EXPECT_EQ(c.modes, std::vector<int>{1});
+  const DiscreteCase overdamped = parse_discrete_case(
+      "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
+      "analysis:\n  nonlinear_modes: {log10_amplitude: [-6, -1], max_damping_ratio: 1}\n",
+      "case.yaml");
+  EXPECT_EQ(overdamped.nonlinear_modes->max_damping_ratio, 1.0);
+  try {
+    (void)parse_discrete_case(
+        "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
+        "analysis:\n  nonlinear_modes: {log10_amplitude: [-6, -1], max_damping_ratio: -0.5}\n",
+        "case.yaml");
+    ADD_FAILURE() << "a negative max_damping_ratio accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "analysis.nonlinear_modes.max_damping_ratio");
+  }
   try {
     (void)parse_discrete_case(
         "model: {type: discrete, mass: 1.0, stiffness: 4.0}\n"
@@ -680,6 +695,16 @@ TEST(io_CaseFile, TheShippedCasesParse) {
   EXPECT_EQ(c.level_amplitudes, (std::vector<double>{0.05, 0.5, 1.5}));
   ASSERT_TRUE(c.frf.has_value());
   EXPECT_EQ(c.frf->output_dof, 1);
+
+  // Case 15: a preloaded normal contact (law normal-exponential: kn held as the stiffness).
+  const auto fold_case = repository_file("cases/15-normal-contact-fold/case.yaml");
+  const CaseFile third = read_case_file(fold_case);
+  ASSERT_TRUE(std::holds_alternative<DiscreteCase>(third));
+  const hb::ContactElement& normal = std::get<DiscreteCase>(third).system.contacts.at(0);
+  EXPECT_TRUE(normal.normal());
+  EXPECT_EQ(normal.stiffness, 1.0e9);
+  EXPECT_EQ(normal.normal_force, 2000.0);
+  EXPECT_EQ(normal.slip_limit(), 2000.0);
 }
 
 TEST(io_CaseFile, UnreadableFileIsAnInputError) {
