@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "jointhb/contact/contact_point.hpp"
 #include "jointhb/contact/periodic_state.hpp"
 #include "jointhb/contact/preloaded_normal_law.hpp"
 
@@ -29,10 +30,10 @@ void classify_contact(const ContactElement& element, const contact::TangentialLa
 
 // A normal element (N-3) has no memory: F(t_i) = F(g(t_i)) and ∂F/∂G = A diag(F'(g_i)) E. It is
 // closed ("stuck") while its contact force F_N0 − F stays above the gapping floor ε_gap F_N0 of the
-// finite-element points (contact/contact_point.hpp), gapping or open below it.
+// finite-element points (the default of contact::ContactPointOptions), gapping or open below it.
 ContactAftResult evaluate_normal_contact(const ContactElement& element, const FourierBasis& basis,
                                          const Eigen::VectorXd& gap_samples, bool jacobian) {
-  constexpr double kGapPressureRatio = 1.0e-12;
+  const double gap_pressure_ratio = contact::ContactPointOptions{}.gap_pressure_ratio;
   const Eigen::Index n = gap_samples.size();
   ContactAftResult r;
   r.force_samples.resize(n);
@@ -41,7 +42,7 @@ ContactAftResult evaluate_normal_contact(const ContactElement& element, const Fo
   for (Eigen::Index i = 0; i < n; ++i) {
     r.force_samples[i] = contact::PreloadedNormalLaw::force(gap_samples[i], element.normal_force, element.stiffness);
     tangent[i] = contact::PreloadedNormalLaw::tangent(gap_samples[i], element.normal_force, element.stiffness);
-    if (element.normal_force - r.force_samples[i] < kGapPressureRatio * element.normal_force) ++open;
+    if (element.normal_force - r.force_samples[i] < gap_pressure_ratio * element.normal_force) ++open;
   }
   const double open_fraction = static_cast<double>(open) / static_cast<double>(n);
   r.state = classify_contact_state({open_fraction, 0.0, 0.0, true});

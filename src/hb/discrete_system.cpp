@@ -71,7 +71,7 @@ std::string DiscreteSystem::validate() const {
       return fmt::format("{}.{}: must be finite and > 0, got {}", where, c.normal() ? "kn" : "kt0",
                          c.stiffness);
     }
-    if (c.normal() && (c.reference_force != 0.0 || c.reference_slip != 0.0)) {
+    if (c.normal() && c.has_reference_offset()) {
       return where + ".reference_force: a normal element is about its preloaded state (must be 0)";
     }
     if (!std::isfinite(c.reference_force) || std::abs(c.reference_force) > c.slip_limit()) {

@@ -30,7 +30,7 @@ bool is_symmetric(const DiscreteSystem& system, const Excitation& excitation) {
     if (f.harmonic % 2 == 0) return false;
   }
   for (const auto& c : system.contacts) {
-    if (c.reference_force != 0.0 || c.reference_slip != 0.0 || c.normal()) return false;
+    if (!c.odd()) return false;
   }
   return true;
 }
@@ -147,7 +147,7 @@ HarmonicBalance::HarmonicBalance(DiscreteSystem system, Excitation excitation,
   if (options.selection == HarmonicSelection::odd && !symmetric) {
     throw std::invalid_argument(
         "harmonic_selection: odd harmonics only need a symmetric case (no static force, odd "
-        "forcing harmonics, zero contact reference force and slip)");
+        "forcing harmonics, zero contact reference force and slip, no normal element)");
   }
   const bool odd = options.selection == HarmonicSelection::odd ||
                    (options.selection == HarmonicSelection::automatic && symmetric);

@@ -25,8 +25,7 @@ HarmonicBalanceOptions balance_options(const NonlinearModeOptions& o) {
 DiscreteSystem checked(DiscreteSystem s, const NonlinearModeOptions& o) {
   if (auto msg = s.validate(); !msg.empty()) throw std::invalid_argument(msg);
   if (auto msg = o.validate(s.dofs()); !msg.empty()) throw std::invalid_argument(msg);
-  const auto offset = [](const ContactElement& c) { return c.reference_force != 0.0 || c.reference_slip != 0.0; };
-  if (std::any_of(s.contacts.begin(), s.contacts.end(), offset)) {
+  if (std::any_of(s.contacts.begin(), s.contacts.end(), [](const ContactElement& c) { return c.has_reference_offset(); })) {
     throw std::invalid_argument(
         "nonlinear modes: contacts must have zero reference force and slip (the amplitude "
         "scaling of the unknowns does not admit a static offset)");

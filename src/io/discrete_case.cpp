@@ -111,7 +111,7 @@ class DiscreteCaseReader {
       }
       for (std::size_t i = 0; i < c.system.contacts.size(); ++i) {
         const auto& k = c.system.contacts[i];
-        if (k.reference_force != 0.0 || k.reference_slip != 0.0) {
+        if (k.has_reference_offset()) {
           reader_.fail(
               modes->key, analyses.path_of("nonlinear_modes"),
               fmt::format("needs contacts without reference state; contacts[{}] has one", i));
@@ -765,7 +765,7 @@ class DiscreteCaseReader {
       o.continuation.max_parameter_step = 1.0 / v;
     }
     read_output_change(f, o.continuation);  // of f and ζ
-    // The curve ends at the first point with ζ ≥ this (default 1: overdamped); 0: never.
+    // The curve ends at the first point with ζ ≥ this (1: where the mode becomes overdamped); 0, the default: never.
     if (const auto* e = f.find("max_damping_ratio")) {
       const std::string key = f.path_of("max_damping_ratio");
       const double v = reader_.number(e->value, key);
@@ -842,8 +842,10 @@ class DiscreteCaseReader {
     }
     for (std::size_t i = 0; i < c.system.contacts.size() && reason.empty(); ++i) {
       const auto& contact = c.system.contacts[i];
-      if (contact.reference_force != 0.0 || contact.reference_slip != 0.0) {
+      if (contact.has_reference_offset()) {
         reason = fmt::format("contacts[{}] has a reference force or slip", i);
+      } else if (contact.normal()) {
+        reason = fmt::format("contacts[{}] is a normal element (its law is not odd: a static offset develops)", i);
       }
     }
     if (!reason.empty()) {

@@ -1,6 +1,7 @@
 # jointhb run on cases/15-normal-contact-fold: the preloaded exponential normal contact (N-3)
 # folds the FRF from 2 N on; frf.csv agrees with summary.json's folds and stability counts, the
-# unstable rows lie between the folds; the reader's one-line errors for the law's keys.
+# unstable rows lie between the folds; the reader's one-line errors for the law's keys and for
+# odd harmonics only.
 source "$(dirname "$0")/common.inc" "$@"
 PYTHON=/usr/bin/python3
 CASE="$SOURCE_DIR/cases/15-normal-contact-fold/case.yaml"
@@ -43,4 +44,8 @@ grep -q "contacts\[0\].kn" "$ERR" || fail "kn: $(cat "$ERR")"
 sed 's/law: normal-exponential, dofs: \[0\], normal_force: 2000.0, kn: 1.0e9/law: jenkins, dofs: [0], normal_force: 2000.0, kn: 1.0e9, mu: 0.3/' "$CASE" >"$WORK/jk.yaml"
 expect_bad_input run "$WORK/jk.yaml" -o "$WORK/jk"
 grep -q "contacts\[0\].kn.*normal-exponential only" "$ERR" || fail "jenkins kn: $(cat "$ERR")"
+# Odd harmonics only: the law is not odd, the reader says so at the key.
+sed 's/output_dof: 0/output_dof: 0\n    harmonic_selection: odd/' "$CASE" >"$WORK/odd.yaml"
+expect_bad_input run "$WORK/odd.yaml" -o "$WORK/odd"
+grep -q "analysis.frf.harmonic_selection.*contacts\[0\] is a normal element" "$ERR" || fail "odd: $(cat "$ERR")"
 finish

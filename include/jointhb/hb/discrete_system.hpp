@@ -37,6 +37,11 @@ struct ContactElement {
 
   /// The exponential normal law about its preload (no friction, no reference offsets).
   [[nodiscard]] bool normal() const { return law == "normal-exponential"; }
+  /// A reference state other than zero force at zero slip (the response then has a static part).
+  [[nodiscard]] bool has_reference_offset() const { return reference_force != 0.0 || reference_slip != 0.0; }
+  /// F(−g) = −F(g): a friction law about a zero reference state (a normal element is not odd), so
+  /// that a symmetric forcing keeps odd harmonics only.
+  [[nodiscard]] bool odd() const { return !normal() && !has_reference_offset(); }
   /// μF_N; for a normal element F_N0, the bound its force F = F_N0 − F_N(g) tends to as it opens.
   [[nodiscard]] double slip_limit() const {
     return normal() ? normal_force : friction_coefficient * normal_force;

@@ -41,7 +41,8 @@ enum class HarmonicSelection {
 };
 
 /// True when the response may be sought with odd harmonics only: no static force, only odd
-/// forcing harmonics, and contacts with zero reference force and slip (odd laws).
+/// forcing harmonics, and odd contacts (ContactElement::odd: friction laws with zero reference
+/// force and slip; a normal element is not odd).
 bool is_symmetric(const DiscreteSystem& system, const Excitation& excitation);
 
 struct HarmonicBalanceOptions {
