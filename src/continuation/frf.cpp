@@ -15,8 +15,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <vector>
 
 #include "jointhb/contact/harmonic_loop.hpp"
 
@@ -52,7 +54,8 @@ ResidualFunction residual_of(const hb::HarmonicBalance& b) {
 // The largest |coefficient| of a linear response over the range (65 frequencies): all contacts
 // stuck (k_T0 springs), or with `free`, all contacts removed (what gross slip tends to when the
 // force exceeds the friction limit by far). Infinite values (an undamped resonance met exactly)
-// are skipped; 0 when nothing finite remains.
+// are skipped; 0 when nothing finite remains. A lightly damped peak lies between the frequencies
+// (it is a scale for the probe below, which resolves the peak).
 double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
                    const FrfOptions& options, bool free) {
   DiscreteSystem linear = system;
@@ -94,6 +97,7 @@ double probe_peak(const DiscreteSystem& system, const Excitation& excitation,
     c.parameter_scale = std::abs(options.omega_end - options.omega_start);
     c.max_step = std::max(c.max_step, 0.1);
     c.max_points = std::max(c.max_points, 5000);
+    if (c.max_state_turn == 0.0) c.max_state_turn = kMaxStateTurn;  // else it steps over sharp peaks
     const Eigen::VectorXd x0 = probe.stuck_solution(options.omega_start);
     c.state_scale = Eigen::VectorXd::Constant(x0.size(), scale);
     const Result r = trace(residual_of(probe), x0, c);
@@ -425,6 +429,7 @@ class DiscreteFrfSegment {
     c.state_scale = Eigen::VectorXd::Constant(balance_.unknowns(), shared_.state_scale);
     c.parameter_scale = std::abs(options_.omega_end - options_.omega_start);
     c.residual_scale = shared_.residual_scale;
+    if (c.max_state_turn == 0.0) c.max_state_turn = kMaxStateTurn;
     // |fundamental| of the output DOF, for max_output_change.
     c.outputs = [this](const Eigen::VectorXd& x, double) {
       return Eigen::VectorXd::Constant(1, balance_.fundamental_amplitude(x, options_.output_dof));

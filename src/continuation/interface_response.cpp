@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
@@ -101,6 +102,7 @@ class InterfaceFrfSegment {
                                  1e-4);
     c.state_scale = eta / (2.0 * zeta) * interface_detail::arclength_scale(balance_);
     c.residual_scale = eta;
+    if (c.max_state_turn == 0.0) c.max_state_turn = kMaxStateTurn;  // frf.hpp
     // |fundamental| of the output, for max_output_change: from the corrector's last evaluation,
     // which is at the converged point (one more evaluation otherwise).
     c.outputs = [this](const Eigen::VectorXd& x, double omega) {

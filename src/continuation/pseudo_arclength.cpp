@@ -64,6 +64,9 @@ constexpr double kCornerStepFactor = 0.05;
 // reaches slip and the amplitude is held at the slip limit while the phase turns. Steps at or below kCornerStepFactor · max_step accept a corrector that moved up
 // to this many steps (turns up to atan 10 = 84°; the tangent test above still guards longer steps).
 constexpr double kCornerMoveFactor = 10.0;
+// Least cosine between the tangent at a corner landing and the jump y_f − y_k (cos 84°, the
+// largest turn kCornerMoveFactor admits).
+constexpr double kCornerMinAlignment = 0.1;
 // A landing must be new branch: one nearer than this fraction of its jump |y_f − y_k| to the part
 // of the branch traced just before (the polyline of the last kRetraceWindow accepted points but
 // y_k) has landed back on it, and the run would then trace that part again — around and around a
@@ -536,6 +539,8 @@ std::string Options::validate(Eigen::Index n) const {
   }
   if (!(std::isfinite(max_output_change) && max_output_change >= 0.0))
     return fmt::format("max_output_change: must be finite and >= 0, got {}", max_output_change);
+  if (!(std::isfinite(max_state_turn) && max_state_turn >= 0.0 && max_state_turn <= std::numbers::pi))
+    return fmt::format("max_state_turn: must lie in [0, pi], got {}", max_state_turn);
   if (!(std::isfinite(max_parameter_step) && max_parameter_step >= 0.0)) {
     return fmt::format("max_parameter_step: must be finite and >= 0, got {}", max_parameter_step);
   }
@@ -807,6 +812,18 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (failure.empty() && (c.sample.y - predicted).norm() > s &&
         next_tau->dot(c.sample.y - y) < 0.0)
       *next_tau = -*next_tau;
+    // A corner landing (farther than the step from the predictor) must continue along the jump:
+    // past a corner that turns the branch by θ ≤ 84° (kCornerMoveFactor) the tangent there makes
+    // less than θ with the secant y_f − y_k. A landing whose tangent is nearly normal to the jump
+    // sits on another part of a sharply folded branch (seen on a 10-DOF Gaul–Mayer chain at ζ =
+    // 1e-3: a landing 5.3 steps off, tangent at 88° to the jump, from which the run went back
+    // along the branch and stalled at a non-smooth point).
+    if (failure.empty() && (c.sample.y - predicted).norm() > s) {
+      const double along = next_tau->dot(c.sample.y - y) / (c.sample.y - y).norm();
+      if (along < kCornerMinAlignment)
+        failure = fmt::format("the corrector landed {:.3g} steps from the predictor with the tangent at {:.0f}° to the jump",
+                              (c.sample.y - predicted).norm() / s, std::acos(std::clamp(along, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+    }
     // A tangent that turned by more than 60° over one step means the step jumped over a sharp
     // feature (e.g. a jagged peak); its orientation by continuity is then a guess and can send
     // the run back along the branch. Retry shorter, except at a genuine corner of the branch
@@ -858,6 +875,21 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       if (observed_change > options.max_output_change && s > kOutputMinStepFactor * options.max_step)
         failure = fmt::format("an output changed by {:.3g} > max_output_change {:.3g}", observed_change,
                               options.max_output_change);
+    }
+
+    // max_state_turn: a step that turned the state by more is retried shorter, down to the same
+    // 10⁻³ max_step (a jump over a peak is resolved; a state that turns that fast is accepted).
+    if (failure.empty() && options.max_state_turn > 0.0 && s > kOutputMinStepFactor * options.max_step) {
+      const auto x_k = y.head(n);  // scaled states
+      const auto x_f = c.sample.y.head(n);
+      const double norms = x_k.norm() * x_f.norm();
+      if (norms > 0.0) {
+        const double turn = std::acos(std::clamp(x_k.dot(x_f) / norms, -1.0, 1.0));
+        if (turn > options.max_state_turn)
+          failure = fmt::format("the state turned by {:.0f}° > max_state_turn {:.0f}° in one step",
+                                turn * 180.0 / std::numbers::pi,
+                                options.max_state_turn * 180.0 / std::numbers::pi);
+      }
     }
 
     if (!failure.empty()) {

@@ -115,12 +115,6 @@ const std::map<std::string, std::string>& known_stops() {
       {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=1e-06", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.004475128 (point 1000)
       {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004475128 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=0.1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.005873314 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=0.5", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.002684428 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=1", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.414191141 (point 1000)
       {"frf 1dof jenkins zeta=0 kt0/k=1 F=1e-06", "max_points"},
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1.413859965 (point
@@ -141,46 +135,10 @@ const std::map<std::string, std::string>& known_stops() {
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=0.001", "min_step"},
       // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.5 (point 31)
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "left_range"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004481616 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=1e-06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004481616 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004481616 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=0.1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.006456684 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=0.5", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.008659355 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.9995174698 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=0.01 F=10", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.414076014 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=1 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 2.016619892 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=100 F=1", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.002591087 (point 1000)
       {"frf 1dof jenkins zeta=0.0001 kt0/k=100 F=10", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.004475125 (point 1000)
       {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=1e-06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004471701 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004118217 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=0.1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.005475781 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=0.5", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.002136153 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004481613 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=1e-06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.00447855 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004183435 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=0.1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.006024782 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=0.5", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.006743284 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=1", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.9995225885 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=0.01 F=10", "max_points"},
       // KNOWN STOP: max_points = 1000 reached at λ = 1.002591152 (point 1000)
       {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=100 F=10", "max_points"},
       // KNOWN STOP: step 9.54e-09 below min_step 1e-08 after the point at λ = 0.7081365223 (point

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,13 @@
 #include "jointhb/hb/orbit_monodromy.hpp"
 
 namespace jointhb::continuation {
+
+/// The largest turn of the scaled state between two points of an FRF (Options::max_state_turn,
+/// used where the case leaves it 0; discrete and finite-element FRFs): a resonance turns the phase
+/// by π, and a step over a lightly damped peak lands beyond it on the flat branch (ζ = 1e-4: the
+/// one-harmonic probe that sets the arclength scale found a peak of 1e-5 where the linear one is
+/// 5e-3, and the curve then crawled at 1e-6 per point to max_points; docs/continuation.md).
+inline constexpr double kMaxStateTurn = std::numbers::pi / 4.0;
 
 using hb::DiscreteSystem;
 using hb::Excitation;

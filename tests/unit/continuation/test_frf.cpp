@@ -149,6 +149,36 @@ TEST(FrfContinuation, StartsAtAnUndampedStuckResonance) {
   EXPECT_LT(curve.points.front().amplitude_max, 0.01 / (1.0 - 0.005 / 0.1));
 }
 
+// A lightly damped peak far below the slip limit (ζ = 1e-4 of the stuck system, k_T0/k = 1e-2,
+// F = 1e-6 μF_N: the stuck peak 5e-3 against the slip amplitude 100): the curve is the stuck linear
+// one, with a peak 2·10⁻⁴ rad/s wide. A step over it landed on the flat branch beyond with the phase
+// turned by π: the one-harmonic probe that sets the arclength scale found 1e-5 instead of 5e-3, and
+// the curve then crawled at 1e-6 per point to max_points at Ω = 1.0045 (a light-damping known stop).
+// Options::max_state_turn rejects such steps; the peak is now located to the closed form.
+TEST(FrfContinuation, LightlyDampedLinearPeakIsResolvedNotSteppedOver) {
+  const double zeta = 1e-4, kt0 = 0.01, f = 1e-6;
+  FrfOptions o;
+  o.omega_start = 0.5;
+  o.omega_end = 1.5 * std::sqrt(1.0 + kt0);
+  o.harmonics = 7;
+  o.time_samples = 256;
+  o.stability = Stability::never;
+  o.error_estimate = false;
+  const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, zeta), force(f), o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_LT(curve.points.size(), 200u);
+  // |X| peak of m ẍ + c ẋ + k_s x = f cos Ωt: f / (2 ζ k_s √(1 − ζ²)), with ζ of the stuck system.
+  const double k_s = 1.0 + kt0;
+  const double peak = f / (2.0 * zeta * k_s * std::sqrt(1.0 - zeta * zeta));
+  ASSERT_TRUE(curve.peak.has_value());
+  EXPECT_NEAR(curve.peak->amplitude_h1, peak, 1e-6 * peak);
+  EXPECT_NEAR(curve.peak->omega, std::sqrt(k_s) * std::sqrt(1.0 - 2.0 * zeta * zeta), 1e-7);
+  for (const auto& p : curve.points) {
+    const double ref = receptance(k_s, 2.0 * zeta * std::sqrt(k_s), p.omega, f);
+    EXPECT_NEAR(p.amplitude_h1, ref, 1e-8 * ref) << p.omega;
+  }
+}
+
 // Gross slip far above the friction limit (F = 3 μF_N, k_T0/k = 1e6, ζ = 0.02 of the stuck
 // system): the response follows the contact-free oscillator, some 1000 times the stuck one. With
 // the stuck response as the arclength scale the curve crawled (1000 points over 0.01 % of the
