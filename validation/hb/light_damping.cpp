@@ -135,12 +135,6 @@ const std::map<std::string, std::string>& known_stops() {
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=0.001", "min_step"},
       // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.5 (point 31)
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "left_range"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.002591087 (point 1000)
-      {"frf 1dof jenkins zeta=0.0001 kt0/k=100 F=10", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004475125 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0 kt0/k=0.01 F=1e-06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.002591152 (point 1000)
-      {"frf 1dof gaul-mayer zeta=0.0001 kt0/k=100 F=10", "max_points"},
       // KNOWN STOP: step 9.54e-09 below min_step 1e-08 after the point at λ = 0.7081365223 (point
       // 232): no convergence in 12 iterations (residual 2.93e-09, smallest 2.89e-09)
       {"frf 10dof jenkins zeta=0 F=0.1", "min_step"},
