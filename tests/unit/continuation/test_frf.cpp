@@ -34,6 +34,19 @@ hb::Excitation force(double amplitude) {
   return e;
 }
 
+// The light-damping corpus's FRF (validation/hb/light_damping.cpp): Ω ∈ [0.5, 1.5 ω_stuck], H = 7,
+// N_t = 256; the reach of the curve and its peak only (no multipliers or error estimates).
+FrfOptions light_damping_options(double kt0) {
+  FrfOptions o;
+  o.omega_start = 0.5;
+  o.omega_end = 1.5 * std::sqrt(1.0 + kt0);
+  o.harmonics = 7;
+  o.time_samples = 256;
+  o.stability = Stability::never;
+  o.error_estimate = false;
+  return o;
+}
+
 double receptance(double k, double c, double omega, double f) {
   return f / std::abs(std::complex<double>(k - omega * omega, omega * c));
 }
@@ -158,14 +171,7 @@ TEST(FrfContinuation, StartsAtAnUndampedStuckResonance) {
 // Options::max_state_turn rejects such steps; the peak is now located to the closed form.
 TEST(FrfContinuation, LightlyDampedLinearPeakIsResolvedNotSteppedOver) {
   const double zeta = 1e-4, kt0 = 0.01, f = 1e-6;
-  FrfOptions o;
-  o.omega_start = 0.5;
-  o.omega_end = 1.5 * std::sqrt(1.0 + kt0);
-  o.harmonics = 7;
-  o.time_samples = 256;
-  o.stability = Stability::never;
-  o.error_estimate = false;
-  const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, zeta), force(f), o);
+  const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, zeta), force(f), light_damping_options(kt0));
   ASSERT_TRUE(curve.completed()) << curve.message;
   EXPECT_LT(curve.points.size(), 200u);
   // |X| peak of m ẍ + c ẋ + k_s x = f cos Ωt: f / (2 ζ k_s √(1 − ζ²)), with ζ of the stuck system.
@@ -189,14 +195,7 @@ TEST(FrfContinuation, LightlyDampedLinearPeakIsResolvedNotSteppedOver) {
 // π F X = π c Ω X² + 4 μF_N (X − X_s), X_s = μF_N/k_T0 (one harmonic).
 TEST(FrfContinuation, LightlyDampedGrossSlipPeakFinishesInFewPoints) {
   const double zeta = 1e-4, kt0 = 100.0, f = 10.0;
-  FrfOptions o;
-  o.omega_start = 0.5;
-  o.omega_end = 1.5 * std::sqrt(1.0 + kt0);
-  o.harmonics = 7;
-  o.time_samples = 256;
-  o.stability = Stability::never;
-  o.error_estimate = false;
-  const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, zeta), force(f), o);
+  const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, zeta), force(f), light_damping_options(kt0));
   ASSERT_TRUE(curve.completed()) << curve.message;
   EXPECT_LT(curve.points.size(), 200u);
   ASSERT_TRUE(curve.peak.has_value());
