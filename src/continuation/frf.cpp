@@ -121,7 +121,7 @@ Probe probe_peak(const DiscreteSystem& system, const Excitation& excitation,
 // response approaches the contact-free one: with only the stuck bound, a probe and then the curve
 // crawled, 1000 points over 0.01 % of the range). Else the larger of that linear peak and the
 // highest point a stopped probe reached (ζ = 1e-4, k_T0/k = 100, F = 10 μF_N: the probes stop on
-// the way up a gross-slip peak of 4333 and the contact-free sweep's 114 alone made the curve take
+// the way up a gross-slip peak of 4342 and the contact-free sweep's 114 alone made the curve take
 // 1163 points), else 1.
 double response_scale(const DiscreteSystem& system, const Excitation& excitation,
                       const FrfOptions& options) {

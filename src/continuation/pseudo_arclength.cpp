@@ -821,8 +821,10 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (failure.empty() && (c.sample.y - predicted).norm() > s) {
       const double along = next_tau->dot(c.sample.y - y) / (c.sample.y - y).norm();
       if (along < kCornerMinAlignment)
-        failure = fmt::format("the corrector landed {:.3g} steps from the predictor with the tangent at {:.0f}° to the jump",
-                              (c.sample.y - predicted).norm() / s, std::acos(std::clamp(along, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+        failure = fmt::format(
+            "the corrector landed {:.3g} steps from the predictor with the tangent at {:.0f}° to the jump",
+            (c.sample.y - predicted).norm() / s,
+            std::acos(std::clamp(along, -1.0, 1.0)) * 180.0 / std::numbers::pi);
     }
     // A tangent that turned by more than 60° over one step means the step jumped over a sharp
     // feature (e.g. a jagged peak); its orientation by continuity is then a guess and can send

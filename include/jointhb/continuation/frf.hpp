@@ -21,7 +21,7 @@
 namespace jointhb::continuation {
 
 /// The largest turn of the scaled state between two points of an FRF (Options::max_state_turn,
-/// used where the case leaves it 0; discrete and finite-element FRFs): a resonance turns the phase
+/// set by the discrete and finite-element FRF drivers where their continuation options leave it 0): a resonance turns the phase
 /// by π, and a step over a lightly damped peak lands beyond it on the flat branch (ζ = 1e-4: the
 /// one-harmonic probe that sets the arclength scale found a peak of 1e-5 where the linear one is
 /// 5e-3, and the curve then crawled at 1e-6 per point to max_points; docs/continuation.md).

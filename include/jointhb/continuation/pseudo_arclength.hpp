@@ -89,11 +89,12 @@ struct Options {
   /// damping curve); empty: none.
   std::function<Eigen::VectorXd(const Eigen::VectorXd&, double)> outputs;
   /// [0, π], radians; 0: none. Largest angle between the scaled states x_k ./ x_scale and
-  /// x_{k+1} ./ x_scale of two accepted points (as vectors): a converged step that turns the state by more is rejected and halved, as
-  /// for max_output_change, down to 10⁻³ max_step (then accepted). A forced response turns its
-  /// phase by π through each resonance; a step that jumps over a peak narrower than the step (ζ =
-  /// 1e-4: 2·10⁻⁴ ω wide) lands on the flat branch beyond it with the phase turned by about π and a
-  /// tangent that hardly changed, so that nothing else notices (FRFs: docs/continuation.md §3).
+  /// x_{k+1} ./ x_scale of two accepted points (as vectors): a converged step that turns the state
+  /// by more is rejected and halved, as for max_output_change, down to 10⁻³ max_step (then
+  /// accepted). A forced response turns its phase by π through each resonance; a step that jumps
+  /// over a peak narrower than the step (ζ = 1e-4: 2·10⁻⁴ ω wide) lands on the flat branch beyond
+  /// it with the phase turned by about π and a tangent that hardly changed, so that nothing else
+  /// notices (docs/continuation.md §5, rule 8; the FRF drivers set kMaxStateTurn, frf.hpp).
   double max_state_turn = 0.0;
   int max_points = 1000;         ///< ≥ 1: accepted points (including the start) before stopping
   double parameter_start = 0.0;  ///< λ of the first point
