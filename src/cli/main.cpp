@@ -5,6 +5,7 @@
 //   jointhb run                                  (built-in default case into ./jointhb-out)
 //   jointhb run cases/01-contact-loop/case.yaml -o out
 //   jointhb fit cases/10-fit-one-dof/case.yaml -o fit-out
+//   mpirun -np 2 jointhb study cases/16-study-lap/case.yaml -o study-out
 //
 // Every error is one line on stderr; exit codes: 0 ok, 1 runtime failure, 2 bad input.
 
@@ -12,6 +13,7 @@
 
 #include <iostream>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +22,8 @@
 #include "jointhb/io/input_error.hpp"
 #include "loop_command.hpp"
 #include "run_command.hpp"
+#include "study_command.hpp"
+#include "jointhb/study/distributed.hpp"
 
 namespace {
 
@@ -72,6 +76,15 @@ int main(int argc, char** argv) {
   LoopCommand loop(app);
   RunCommand run(app);
   FitCommand fit(app);
+  // MPI is initialised only when an MPI launcher started the program (study/distributed.hpp).
+  std::optional<jointhb::study::Communicator> communicator;
+  try {
+    communicator.emplace(&argc, &argv);
+  } catch (const std::exception& e) {
+    print_error("jointhb", e.what());
+    return exit_failure;
+  }
+  StudyCommand study(app, *communicator);
 
   try {
     app.parse(argc, argv);
@@ -89,6 +102,7 @@ int main(int argc, char** argv) {
   if (loop.selected()) return run_guarded("jointhb loop", loop);
   if (run.selected()) return run_guarded("jointhb run", run);
   if (fit.selected()) return run_guarded("jointhb fit", fit);
-  print_error("jointhb", "a command is required: loop, run or fit (see 'jointhb --help')");
+  if (study.selected()) return run_guarded("jointhb study", study);
+  print_error("jointhb", "a command is required: loop, run, fit or study (see 'jointhb --help')");
   return exit_bad_input;
 }

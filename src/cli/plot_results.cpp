@@ -57,20 +57,31 @@ void plot_results(const fs::path& dir) {
   std::cerr << fmt::format("jointhb run: plots in {}\n", dir.string());
 }
 
-void plot_fit_results(const fs::path& dir, bool quiet) {
+// Runs `script` on `dir` with /usr/bin/python3 and matplotlib; a missing piece or a failed script
+// is one line on stderr (unless quiet) naming what was not drawn.
+void run_plot_script(const std::string& command_name, const std::string& script_name, const std::string& png,
+                     const fs::path& dir, bool quiet) {
   const fs::path python = "/usr/bin/python3";
-  const fs::path script = plot_script("jointhb_fit_plot.py");
+  const fs::path script = plot_script(script_name);
   std::error_code ec;
   const auto note = [&](const std::string& what) {
-    if (!quiet) std::cerr << "jointhb fit: " << what << "; fit.png not drawn\n";
+    if (!quiet) std::cerr << command_name << ": " << what << "; " << png << " not drawn\n";
   };
   if (!fs::exists(python, ec)) return note("/usr/bin/python3 not found");
-  if (script.empty()) return note("jointhb_fit_plot.py not found");
+  if (script.empty()) return note(script_name + " not found");
   const std::string check = quoted(python.string()) + " -c 'import matplotlib' 2>/dev/null";
   if (std::system(check.c_str()) != 0) return note("python3-matplotlib is not installed");
   const std::string command = fmt::format("{} {} {} >/dev/null 2>&1", quoted(python.string()),
                                           quoted(script.string()), quoted(dir.string()));
   if (std::system(command.c_str()) != 0) return note("the plot script failed");
+}
+
+void plot_fit_results(const fs::path& dir, bool quiet) {
+  run_plot_script("jointhb fit", "jointhb_fit_plot.py", "fit.png", dir, quiet);
+}
+
+void plot_study_results(const fs::path& dir, bool quiet) {
+  run_plot_script("jointhb study", "jointhb_study_plot.py", "study.png", dir, quiet);
 }
 
 }  // namespace jointhb::cli

@@ -13,5 +13,8 @@ void plot_results(const std::filesystem::path& dir);
 /// src/python/jointhb_fit_plot.py; a missing python3 or matplotlib is said on stderr (unless
 /// `quiet`), never an error.
 void plot_fit_results(const std::filesystem::path& dir, bool quiet);
+/// `jointhb study`: draws DIR/study.png from study_curves.csv and study_statistics.csv with
+/// src/python/jointhb_study_plot.py; as plot_fit_results, never an error.
+void plot_study_results(const std::filesystem::path& dir, bool quiet);
 
 }  // namespace jointhb::cli

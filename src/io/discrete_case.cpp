@@ -16,6 +16,7 @@
 #include "jointhb/io/value_checks.hpp"
 #include "continuation_keys.hpp"
 #include "fit_keys.hpp"
+#include "study_keys.hpp"
 #include "yaml_support.hpp"
 
 namespace jointhb::io {
@@ -77,7 +78,7 @@ class DiscreteCaseReader {
     DiscreteCase c;
     c.source = reader_.file();
     if (root.IsNull()) reader_.fail(root, "model", "required (the file is empty)");
-    const Fields top = reader_.fields(root, "", {"model", "contacts", "excitation", "analysis", "fit"});
+    const Fields top = reader_.fields(root, "", {"model", "contacts", "excitation", "analysis", "fit", "study"});
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
@@ -123,6 +124,7 @@ class DiscreteCaseReader {
       c.fit = read_fit_section(reader_, section->value, "fit", fit_context(c),
                                std::filesystem::path(reader_.file()).parent_path());
     }
+    if (const auto* section = top.find("study")) c.study = read_study_section(reader_, section->value, "study", fit_context(c));
     return c;
   }
 

@@ -1,6 +1,7 @@
 #include "jointhb/io/fe_case.hpp"
 
 #include "fit_keys.hpp"
+#include "study_keys.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
 
 #include <fmt/format.h>
@@ -72,7 +73,7 @@ class FeCaseReader {
   FeCase read(const YAML::Node& root) {
     FeCase c;
     c.source = reader_.file();
-    const Fields top = reader_.fields(root, "", {"model", "analysis", "fit"});
+    const Fields top = reader_.fields(root, "", {"model", "analysis", "fit", "study"});
     const auto* model = top.find("model");
     if (!model) reader_.fail(root, "model", "required");
     read_model(model->value, c);
@@ -88,6 +89,7 @@ class FeCaseReader {
     }
     // fit: last, since its parameter names and targets depend on the model and the analyses.
     if (const auto* section = top.find("fit")) c.fit = read_fit_section(reader_, section->value, "fit", fit_context(c), directory_);
+    if (const auto* section = top.find("study")) c.study = read_study_section(reader_, section->value, "study", fit_context(c));
     return c;
   }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -37,6 +38,12 @@ std::string fmt_double(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", x);
   return text;
+}
+
+// The lock of every ARPACK call in the program (its state is process-global, see compute_modes).
+std::mutex& arpack_mutex() {
+  static std::mutex m;
+  return m;
 }
 
 // dsaupd's info on return (ARPACK Users' Guide, dsaupd.f header).
@@ -208,6 +215,10 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
   iparam[6] = 3;  // mode 3: shift-invert, OP = (K − σM)⁻¹M, B = M
   a_int ido = 0;
   a_int info = 1;  // resid holds the starting vector
+  // ARPACK keeps its reverse-communication state in Fortran SAVE variables (dsaupd, dsaup2,
+  // dsaitr): two threads iterating at once would corrupt each other. A study runs samples on
+  // several threads (study/study.hpp), so the Lanczos iteration and dseupd hold one lock.
+  const std::lock_guard arpack_lock(arpack_mutex());
   Eigen::VectorXd mass_x(n);
   auto at = [&](a_int pointer) { return workd.data() + (pointer - 1); };  // ipntr is 1-based
   while (true) {

@@ -25,6 +25,7 @@
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/io/fit_section.hpp"
+#include "jointhb/study/study.hpp"
 #include "jointhb/pipeline/discrete_problem.hpp"
 
 namespace jointhb::io {
@@ -35,6 +36,8 @@ struct DiscreteCase : pipeline::DiscreteProblem {
   std::string source;  ///< the case file it was read from
   /// fit: the parameters to identify from measured targets (`jointhb fit`, docs/identification.md)
   std::optional<FitSection> fit;
+  /// study: a parameter study of this case (`jointhb study`, docs/studies.md)
+  std::optional<study::StudySpec> study;
 };
 
 /// Reads a discrete-model case file. Throws InputError naming file, line, column, key path and

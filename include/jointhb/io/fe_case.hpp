@@ -35,6 +35,7 @@
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/io/fe_dynamics_case.hpp"
 #include "jointhb/io/fit_section.hpp"
+#include "jointhb/study/study.hpp"
 #include "jointhb/modal/modes.hpp"
 #include "jointhb/pipeline/fe_analysis.hpp"
 #include "jointhb/pipeline/fe_model.hpp"
@@ -63,6 +64,9 @@ struct FeCase : pipeline::FeModel, pipeline::FeAnalysis {
   /// fit: the identification (jointhb fit; the parameters are the pipeline's). Not part of any
   /// stage key.
   std::optional<FitSection> fit;
+  /// study: a parameter study of this case (`jointhb study`, docs/studies.md). Not part of any
+  /// stage key.
+  std::optional<study::StudySpec> study;
   std::vector<std::string> warnings;             ///< e.g. mesh cards that were skipped
   std::string source;
 };
