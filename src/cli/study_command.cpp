@@ -46,7 +46,7 @@ StudyCommand::StudyCommand(CLI::App& parent, const study::Communicator& communic
       "Evaluate the case at the samples of its study section (docs/studies.md): a list, grid,\n"
       "Latin hypercube or Sobol design of any parameters a fit can set; per sample the damping\n"
       "curves' frequency and damping at the study's amplitudes and the FRFs' values and peaks.\n"
-      "Runs on threads, or under mpirun -np N on N ranks. Writes\n"
+      "Runs on local worker processes (-j), or under mpirun -np N on N ranks. Writes\n"
       "  DIR/study.csv             one row per sample: parameters, outputs, termination\n"
       "  DIR/study_statistics.csv  per output: count, mean, std, min, max, quantiles\n"
       "  DIR/study_curves.csv      every sample's curves\n"
@@ -55,8 +55,8 @@ StudyCommand::StudyCommand(CLI::App& parent, const study::Communicator& communic
       "  DIR/study.png             curves of all samples with mean and quantile band");
   app_->add_option("case", case_path_, "case file (YAML) with a study section")->type_name("CASE.yaml")->required();
   app_->add_option("-o,--output", output_dir_, "output directory, created if needed")->type_name("DIR")->capture_default_str();
-  app_->add_option("--threads", threads_,
-                   "worker threads, each evaluating one sample at a time with one OpenMP thread (default: "
+  app_->add_option("-j,--jobs", jobs_,
+                   "local workers, each evaluating one sample at a time with one OpenMP thread (default: "
                    "the cores; under MPI 1 per rank); the results do not depend on it")
       ->type_name("N");
   app_->add_flag("--resume", resume_, "reuse the samples DIR/samples/ holds from an earlier run of the same case");
@@ -85,8 +85,8 @@ int StudyCommand::run() const {
   const study::StudySpec& spec = *section;
   study::RunOptions options;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  options.threads = threads_.empty() ? (communicator_.size() > 1 ? 1 : static_cast<int>(cores))
-                                     : integer_option("--threads", threads_, 1, 1024);
+  options.jobs = jobs_.empty() ? (communicator_.size() > 1 ? 1 : static_cast<int>(cores))
+                               : integer_option("--jobs", jobs_, 1, 1024);
   const fs::path dir(output_dir_);
   std::optional<OutputDirectory> output;
   if (root) output.emplace(dir);  // created and locked by rank 0 only (the others write nothing)
@@ -142,9 +142,9 @@ int StudyCommand::run() const {
   if (!quiet_) {
     for (const auto& w : result.warnings) std::cerr << "jointhb study: warning: " << w << '\n';
     std::cerr << fmt::format(
-        "jointhb study: {} samples ({} computed, {} reused, {} failed) on {} rank{} x {} thread{} in {:.1f} s -> {}\n", total,
-        result.computed, result.reused, result.failed, result.ranks, result.ranks == 1 ? "" : "s", result.threads,
-        result.threads == 1 ? "" : "s", result.seconds, dir.string());
+        "jointhb study: {} samples ({} computed, {} reused, {} failed) on {} rank{} ({} local worker{}) in {:.1f} s -> {}\n",
+        total, result.computed, result.reused, result.failed, result.ranks, result.ranks == 1 ? "" : "s", result.jobs,
+        result.jobs == 1 ? "" : "s", result.seconds, dir.string());
     for (std::size_t i = 0, shown = 0; i < result.samples.size() && shown < 5; ++i) {
       if (result.done[i] && !result.samples[i].status.ok()) {
         std::cerr << fmt::format("jointhb study: sample {} failed: {}\n", i, result.samples[i].status.message);

@@ -1,5 +1,5 @@
 #pragma once
-// `jointhb study CASE.yaml [-o DIR] [--threads N] [--resume] [--cache-dir DIR] [--quiet]`, also
+// `jointhb study CASE.yaml [-o DIR] [-j N] [--resume] [--cache-dir DIR] [--quiet]`, also
 // under `mpirun -np N`: the parameter study of the case's study section (docs/studies.md,
 // docs/cli.md). Writes DIR/study.csv, study_statistics.csv, study_curves.csv, study.json,
 // DIR/samples/ (one file per finished sample: what --resume reads) and DIR/study.png.
@@ -26,7 +26,7 @@ class StudyCommand {
   const study::Communicator& communicator_;
   std::string case_path_;
   std::string output_dir_ = "jointhb-study";
-  std::string threads_;     ///< worker threads (default: the cores; 1 per rank under MPI)
+  std::string jobs_;        ///< local workers (default: the cores; 1 under MPI)
   bool resume_ = false;
   std::string cache_dir_;   ///< FE cases: the stage cache (default DIR/.cache)
   bool quiet_ = false;

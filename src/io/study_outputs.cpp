@@ -112,7 +112,7 @@ Json summary(const std::string& case_file, const study::StudySpec& spec, const s
                   {"levels", spec.outputs.levels}, {"frequencies_hz", spec.outputs.frequencies_hz}};
   j["counts"] = {{"computed", r.computed}, {"reused", r.reused}, {"failed", r.failed}, {"not_run", r.not_run}};
   j["ranks"] = r.ranks;
-  j["threads"] = r.threads;
+  j["jobs"] = r.jobs;
   j["seconds"] = r.seconds;
   double sample_seconds = 0.0;
   for (const auto& s : r.samples) sample_seconds += s.reused ? 0.0 : s.seconds;

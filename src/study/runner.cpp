@@ -1,10 +1,11 @@
-// Running a parameter study on threads and MPI ranks (study/study.hpp, study/distributed.hpp).
+// Running a parameter study on local workers and MPI ranks (study/study.hpp, study/distributed.hpp).
 //
-// Scheduling: the samples still to do form one queue; a worker (a thread of rank 0, or another
-// rank) takes the next index when it is free, so a slow sample holds up no one. Rank 0's main
-// thread coordinates: it collects its threads' results, answers the other ranks' requests (each
-// carries the rank's previous result), writes each sample's file and calls on_sample. It polls
-// (MPI_Iprobe, then a 2 ms wait) instead of blocking in MPI, so it takes no core from the workers.
+// Scheduling: the samples still to do form one queue; a worker (rank 0's worker thread or child
+// processes, or another rank) takes the next index when it is free, so a slow sample holds up no
+// one. Rank 0's main thread coordinates and computes nothing: it collects its workers' results,
+// answers the other ranks' requests (each carries the rank's previous result), writes each
+// sample's file and calls on_sample. With other ranks it polls (MPI_Iprobe, then a 2 ms wait)
+// instead of blocking in MPI, so it takes no core from the workers.
 #include <fmt/format.h>
 #include <omp.h>
 
@@ -22,6 +23,7 @@
 #include "../support/stopwatch.hpp"
 #include "jointhb/study/distributed.hpp"
 #include "jointhb/study/study.hpp"
+#include "worker_processes.hpp"
 
 namespace jointhb::study {
 namespace {
@@ -57,7 +59,7 @@ SampleModel make_model(const SampleModelFactory& factory) {
   }
 }
 
-// Samples the queue hands out, shared by rank 0's threads and its coordinator.
+// Samples the queue hands out, shared by rank 0's worker thread and its coordinator.
 struct Queue {
   std::vector<std::size_t> todo;
   std::atomic<std::size_t> next{0};
@@ -71,12 +73,12 @@ struct Queue {
   }
 };
 
-// Results of rank 0's worker threads, waiting for the coordinator.
+// Results of rank 0's worker thread, waiting for the coordinator.
 struct Mailbox {
   std::mutex mutex;
   std::condition_variable ready;
   std::deque<SampleResult> results;
-  int running = 0;  ///< worker threads not yet finished
+  int running = 0;  ///< worker threads not yet finished (0 or 1)
 };
 
 class Coordinator {
@@ -120,10 +122,10 @@ class Coordinator {
   }
 
   // Stores a finished sample, writes its file (payload: its JSON when already made) and reports it.
-  void record(SampleResult s, std::string payload) {
+  void record(SampleResult s, std::string payload, bool keep_file = true) {
     const std::size_t i = s.sample;
     if (i >= result_.samples.size() || result_.done[i]) return;  // a stale or repeated message
-    if (!s.reused && !options_.sample_directory.empty()) {
+    if (keep_file && !s.reused && !options_.sample_directory.empty()) {
       if (payload.empty()) payload = sample_to_json(s, options_.identity);
       write_file(i, payload);
     }
@@ -143,21 +145,39 @@ class Coordinator {
     }
     const Communicator* comm = options_.communicator;
     int remote = comm ? comm->size() - 1 : 0;  // other ranks not yet told to stop
-    std::vector<std::thread> workers;
-    mailbox_.running = options_.threads;
-    for (int t = 0; t < options_.threads; ++t) workers.emplace_back([&] { work(factory); });
+    // One local worker: a thread (the coordinator itself computes nothing). More: child processes
+    // (worker_processes.hpp says why not threads).
+    std::optional<WorkerProcesses> processes;
+    std::optional<std::thread> thread;
+    if (queue_.todo.empty()) {
+      // nothing to compute locally
+    } else if (options_.jobs > 1) {
+      processes.emplace(options_.jobs, [&]() -> WorkerProcesses::Evaluate {
+        SampleModel model = make_model(factory);
+        return [this, model](std::size_t i) {
+          return sample_to_json(evaluate_sample(model, spec_.outputs, i, points_[i]), options_.identity);
+        };
+      });
+    } else {
+      mailbox_.running = 1;
+      thread.emplace([&] { work(factory); });
+    }
     while (true) {
-      std::deque<SampleResult> ready;
-      {
-        std::unique_lock lock(mailbox_.mutex);
-        if (remote == 0) {
-          mailbox_.ready.wait(lock, [&] { return !mailbox_.results.empty() || mailbox_.running == 0; });
-        } else {
-          mailbox_.ready.wait_for(lock, kPollInterval, [&] { return !mailbox_.results.empty(); });
+      const bool waiting_for_ranks = remote > 0;
+      if (thread) {
+        std::deque<SampleResult> ready;
+        {
+          std::unique_lock lock(mailbox_.mutex);
+          if (!waiting_for_ranks && !processes) {
+            mailbox_.ready.wait(lock, [&] { return !mailbox_.results.empty() || mailbox_.running == 0; });
+          } else {
+            mailbox_.ready.wait_for(lock, kPollInterval, [&] { return !mailbox_.results.empty(); });
+          }
+          ready.swap(mailbox_.results);
         }
-        ready.swap(mailbox_.results);
+        for (auto& s : ready) record(std::move(s), "");
       }
-      for (auto& s : ready) record(std::move(s), "");
+      if (processes) serve_processes(*processes, waiting_for_ranks);
       while (remote > 0) {
         std::optional<Communicator::Request> request = comm->poll();
         if (!request) break;
@@ -165,20 +185,22 @@ class Coordinator {
           std::string identity;
           record(sample_from_json(request->payload, identity), request->payload);
         }
-        const std::optional<std::size_t> next = queue_.take();
+        const std::optional<std::size_t> next = take();
         comm->assign(request->source, next ? static_cast<long long>(*next) : -1LL);
         if (!next) --remote;
       }
-      bool idle = false;
-      {
+      bool local_done = !processes || (processes->busy() == 0 && processes->idle().empty());
+      if (thread) {
         const std::lock_guard lock(mailbox_.mutex);
-        idle = mailbox_.running == 0 && mailbox_.results.empty();
+        local_done = local_done && mailbox_.running == 0 && mailbox_.results.empty();
       }
-      if (idle && remote == 0) break;
+      if (local_done && remote == 0) break;
+      if (!thread && !processes && remote > 0) std::this_thread::sleep_for(kPollInterval);
     }
-    for (auto& w : workers) w.join();
+    if (thread) thread->join();
+    processes.reset();
     result_.ranks = comm ? comm->size() : 1;
-    result_.threads = options_.threads;
+    result_.jobs = options_.jobs;
     for (bool d : result_.done) result_.not_run += d ? 0 : 1;
     std::vector<SampleResult> done;
     for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -190,6 +212,41 @@ class Coordinator {
   }
 
  private:
+  // The next sample: one given back by a child that died before taking it, else the queue's next.
+  std::optional<std::size_t> take() {
+    if (!requeued_.empty() && !queue_.stop.load()) {
+      const std::size_t i = requeued_.front();
+      requeued_.pop_front();
+      return i;
+    }
+    return queue_.take();
+  }
+
+  // Hands samples to idle children, then waits briefly (or, with no other ranks to serve, until a
+  // child finishes) and records what came back. A child that died fails its sample (not written to
+  // a sample file: a restart tries it again).
+  void serve_processes(WorkerProcesses& processes, bool waiting_for_ranks) {
+    for (int k : processes.idle()) {
+      const std::optional<std::size_t> next = take();
+      if (!processes.assign(k, next ? static_cast<long long>(*next) : -1LL) && next) requeued_.push_back(*next);
+    }
+    for (WorkerProcesses::Event& e : processes.wait(waiting_for_ranks ? static_cast<int>(kPollInterval.count()) : -1)) {
+      if (e.death.empty()) {
+        std::string identity;
+        SampleResult s = sample_from_json(e.record, identity);
+        record(std::move(s), std::move(e.record));
+        continue;
+      }
+      SampleResult s;
+      s.sample = e.sample;
+      s.values = points_[e.sample];
+      s.status = {Termination::failed, e.death + " while evaluating this sample"};
+      s.outputs.assign(result_.keys.size(), std::nullopt);
+      result_.warnings.push_back(fmt::format("sample {}: {}", e.sample, s.status.message));
+      record(std::move(s), "", false);
+    }
+  }
+
   // A worker thread of rank 0: one model, one OpenMP thread (the sample's result must not depend
   // on the thread count), samples from the queue until it is empty.
   void work(const SampleModelFactory& factory) {
@@ -227,6 +284,7 @@ class Coordinator {
   std::vector<std::vector<double>> points_;
   StudyResult result_;
   Queue queue_;
+  std::deque<std::size_t> requeued_;
   Mailbox mailbox_;
   std::size_t finished_ = 0;
 };
@@ -256,7 +314,7 @@ StudyResult run_worker(const StudySpec& spec, const SampleModelFactory& factory,
 
 StudyResult run_study(const StudySpec& spec, const SampleModelFactory& factory, const RunOptions& options) {
   if (const std::string e = spec.validate(); !e.empty()) throw std::invalid_argument("study: " + e);
-  if (options.threads < 1) throw std::invalid_argument(fmt::format("study: threads must be >= 1, got {}", options.threads));
+  if (options.jobs < 1) throw std::invalid_argument(fmt::format("study: jobs must be >= 1, got {}", options.jobs));
   std::vector<std::vector<double>> points = sample_points(spec.sampling);
   if (options.communicator && options.communicator->rank() != 0) return run_worker(spec, factory, options, points);
   if (!options.sample_directory.empty()) {

@@ -8,7 +8,7 @@
 // touched: a plain `jointhb study` needs no MPI runtime.
 //
 // Only the thread that made the Communicator calls MPI (MPI_THREAD_FUNNELED): rank 0 serves the
-// requests from its main thread while its worker threads compute.
+// requests from its main thread while its local worker (a thread, or child processes) computes.
 
 #include <optional>
 #include <string>

@@ -7,9 +7,9 @@
 //   samples ──► [worker threads / MPI ranks take the next sample when free] ──► SampleResult
 //          ──► sample files (restart) ──► StudyResult (sample order) ──► statistics
 //
-// Each sample is evaluated on one thread with one OpenMP thread and deterministic inputs, so its
-// result does not depend on which thread or rank computed it, nor on how many there are: the
-// table is the same bit for bit for any thread or rank count (tests/unit/study, tests/cli).
+// Each sample is evaluated by one worker with one OpenMP thread and deterministic inputs, so its
+// result does not depend on which worker or rank computed it, nor on how many there are: the
+// table is the same bit for bit for any job or rank count (tests/unit/study, tests/cli).
 // A sample that fails (a model the parameters make invalid, a curve that stops short of an
 // output, a stage that does not converge) is kept with its status and message and whatever
 // values it reached; it never stops the others.
@@ -119,7 +119,11 @@ struct OutputStatistics {
 class Communicator;
 
 struct RunOptions {
-  int threads = 1;  ///< worker threads of this process (≥ 1); under MPI, rank 0's (others use one)
+  /// Local workers of rank 0 (≥ 1), each evaluating one sample at a time with one OpenMP thread:
+  /// one is a thread, more are child processes (the installed OpenBLAS is not safe for two
+  /// threads factorising at once; study/worker_processes.hpp). The other ranks evaluate one sample
+  /// at a time each.
+  int jobs = 1;
   /// Each finished sample is written there as sample_NNNNNN.json (a file per sample, written to a
   /// temporary name and renamed): what a restart reads. Empty: no files.
   std::filesystem::path sample_directory;
@@ -141,7 +145,7 @@ struct StudyResult {
   std::vector<bool> done;              ///< per sample: evaluated or reused (false: not run, stopped)
   std::vector<OutputStatistics> statistics;
   std::size_t computed = 0, reused = 0, failed = 0, not_run = 0;
-  int ranks = 1, threads = 1;
+  int ranks = 1, jobs = 1;
   double seconds = 0.0;
   std::vector<std::string> warnings;   ///< e.g. sample files that could not be read or written
   /// converged when every sample converged; no_convergence when some failed but others did not;
@@ -149,8 +153,8 @@ struct StudyResult {
   [[nodiscard]] Status status() const;
 };
 
-/// Runs the study: evaluates every sample not reused, on options.threads threads of this process
-/// and, with a communicator of size > 1, on every rank, each taking the next sample when it is free.
+/// Runs the study: evaluates every sample not reused on options.jobs local workers and, with a
+/// communicator of size > 1, on every other rank, each taking the next sample when it is free.
 /// Throws std::invalid_argument for an invalid spec or options (before any evaluation).
 StudyResult run_study(const StudySpec& spec, const SampleModelFactory& factory, const RunOptions& options);
 
