@@ -6,16 +6,10 @@
 #include <filesystem>
 #include <iostream>
 #include <thread>
-#include <variant>
 
 #include "cli_support.hpp"
-#include "jointhb/io/case_file.hpp"
-#include "jointhb/io/stage_cache.hpp"
-#include "jointhb/io/study_outputs.hpp"
-#include "jointhb/pipeline/discrete_fit_model.hpp"
-#include "jointhb/pipeline/fingerprint.hpp"
+#include "jointhb/io/study_case.hpp"
 #include "jointhb/study/distributed.hpp"
-#include "jointhb/study/sample_models.hpp"
 #include "plot_results.hpp"
 #include "run_support.hpp"
 
@@ -23,20 +17,6 @@ namespace jointhb::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// What a restart must match: the case file's bytes (model, analyses and study section).
-std::string case_identity(const std::string& path) {
-  pipeline::Fingerprint f;
-  f.add("jointhb study case");
-  f.add_file(path);
-  return f.hex();
-}
-
-std::vector<std::string> names_of(const study::StudySpec& spec) {
-  std::vector<std::string> names;
-  for (const auto& p : spec.sampling.parameters) names.push_back(p.name);
-  return names;
-}
 
 }  // namespace
 
@@ -75,14 +55,13 @@ bool StudyCommand::selected() const { return app_->parsed(); }
 
 int StudyCommand::run() const {
   const bool root = communicator_.rank() == 0;
-  const io::CaseFile file = io::read_case_file(case_path_);
-  const auto* c = std::get_if<io::DiscreteCase>(&file);
-  const auto* fe = std::get_if<io::FeCase>(&file);
-  if (!c && !fe)
-    throw UsageError(case_path_ + ": jointhb study needs a discrete (model.type discrete) or finite-element (model.type fe) case with a study section");
-  const std::optional<study::StudySpec>& section = c ? c->study : fe->study;
-  if (!section) throw UsageError(case_path_ + ": the case has no study section (docs/case-files.md, \"study\")");
-  const study::StudySpec& spec = *section;
+  io::StudyCase study_case;
+  try {
+    study_case = io::read_study_case(case_path_);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const study::StudySpec& spec = study_case.spec;
   study::RunOptions options;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   options.jobs = jobs_.empty() ? (communicator_.size() > 1 ? 1 : static_cast<int>(cores))
@@ -90,19 +69,8 @@ int StudyCommand::run() const {
   const fs::path dir(output_dir_);
   std::optional<OutputDirectory> output;
   if (root) output.emplace(dir);  // created and locked by rank 0 only (the others write nothing)
-  options.sample_directory = root ? dir / "samples" : fs::path();
   options.resume = resume_;
-  options.identity = case_identity(case_path_);
   options.communicator = &communicator_;
-  const std::vector<std::string> names = names_of(spec);
-  study::SampleModelFactory factory;
-  if (c) {
-    factory = study::discrete_sample_models(*c, names, spec.outputs);
-  } else {
-    const fs::path cache = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
-    factory = study::fe_sample_models(*fe, *fe, names, spec.outputs, spec.friction_in_dynamics_only,
-                                      [cache] { return std::make_shared<io::StageCache>(cache, true); });
-  }
   const auto start = Clock::now();
   const std::size_t total = spec.sampling.count();
   const bool terminal = stderr_is_terminal() && !quiet_;
@@ -121,7 +89,7 @@ int StudyCommand::run() const {
   };
   study::StudyResult result;
   try {
-    result = study::run_study(spec, factory, options);
+    result = io::run_study_case(study_case, dir, options, cache_dir_);
   } catch (const std::invalid_argument& e) {
     if (communicator_.size() > 1) {
       std::cerr << "jointhb study: " << e.what() << '\n';
@@ -137,7 +105,6 @@ int StudyCommand::run() const {
   }
   if (terminal) std::cerr << '\n';
   if (!root) return exit_ok;
-  io::write_study_outputs(dir, case_path_, spec, result);
   plot_study_results(dir, quiet_);
   if (!quiet_) {
     for (const auto& w : result.warnings) std::cerr << "jointhb study: warning: " << w << '\n';

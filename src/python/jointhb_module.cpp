@@ -34,6 +34,7 @@
 #include "jointhb/io/discrete_case.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "jointhb/io/stage_cache.hpp"
+#include "jointhb/io/study_case.hpp"
 #include "jointhb/pipeline/fe_fit_model.hpp"
 #include "jointhb/pipeline/discrete_pipeline.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
@@ -1054,4 +1055,19 @@ PYBIND11_MODULE(_core, m) {
         "Least squares with NLopt: objective(values: list) -> residuals (or None when it fails); parameters: "
         "list of dicts {name, lower, upper, start, log_scale}; options: algorithm, xtol, ftol_rel, "
         "max_evaluations, starts, seed. Returns best values, objective, standard errors.");
+
+  m.def(
+      "_run_study",
+      [](const std::string& case_file, const std::string& output, int jobs, bool resume, const std::string& cache_dir) {
+        const jointhb::io::StudyCase c = jointhb::io::read_study_case(case_file);
+        jointhb::study::RunOptions options;
+        options.jobs = jobs;
+        options.resume = resume;
+        std::filesystem::create_directories(output);
+        const py::gil_scoped_release release;  // the workers run C++ only (child processes never enter Python)
+        const jointhb::study::StudyResult r = jointhb::io::run_study_case(c, output, options, cache_dir);
+        return std::string(jointhb::to_string(r.status().termination));
+      },
+      py::arg("case_file"), py::arg("output"), py::arg("jobs"), py::arg("resume"), py::arg("cache_dir"),
+      "The study of a case file into OUTPUT (docs/studies.md); jointhb.run_study wraps it.");
 }

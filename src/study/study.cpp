@@ -136,7 +136,13 @@ SampleResult evaluate_sample(const SampleModel& model, const StudyOutputs& outpu
   std::string missing;  // the first output not reached
   for (std::size_t t = 0; t < targets.size(); ++t) {
     const fit::Target& target = targets[t];
-    const fit::PredictedCurve curve = t < p.curves.size() ? p.curves[t] : fit::PredictedCurve{false, p.message};
+    fit::PredictedCurve curve;
+    if (t < p.curves.size()) {
+      curve = p.curves[t];
+    } else {  // the model failed before this curve
+      curve.ok = false;
+      curve.message = p.message;
+    }
     const bool corrected = curve.ok && curve.at_points.size() == target.points.size();
     const bool backbone = target.kind == fit::TargetKind::backbone;
     for (std::size_t i = 0; i < target.points.size(); ++i) {

@@ -341,7 +341,7 @@ double purity(const Mode& m) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   bool ok = true;
   auto check = [&](bool condition, const std::string& what) {

@@ -130,7 +130,7 @@ Run solve(Clamp clamp, ElementType type, int nz, int aspect) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const std::vector<ElementType> types = {ElementType::hex8, ElementType::hex8_incompatible,
                                           ElementType::hex20, ElementType::hex20_reduced};

@@ -203,7 +203,7 @@ double slope(const std::vector<const Run*>& runs, double Run::*error) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int n = args.ci ? 2 : 8;
   const double h = kThickness / n;

@@ -61,7 +61,7 @@ Eigen::VectorXd dense_frequencies_hz(const Eigen::MatrixXd& K, const Eigen::Matr
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   validation::LapCaseOptions lap;
   if (args.ci) lap.nx = 20, lap.ny = 6;

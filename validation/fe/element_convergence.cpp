@@ -116,7 +116,7 @@ bool bending_study(const std::string& prefix) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const std::vector<int> meshes = args.ci ? std::vector<int>{2, 4, 8}
                                           : std::vector<int>{2, 4, 8, 16, 32};

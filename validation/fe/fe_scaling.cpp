@@ -329,7 +329,7 @@ int run(int argc, char** argv) {
       rest.push_back(argv[i]);
     }
   }
-  const study::Arguments args = study::parse_arguments(static_cast<int>(rest.size()), rest.data());
+  const validation_study::Arguments args = validation_study::parse_arguments(static_cast<int>(rest.size()), rest.data());
   if (!args.ok || target <= 0) {
     std::fprintf(stderr, "usage: %s [--ci] OUTPUT_PREFIX [--dofs N] [--plain-newton]\n", argv[0]);
     return 2;

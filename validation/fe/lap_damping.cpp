@@ -273,7 +273,7 @@ Outcome run(const Run& r, const std::string& prefix, double drop_target) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const double drop = 0.03;
   // The first run is the reference of the curve comparisons (node pairs, H = 1).

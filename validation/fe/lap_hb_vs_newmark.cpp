@@ -453,7 +453,7 @@ Summary run(const Config& cfg, std::FILE* points_csv, std::FILE* order_csv) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines of a long run
   std::vector<Config> configs;

@@ -609,7 +609,7 @@ void check_sweep(const std::vector<Level>& levels, const std::vector<double>& bo
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const MeshSize nominal = args.ci ? MeshSize{20, 6, 2} : MeshSize{40, 12, 2};
   const std::vector<double> preloads =

@@ -193,7 +193,7 @@ Errors errors(const Quantities& q, const Quantities& ref) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int big_n = args.ci ? 4 : 8;
 

@@ -59,7 +59,7 @@ namespace jointhb_study_hb_convergence {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Case {
   std::string name;

@@ -40,7 +40,7 @@ namespace jointhb_study_hb_cost {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Model {
   std::string name;

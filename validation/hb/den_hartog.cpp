@@ -109,7 +109,7 @@ Solution solve(double kappa, double r, double omega, int harmonics, int samples,
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
   const std::string& prefix = args.prefix;

@@ -251,7 +251,7 @@ double worst_over(const Run& r, const std::vector<double> Run::*errors, double f
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
   const std::string& prefix = args.prefix;

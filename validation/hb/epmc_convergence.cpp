@@ -50,7 +50,7 @@ namespace jointhb_study_hb_epmc_convergence {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Amplitude {
   std::string name;

@@ -219,7 +219,7 @@ struct Stats {
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
   const std::string& prefix = args.prefix;

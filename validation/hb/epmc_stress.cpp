@@ -31,7 +31,7 @@ namespace jointhb_study_hb_epmc_stress {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Scenario {
   std::string name;

@@ -45,7 +45,7 @@ namespace jointhb_study_hb_error_estimate {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 namespace reference = jointhb::error_reference;
 
 // estimate/true within [1/factor, factor] where the source dominates (measured: truncation

@@ -99,7 +99,7 @@ double interpolate_log(const std::vector<double>& q, const std::vector<double>& 
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const bool ci = args.ci;
   const std::string& prefix = args.prefix;

@@ -87,7 +87,7 @@ namespace jointhb_study_hb_light_damping {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 namespace timeint = jointhb::timeint;
 namespace contact = jointhb::contact;
 
@@ -660,7 +660,7 @@ NewmarkPoint compare_newmark(const FrfScenario& s, const hb::HarmonicBalance& b,
                                    -p.coefficients[b.index(s.output_dof, a + 1)]);
   out.hb_amax = p.amplitude_max;
   out.hb_x1 = std::abs(hb_x1);
-  const timeint::State initial = study::initial_state(b, s.system, p.coefficients, p.omega);
+  const timeint::State initial = validation_study::initial_state(b, s.system, p.coefficients, p.omega);
   std::vector<timeint::SteadyStateResult> runs;
   for (const int n : {steps, 2 * steps}) {
     timeint::SteadyStateOptions o;

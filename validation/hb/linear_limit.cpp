@@ -50,7 +50,7 @@ namespace jointhb_study_hb_linear_limit {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Model {
   std::string name;

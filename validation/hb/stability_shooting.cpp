@@ -35,7 +35,7 @@ namespace {
 
 using namespace jointhb;
 using cd = std::complex<double>;
-using study::ContactSpec;
+using validation_study::ContactSpec;
 
 struct FrfCase {
   std::string name;
@@ -49,25 +49,25 @@ std::vector<FrfCase> cases() {
   std::vector<FrfCase> out;
   {  // 1-DOF Jenkins, k_T0/k = 3, c = 1e-4: an S-shaped FRF under F = μF_N
     ContactSpec spec{"jenkins", 1.0 / 3.0, 3.0, 0.1};
-    hb::DiscreteSystem s = study::oscillator(spec, 0.0);
-    s.damping = study::sparse(Eigen::MatrixXd::Constant(1, 1, 1e-4));
-    out.push_back({"jenkins_1dof", s, study::cosine_force(0, 0.1), 0.5, 4.0, 5});
+    hb::DiscreteSystem s = validation_study::oscillator(spec, 0.0);
+    s.damping = validation_study::sparse(Eigen::MatrixXd::Constant(1, 1, 1e-4));
+    out.push_back({"jenkins_1dof", s, validation_study::cosine_force(0, 0.1), 0.5, 4.0, 5});
   }
   {  // 1-DOF Gaul–Mayer, n = 1/3, the same stiffnesses, c = 1e-4
     ContactSpec spec{"gaul-mayer", 1.0 / 3.0, 3.0, 0.1};
-    hb::DiscreteSystem s = study::oscillator(spec, 0.0);
-    s.damping = study::sparse(Eigen::MatrixXd::Constant(1, 1, 1e-4));
-    out.push_back({"gaul_mayer_1dof", s, study::cosine_force(0, 0.03), 0.5, 4.0, 5});
+    hb::DiscreteSystem s = validation_study::oscillator(spec, 0.0);
+    s.damping = validation_study::sparse(Eigen::MatrixXd::Constant(1, 1, 1e-4));
+    out.push_back({"gaul_mayer_1dof", s, validation_study::cosine_force(0, 0.03), 0.5, 4.0, 5});
   }
   {  // 2-DOF chain, Jenkins from DOF 1 to ground, c = 1e-4 I: several folds
     hb::DiscreteSystem s;
     Eigen::MatrixXd k(2, 2);
     k << 2.0, -1.0, -1.0, 1.0;
-    s.mass = study::sparse(Eigen::MatrixXd::Identity(2, 2));
-    s.stiffness = study::sparse(k);
-    s.damping = study::sparse(1e-4 * Eigen::MatrixXd::Identity(2, 2));
-    s.contacts.push_back(study::contact_element(ContactSpec{"jenkins", 1.0 / 3.0, 3.0, 0.1}, 1));
-    out.push_back({"jenkins_2dof", s, study::cosine_force(0, 0.0215443469), 0.3, 7.0, 5});
+    s.mass = validation_study::sparse(Eigen::MatrixXd::Identity(2, 2));
+    s.stiffness = validation_study::sparse(k);
+    s.damping = validation_study::sparse(1e-4 * Eigen::MatrixXd::Identity(2, 2));
+    s.contacts.push_back(validation_study::contact_element(ContactSpec{"jenkins", 1.0 / 3.0, 3.0, 0.1}, 1));
+    out.push_back({"jenkins_2dof", s, validation_study::cosine_force(0, 0.0215443469), 0.3, 7.0, 5});
   }
   return out;
 }
@@ -98,7 +98,7 @@ double matched_radius(const Eigen::VectorXcd& hill, const Eigen::VectorXcd& shoo
 }  // namespace
 
 int run(int argc, char** argv) {
-  const study::Arguments args = study::parse_arguments(argc, argv);
+  const validation_study::Arguments args = validation_study::parse_arguments(argc, argv);
   if (!args.ok) return 2;
   const int steps = args.ci ? 4096 : 16384;
   const int stride = args.ci ? 6 : 1;  // every stride-th FRF point (and every unstable one)
@@ -143,21 +143,21 @@ int run(int argc, char** argv) {
                                (k + 1 < curve.points.size() &&
                                 curve.points[k + 1].bifurcation != hb::Bifurcation::none);
       if (k % static_cast<std::size_t>(stride) != 0 && p.stable && !near_change) continue;
-      const auto hill_start = study::Clock::now();
+      const auto hill_start = validation_study::Clock::now();
       const hb::FloquetResult h = hill.evaluate(p.coefficients, p.omega);
-      const double hill_seconds = study::seconds_since(hill_start);
-      const auto orbit_start = study::Clock::now();
+      const double hill_seconds = validation_study::seconds_since(hill_start);
+      const auto orbit_start = validation_study::Clock::now();
       const hb::FloquetResult m = hb::orbit_floquet(balance, p.coefficients, p.omega, mo);
-      const double orbit_seconds = study::seconds_since(orbit_start);
-      const study::NewtonResult fine = study::solve_at_omega(
-          balance3, study::pad(balance, p.coefficients, balance3), p.omega);
+      const double orbit_seconds = validation_study::seconds_since(orbit_start);
+      const validation_study::NewtonResult fine = validation_study::solve_at_omega(
+          balance3, validation_study::pad(balance, p.coefficients, balance3), p.omega);
       const double orbit3 = fine.converged
                                 ? hb::orbit_floquet(balance3, fine.x, p.omega, mo).max_multiplier
                                 : std::nan("");
       timeint::ShootingOptions so;
       so.steps_per_period = steps;
       const timeint::ShootingResult r = timeint::periodic_orbit_by_shooting(
-          c.system, c.excitation, p.omega, study::initial_state(balance, c.system, p.coefficients, p.omega), so);
+          c.system, c.excitation, p.omega, validation_study::initial_state(balance, c.system, p.coefficients, p.omega), so);
       const bool converged = r.termination == jointhb::Termination::converged;
       double pair = 0.0;
       const double matched = converged ? matched_radius(h.multipliers, r.multipliers, pair) : 0.0;
@@ -182,15 +182,15 @@ int run(int argc, char** argv) {
         agree_hill += hill_stable == shoot_stable ? 1 : 0;
       }
       table << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", c.name, k,
-                           study::csv_number(p.omega), study::csv_number(h.max_multiplier),
-                           study::csv_number(m.max_multiplier),
-                           std::isfinite(orbit3) ? study::csv_number(orbit3) : std::string(),
-                           study::csv_number(r.spectral_radius), study::csv_number(matched),
-                           study::csv_number(pair), hill_stable ? 1 : 0, m.stable() ? 1 : 0,
+                           validation_study::csv_number(p.omega), validation_study::csv_number(h.max_multiplier),
+                           validation_study::csv_number(m.max_multiplier),
+                           std::isfinite(orbit3) ? validation_study::csv_number(orbit3) : std::string(),
+                           validation_study::csv_number(r.spectral_radius), validation_study::csv_number(matched),
+                           validation_study::csv_number(pair), hill_stable ? 1 : 0, m.stable() ? 1 : 0,
                            shoot_stable ? 1 : 0, is_decided ? 1 : 0, hb::to_string(p.bifurcation),
-                           study::csv_text(std::string(to_string(r.termination))),
-                           study::csv_number(hill_seconds), study::csv_number(orbit_seconds),
-                           study::csv_number(r.seconds));
+                           validation_study::csv_text(std::string(to_string(r.termination))),
+                           validation_study::csv_number(hill_seconds), validation_study::csv_number(orbit_seconds),
+                           validation_study::csv_number(r.seconds));
       table.flush();
     }
   }
@@ -211,8 +211,8 @@ int run(int argc, char** argv) {
         ho.time_samples = 1024;
         ho.selection = hb::HarmonicSelection::all;
         const hb::HarmonicBalance b(c.system, c.excitation, ho);
-        const study::NewtonResult sol =
-            study::solve_at_omega(b, b.stuck_solution(omega), omega);
+        const validation_study::NewtonResult sol =
+            validation_study::solve_at_omega(b, b.stuck_solution(omega), omega);
         radius.push_back(sol.converged ? hb::HillStability(b).evaluate(sol.x, omega).max_multiplier
                                        : std::nan(""));
         orbit.push_back(sol.converged ? hb::orbit_floquet(b, sol.x, omega).max_multiplier
@@ -220,10 +220,10 @@ int run(int argc, char** argv) {
       }
       for (std::size_t i = 0; i < levels.size(); ++i) {
         conv << fmt::format("{},{},{},{},{},{},{}\n", c.name, omega, levels[i],
-                            study::csv_number(radius[i]),
-                            study::csv_number(std::abs(radius[i] - radius.back())),
-                            study::csv_number(orbit[i]),
-                            study::csv_number(std::abs(orbit[i] - orbit.back())));
+                            validation_study::csv_number(radius[i]),
+                            validation_study::csv_number(std::abs(radius[i] - radius.back())),
+                            validation_study::csv_number(orbit[i]),
+                            validation_study::csv_number(std::abs(orbit[i] - orbit.back())));
       }
     }
   }

@@ -45,7 +45,7 @@ namespace jointhb_study_hb_stress {
 
 namespace {
 
-using namespace study;
+using namespace validation_study;
 
 struct Scenario {
   std::string name;

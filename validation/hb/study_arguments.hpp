@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-namespace study {
+namespace validation_study {
 
 struct Arguments {
   bool ci = false;     // reduced, still scored sweep (ctest)
@@ -42,4 +42,4 @@ inline Arguments parse_arguments(int argc, char** argv) {
   return a;
 }
 
-}  // namespace study
+}  // namespace validation_study

@@ -33,7 +33,7 @@
 #include "jointhb/timeint/newmark.hpp"
 #include "study_arguments.hpp"
 
-namespace study {
+namespace validation_study {
 
 namespace hb = jointhb::hb;
 namespace cont = jointhb::continuation;
@@ -574,4 +574,4 @@ inline Peak refine_peak(const hb::HarmonicBalance& balance, const cont::FrfCurve
   return p;
 }
 
-}  // namespace study
+}  // namespace validation_study

@@ -26,6 +26,25 @@ from ._core import (  # noqa: F401  (the package's interface)
 )
 
 
+def run_study(case_file, output, jobs=1, resume=False, cache_dir=None):
+    """The parameter study of a case file's study section (docs/studies.md): every sample through
+    the pipeline on `jobs` worker processes, the files of `jointhb study` written into `output`
+    (study.csv, study_statistics.csv, study_curves.csv, study.json, samples/; no plot), and
+    study.json returned as a dict. `resume=True` reuses the sample records found in output/samples.
+    Raises jointhb.InputError for a bad case file, ValueError for a case without a study section."""
+    import json
+    import os
+
+    from . import _core
+
+    if int(jobs) < 1:
+        raise ValueError(f"jobs must be >= 1, got {jobs}")
+    _core._run_study(os.fspath(case_file), os.fspath(output), int(jobs), bool(resume),
+                     os.fspath(cache_dir) if cache_dir else "")
+    with open(os.path.join(os.fspath(output), "study.json")) as f:
+        return json.load(f)
+
+
 def case_from_dict(case, directory="."):
     """A finite-element case from Python values: the same keys as a case file (docs/case-files.md),
     e.g. {"model": {"type": "fe", "materials": {...}, "parts": [...], "interfaces": [...],
@@ -37,5 +56,5 @@ def case_from_dict(case, directory="."):
     text = json.dumps(case, indent=1, allow_nan=False)
     return parse_case(text, os.path.join(str(directory), "<python dict>"))
 
-__all__ = ["Case", "DiscreteModel", "InputError", "Pipeline", "StageError", "case_from_dict", "default_case", "fit",
+__all__ = ["Case", "DiscreteModel", "InputError", "Pipeline", "StageError", "case_from_dict", "default_case", "fit", "run_study",
            "load_case", "parse_case"]
