@@ -9,6 +9,7 @@
 #endif
 
 namespace jointhb::study {
+#ifdef JOINTHB_WITH_MPI
 namespace {
 
 // Message tags of the protocol.
@@ -23,6 +24,7 @@ bool launched_by_mpi() {
 }
 
 }  // namespace
+#endif
 
 bool Communicator::built_with_mpi() {
 #ifdef JOINTHB_WITH_MPI

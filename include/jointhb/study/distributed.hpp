@@ -46,7 +46,7 @@ class Communicator {
  private:
   int rank_ = 0;
   int size_ = 1;
-  bool initialised_ = false;
+  [[maybe_unused]] bool initialised_ = false;  ///< (unused in a build without MPI)
 };
 
 }  // namespace jointhb::study
