@@ -3,11 +3,15 @@
 // the sample files, failed and stopped samples.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <thread>
 #include <variant>
+
+#include <unistd.h>
 
 #include "jointhb/contact/closed_forms.hpp"
 #include "jointhb/io/case_file.hpp"
@@ -169,6 +173,84 @@ TEST(Study, StoppingLeavesTheRestNotRun) {
   EXPECT_GE(r.computed, 3u);
   EXPECT_GT(r.not_run, 0u);
   EXPECT_EQ(r.status().termination, Termination::stopped_by_user);
+}
+
+// FRF outputs: a unit mass on k = 1e4 N/m with a Jenkins element that never slips (slip force
+// 1e6 N) is linear, |x̂₁|(Ω) = F / √((k + k_t − Ω²)² + (cΩ)²): the amplitudes at the study's
+// frequencies against it, and the peak (the largest accepted point) within the point spacing.
+TEST(Study, FrfOutputsMatchTheLinearReceptance) {
+  const io::DiscreteCase c = jenkins_case(R"(
+model: {type: discrete, mass: 1.0, stiffness: 1.0e4, damping: {matrix: [[2.0]]}}
+contacts:
+  - {law: jenkins, dofs: [0], kt0: 1.0e4, mu: 1.0, normal_force: 1.0e6}
+excitation:
+  - {dof: 0, amplitude: [1.0, 3.0]}
+analysis:
+  frf: {omega: [100.0, 200.0], harmonics: 1, time_samples: 64, output_dof: 0}
+study:
+  sampling: list
+  parameters:
+    - {name: "contacts[0].kt0", values: [1.0e4, 2.0e4]}
+  frequencies_hz: [18.0, 21.0, 25.0]
+)");
+  const StudyResult r = run(c);
+  ASSERT_EQ(r.keys.size(), 10u);  // per level: three frequencies, the peak, its frequency
+  EXPECT_TRUE(r.status().ok()) << r.status().message;
+  for (const SampleResult& s : r.samples) {
+    const double k = 1.0e4 + s.values[0];
+    for (std::size_t i = 0; i < r.keys.size(); ++i) {
+      const OutputKey& key = r.keys[i];
+      const double force = key.index == 0 ? 1.0 : 3.0;
+      ASSERT_TRUE(s.outputs[i].has_value()) << key.label();
+      if (key.quantity == "amplitude") {
+        const double w = 2.0 * std::numbers::pi * key.abscissa;
+        const double exact = force / std::hypot(k - w * w, 2.0 * w);
+        EXPECT_NEAR(*s.outputs[i] / exact, 1.0, 1e-8) << key.label() << " sample " << s.sample;
+      } else if (key.quantity == "peak_amplitude") {
+        const double peak = force / (2.0 * std::sqrt(k - 1.0));  // F / (c ω_d), c = 2, ω_d² = k − c²/4
+        EXPECT_NEAR(*s.outputs[i] / peak, 1.0, 1e-3) << key.label() << " sample " << s.sample;
+      } else {
+        EXPECT_NEAR(*s.outputs[i] / (std::sqrt(k - 2.0) / (2.0 * std::numbers::pi)), 1.0, 1e-3) << key.label();
+      }
+    }
+  }
+}
+
+// Dynamic scheduling: a slow sample holds up only the worker evaluating it; the other worker takes
+// every other sample meanwhile, so the slow one is reported last.
+TEST(Study, ASlowSampleStallsNoOtherWorker) {
+  StudySpec spec;
+  spec.sampling.kind = SamplingKind::list;
+  StudyParameter p;
+  p.name = "x";
+  p.values = {0, 1, 2, 3, 4, 5, 6, 7};
+  spec.sampling.parameters = {p};
+  spec.outputs.modes = {1};
+  spec.outputs.amplitudes = {1e-4};
+  const SampleModelFactory factory = [] {
+    return SampleModel([](const std::vector<double>& values) {
+      if (values[0] == 0.0) std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+      fit::ModelPrediction prediction;
+      fit::PredictedCurve c;
+      c.abscissa = {1e-5, 1e-3};
+      c.frequency_hz = {10.0 + values[0], 10.0 + values[0]};
+      c.damping_ratio = {0.01, 0.01};
+      prediction.curves.push_back(c);
+      return prediction;
+    });
+  };
+  RunOptions o;
+  o.jobs = 2;
+  std::vector<std::size_t> order;
+  o.on_sample = [&](const SampleResult& s, std::size_t, std::size_t) {
+    order.push_back(s.sample);
+    return true;
+  };
+  const StudyResult r = run_study(spec, factory, o);
+  ASSERT_EQ(order.size(), 8u);
+  EXPECT_EQ(order.back(), 0u);  // the seven others finished while sample 0 was running
+  EXPECT_TRUE(r.status().ok()) << r.status().message;
+  for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(*r.samples[i].outputs[0], 10.0 + static_cast<double>(i));
 }
 
 // A sample whose curve ends before an output: that output is missing, the others are read off
