@@ -16,6 +16,7 @@ enum ExitCode : int {
   exit_ok = 0,
   exit_failure = 1,    ///< runtime failure: a computation failed or produced a non-finite value
   exit_bad_input = 2,  ///< invalid options, unreadable or invalid case file
+  exit_interrupted = 130,  ///< jointhb study stopped by SIGINT/SIGTERM after writing what it computed
 };
 
 /// Bad input that is not tied to one option or one key (e.g. rejected by the library's own

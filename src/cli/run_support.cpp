@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <atomic>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -141,6 +142,31 @@ void install_interrupt_handler(const std::string& command) {
     // On a terminal a progress line may be open: end it first. Elsewhere no blank line.
     std::fprintf(stderr, "%s%s: interrupted by %s%s\n", stderr_is_terminal() ? "\n" : "", command.c_str(),
                  signal_name(sig), where.c_str());
+    std::fflush(stderr);
+    std::_Exit(128 + sig);
+  }).detach();
+}
+
+void install_stop_request(const std::string& command, std::atomic<bool>& stop, const std::string& what) {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int sig : {SIGINT, SIGTERM}) {
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;  // as above
+    sigaddset(&set, sig);
+  }
+  if (::pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;  // then the default actions apply
+  std::thread([set, command, what, &stop] {
+    int sig = 0;
+    while (::sigwait(&set, &sig) != 0) {
+    }
+    stop = true;
+    std::fprintf(stderr, "%s%s: interrupted by %s: %s (again to quit at once)\n", stderr_is_terminal() ? "\n" : "",
+                 command.c_str(), signal_name(sig), what.c_str());
+    std::fflush(stderr);
+    while (::sigwait(&set, &sig) != 0) {
+    }
+    std::fprintf(stderr, "%s: interrupted by %s again: quit\n", command.c_str(), signal_name(sig));
     std::fflush(stderr);
     std::_Exit(128 + sig);
   }).detach();

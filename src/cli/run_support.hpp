@@ -2,6 +2,7 @@
 // What the analyses of `jointhb run` share: the output directory and its lock, summary.json and
 // its status while the run is going on, the handling of SIGINT/SIGTERM, timing.
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -53,6 +54,12 @@ void write_summary(const std::filesystem::path& path, const nlohmann::ordered_js
 /// and in every thread it starts afterwards.
 void install_interrupt_handler(const std::string& command);
 
+/// `jointhb study`: from here on, the first SIGINT or SIGTERM (unless ignored at the start) sets
+/// `stop` and says on stderr "COMMAND: interrupted by SIGINT: WHAT (again to quit at once)"; the
+/// second ends the process with 128 + the signal number. Call before any thread is started (the
+/// signals are blocked in the calling thread and in every thread or child process it starts
+/// afterwards: a study's worker processes finish their sample). `stop` must outlive the process.
+void install_stop_request(const std::string& command, std::atomic<bool>& stop, const std::string& what);
 /// When the last summary written still says "running" (the run ends with an exception), rewrites
 /// it with "status": "failed" and the message; does nothing otherwise.
 void mark_summary_failed(const std::string& message);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -46,7 +47,8 @@ StudyCommand::StudyCommand(CLI::App& parent, const study::Communicator& communic
   app_->add_flag("--quiet", quiet_, "no progress lines or warnings (errors only)");
   app_->footer(
       "Exit codes: 0 every sample converged, 1 some failed (the table says which and study.json\n"
-      "why), 2 invalid case file or options.\n"
+      "why), 2 invalid case file or options, 130 interrupted (Ctrl-C: the running samples finish,\n"
+      "the files are written; --resume continues).\n"
       "Example: jointhb study cases/16-study-lap/case.yaml -o out\n"
       "         mpirun -np 2 jointhb study cases/16-study-lap/case.yaml -o out");
 }
@@ -71,6 +73,10 @@ int StudyCommand::run() const {
   if (root) output.emplace(dir);  // created and locked by rank 0 only (the others write nothing)
   options.resume = resume_;
   options.communicator = &communicator_;
+  // Ctrl-C: no new samples; the running ones finish and everything is written (a second one quits).
+  static std::atomic<bool> interrupted{false};
+  install_stop_request("jointhb study", interrupted, "finishing the running samples, then writing the results");
+  options.interrupt = &interrupted;
   const auto start = Clock::now();
   const std::size_t total = spec.sampling.count();
   const bool terminal = stderr_is_terminal() && !quiet_;
@@ -118,6 +124,12 @@ int StudyCommand::run() const {
         ++shown;
       }
     }
+  }
+  if (interrupted && result.not_run > 0) {
+    std::cerr << fmt::format("jointhb study: interrupted with {} of {} samples not run; the same command with --resume "
+                             "computes only those\n",
+                             result.not_run, total);
+    return exit_interrupted;
   }
   return result.status().ok() ? exit_ok : exit_failure;
 }

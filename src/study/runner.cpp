@@ -32,6 +32,8 @@ namespace fs = std::filesystem;
 
 // How long rank 0's coordinator waits between polls of the other ranks' requests.
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
+// How often the coordinator looks at RunOptions::interrupt when nothing else wakes it.
+constexpr auto kInterruptInterval = std::chrono::milliseconds(100);
 
 fs::path sample_file(const fs::path& dir, std::size_t sample) {
   return dir / fmt::format("sample_{:06d}.json", sample);
@@ -162,22 +164,25 @@ class Coordinator {
       mailbox_.running = 1;
       thread.emplace([&] { work(factory); });
     }
+    const auto interval = remote > 0 ? kPollInterval : kInterruptInterval;
     while (true) {
+      if (options_.interrupt && options_.interrupt->load()) queue_.stop = true;
       const bool waiting_for_ranks = remote > 0;
       if (thread) {
         std::deque<SampleResult> ready;
         {
           std::unique_lock lock(mailbox_.mutex);
-          if (!waiting_for_ranks && !processes) {
-            mailbox_.ready.wait(lock, [&] { return !mailbox_.results.empty() || mailbox_.running == 0; });
+          const auto woken = [&] { return !mailbox_.results.empty() || (mailbox_.running == 0 && !waiting_for_ranks); };
+          if (!waiting_for_ranks && !processes && !options_.interrupt) {
+            mailbox_.ready.wait(lock, woken);
           } else {
-            mailbox_.ready.wait_for(lock, kPollInterval, [&] { return !mailbox_.results.empty(); });
+            mailbox_.ready.wait_for(lock, interval, woken);
           }
           ready.swap(mailbox_.results);
         }
         for (auto& s : ready) record(std::move(s), "");
       }
-      if (processes) serve_processes(*processes, waiting_for_ranks);
+      if (processes) serve_processes(*processes, waiting_for_ranks || options_.interrupt != nullptr, interval);
       while (remote > 0) {
         std::optional<Communicator::Request> request = comm->poll();
         if (!request) break;
@@ -222,15 +227,15 @@ class Coordinator {
     return queue_.take();
   }
 
-  // Hands samples to idle children, then waits briefly (or, with no other ranks to serve, until a
-  // child finishes) and records what came back. A child that died fails its sample (not written to
-  // a sample file: a restart tries it again).
-  void serve_processes(WorkerProcesses& processes, bool waiting_for_ranks) {
+  // Hands samples to idle children, then waits up to `interval` (or, with no other ranks to serve
+  // and no interrupt to watch, until a child finishes) and records what came back. A child that
+  // died fails its sample (not written to a sample file: a restart tries it again).
+  void serve_processes(WorkerProcesses& processes, bool bounded_wait, std::chrono::milliseconds interval) {
     for (int k : processes.idle()) {
       const std::optional<std::size_t> next = take();
       if (!processes.assign(k, next ? static_cast<long long>(*next) : -1LL) && next) requeued_.push_back(*next);
     }
-    for (WorkerProcesses::Event& e : processes.wait(waiting_for_ranks ? static_cast<int>(kPollInterval.count()) : -1)) {
+    for (WorkerProcesses::Event& e : processes.wait(bounded_wait ? static_cast<int>(interval.count()) : -1)) {
       if (e.death.empty()) {
         std::string identity;
         SampleResult s = sample_from_json(e.record, identity);

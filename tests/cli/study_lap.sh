@@ -1,6 +1,6 @@
 # jointhb study on the lap (case 16): 100 damping curves on a 10 x 10 grid of friction coefficient
-# and damping ratio, on one process with two local workers and on two MPI ranks: the same table
-# bit for bit; the linear limit of every curve (q = 1e-8) has the sample's damping ratio and a
+# and damping ratio, on one process with two local workers (interrupted by SIGINT and resumed) and
+# on two MPI ranks: the same table bit for bit; the linear limit of every curve (q = 1e-8) has the sample's damping ratio and a
 # frequency that does not depend on it. To keep the test short the curves are traced to
 # q = 3.8e-7 only (the outputs end there) with at least 4 points per decade (the case has 8).
 source "$(dirname "$0")/common.inc" "$@"
@@ -9,15 +9,35 @@ sed -e 's/^  amplitudes: .*/  amplitudes: [1.0e-8, 1.0e-7, 3.0e-7]/' -e 's/^    
   "$SOURCE_DIR/cases/16-study-lap/case.yaml" >"$WORK/case.yaml"
 grep -q "amplitudes: \[1.0e-8, 1.0e-7, 3.0e-7\]" "$WORK/case.yaml" || fail "the amplitudes were not replaced"
 grep -q "points_per_decade: 4" "$WORK/case.yaml" || fail "points_per_decade was not replaced"
-run_capture study "$WORK/case.yaml" -o "$WORK/local" -j 2 --quiet
-[ "$STATUS" -le 1 ] || fail "study -j 2 exited $STATUS: $(cat "$ERR")"
+# Interrupted after its first sample (SIGINT): the running samples finish, the files say
+# stopped_by_user, exit 130; then --resume computes the rest. The resumed table must equal the
+# uninterrupted two-rank run's below.
+"$JOINTHB" study "$WORK/case.yaml" -o "$WORK/local" -j 2 >"$WORK/int.out" 2>"$WORK/int.err" &
+pid=$!
+for _ in $(seq 1 600); do
+  ls "$WORK/local/samples/"sample_*.json >/dev/null 2>&1 && break
+  sleep 0.05
+done
+kill -INT "$pid"
+wait "$pid"
+STATUS=$?
+[ "$STATUS" -eq 130 ] || fail "interrupted study exited $STATUS, expected 130: $(tail -2 "$WORK/int.err")"
+grep -q "interrupted by SIGINT" "$WORK/int.err" || fail "no interrupt line: $(tail -2 "$WORK/int.err")"
+"$PYTHON" - "$WORK/local" <<'PY' || fail "interrupted study outputs"
+import json, os, sys
+s = json.load(open(os.path.join(sys.argv[1], "study.json")))
+assert s["status"] == "stopped_by_user" and s["counts"]["not_run"] > 0, (s["status"], s["counts"])
+assert s["counts"]["computed"] == len(os.listdir(os.path.join(sys.argv[1], "samples"))), s["counts"]
+PY
+run_capture study "$WORK/case.yaml" -o "$WORK/local" -j 2 --resume --quiet
+[ "$STATUS" -le 1 ] || fail "study -j 2 --resume exited $STATUS: $(cat "$ERR")"
 "$PYTHON" - "$WORK/local" <<'PY' || fail "lap study outputs"
 import csv, json, os, sys
 d = sys.argv[1]
 rows = list(csv.DictReader(open(os.path.join(d, "study.csv"))))
 assert len(rows) == 100, len(rows)
 s = json.load(open(os.path.join(d, "study.json")))
-assert s["counts"]["computed"] == 100, s["counts"]
+assert s["counts"]["computed"] + s["counts"]["reused"] == 100 and s["counts"]["reused"] > 0, s["counts"]
 # Known (issue 23): at one or two friction values the curves stop at the slip onset (q ~ 2.4e-7,
 # step below min_step), all ten damping ratios alike; which values depends on the end of the curve
 # (mu = 0.28 with outputs to 1e-5, mu = 0.26 with outputs to 3e-7, as case 08 with that mu).

@@ -136,6 +136,10 @@ struct RunOptions {
   /// order they finish. Returning false stops handing out samples (those running finish).
   std::function<bool(const SampleResult& sample, std::size_t done, std::size_t total)> on_sample;
   const Communicator* communicator = nullptr;
+  /// When set (e.g. by a signal handler), no further sample is handed out; running samples finish
+  /// and are recorded, the rest stay not run (StudyResult::status() stopped_by_user). Polled every
+  /// 100 ms.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 struct StudyResult {

@@ -3,6 +3,7 @@
 // the sample files, failed and stopped samples.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -251,6 +252,28 @@ TEST(Study, ASlowSampleStallsNoOtherWorker) {
   EXPECT_EQ(order.back(), 0u);  // the seven others finished while sample 0 was running
   EXPECT_TRUE(r.status().ok()) << r.status().message;
   for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(*r.samples[i].outputs[0], 10.0 + static_cast<double>(i));
+}
+
+// An interrupt (RunOptions::interrupt, what a signal sets) stops handing out samples; the running
+// ones finish and are kept.
+TEST(Study, AnInterruptKeepsWhatRanAndLeavesTheRest) {
+  const io::DiscreteCase c = jenkins_case();
+  std::atomic<bool> interrupt{false};
+  RunOptions o;
+  o.jobs = 2;
+  o.interrupt = &interrupt;
+  o.on_sample = [&](const SampleResult&, std::size_t done, std::size_t) {
+    if (done == 2) interrupt = true;
+    return true;
+  };
+  const StudyResult r = run(c, o);
+  EXPECT_GE(r.computed, 2u);
+  EXPECT_LE(r.computed, 4u);  // the two running when it came may finish
+  EXPECT_EQ(r.computed + r.not_run, 12u);
+  EXPECT_EQ(r.status().termination, Termination::stopped_by_user);
+  for (std::size_t i = 0; i < 12; ++i) {
+    if (r.done[i]) EXPECT_TRUE(r.samples[i].status.ok()) << i;
+  }
 }
 
 // A sample whose curve ends before an output: that output is missing, the others are read off
