@@ -310,7 +310,7 @@ TEST(io_DiscreteCase, ExcitationLevelsBroadcastAndAddStaticForces) {
 
 TEST(io_DiscreteCase, UnknownKeysAreReportedAtEveryLevel) {
   expect_error(two_dof_model + "solver: 1\n" + excitation + frf, 5, "solver", "solver",
-               "unknown key; allowed: analysis, contacts, excitation, fit, model");
+               "unknown key; allowed: analysis, contacts, excitation, fit, model, study");
   expect_error("model:\n  type: discrete\n  masss: 1.0\n", 3, "masss", "model.masss",
                "unknown key; allowed: damping, mass, stiffness, type");
   expect_error(with("  damping: {raleigh: {alpha: 1}}\n"), 5, "raleigh", "model.damping.raleigh",
