@@ -113,17 +113,23 @@ void mark_summary_failed(const std::string& message) {
   }
 }
 
-void install_interrupt_handler(const std::string& command) {
-  sigset_t set;
+// Blocks SIGINT and SIGTERM in the calling thread (and so in every thread and child it starts
+// afterwards) for a thread that sigwait()s on `set`. A signal ignored by whoever started the
+// program (nohup, a background job of a script) stays ignored and is left out. Returns false when
+// nothing could be blocked: then the default actions apply.
+bool block_termination_signals(sigset_t& set) {
   sigemptyset(&set);
   for (int sig : {SIGINT, SIGTERM}) {
     struct sigaction current {};
-    // A signal ignored by whoever started the program (nohup, a background job of a script) stays
-    // ignored.
     if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
     sigaddset(&set, sig);
   }
-  if (::pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;  // then the default actions apply
+  return ::pthread_sigmask(SIG_BLOCK, &set, nullptr) == 0;
+}
+
+void install_interrupt_handler(const std::string& command) {
+  sigset_t set;
+  if (!block_termination_signals(set)) return;
   std::thread([set, command] {
     int sig = 0;
     while (::sigwait(&set, &sig) != 0) {
@@ -149,13 +155,7 @@ void install_interrupt_handler(const std::string& command) {
 
 void install_stop_request(const std::string& command, std::atomic<bool>& stop, const std::string& what) {
   sigset_t set;
-  sigemptyset(&set);
-  for (int sig : {SIGINT, SIGTERM}) {
-    struct sigaction current {};
-    if (::sigaction(sig, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;  // as above
-    sigaddset(&set, sig);
-  }
-  if (::pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;  // then the default actions apply
+  if (!block_termination_signals(set)) return;
   std::thread([set, command, what, &stop] {
     int sig = 0;
     while (::sigwait(&set, &sig) != 0) {

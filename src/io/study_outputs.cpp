@@ -54,15 +54,15 @@ void write_statistics(const std::filesystem::path& dir, const study::StudySpec& 
 
 void write_curves(const std::filesystem::path& dir, const study::StudyResult& r) {
   CsvWriter csv(dir / "study_curves.csv", {"sample", "mode_or_level", "abscissa", "frequency_hz", "damping_ratio", "amplitude", "curve"});
+  // A sample's curves follow the targets' order: the modes, then the levels (study_targets).
+  std::vector<std::pair<fit::TargetKind, int>> curves;
+  for (const auto& k : r.keys) {
+    const std::pair<fit::TargetKind, int> c(k.curve, k.index);
+    if (curves.empty() || curves.back() != c) curves.push_back(c);
+  }
   for (std::size_t i = 0; i < r.samples.size(); ++i) {
     const study::SampleResult& s = r.samples[i];
     if (!r.done[i]) continue;
-    // The curves follow the targets' order: the modes, then the levels (study_targets).
-    std::vector<std::pair<fit::TargetKind, int>> curves;
-    for (const auto& k : r.keys) {
-      const std::pair<fit::TargetKind, int> c(k.curve, k.index);
-      if (curves.empty() || curves.back() != c) curves.push_back(c);
-    }
     for (std::size_t c = 0; c < s.curves.size() && c < curves.size(); ++c) {
       const fit::PredictedCurve& pc = s.curves[c];
       const bool backbone = curves[c].first == fit::TargetKind::backbone;
