@@ -229,6 +229,10 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   summary["cache"] = {{"enabled", cache->enabled()}, {"directory", cache->directory().string()}};
   write_summary(dir / "summary.json", summary);  // "status": "running" before any stage
   pipeline::FeAnalysis analysis = c;
+  analysis.solvers = run_options.solvers;
+  summary["solvers"] = {{"linear", fe::to_string(run_options.solvers.linear)},
+                        {"eigen", run_options.solvers.eigen == modal::ModalOptions::EigenSolver::slepc ? "slepc" : "arpack"},
+                        {"ranks", run_options.ranks}};
   // Progress of the preload: every Newton iteration on a terminal, the heartbeat's line in a log.
   analysis.preload.progress = [tty](int step, int it, double r) {
     if (tty)

@@ -20,6 +20,7 @@
 #include <filesystem>
 
 #include "jointhb/io/fe_case.hpp"
+#include "jointhb/pipeline/fe_analysis.hpp"
 #include "run_support.hpp"
 
 namespace jointhb::cli {
@@ -27,6 +28,8 @@ namespace jointhb::cli {
 struct FeRunOptions {
   std::filesystem::path cache_dir;  ///< empty: DIR/.cache
   bool use_cache = true;            ///< false: neither read nor write the stage cache
+  pipeline::FeSolvers solvers;      ///< --linear-algebra (docs/distributed.md)
+  int ranks = 1;                    ///< MPI ranks the solvers run on (for the summary)
 };
 
 /// Returns 0, or 1 when a stage failed (what it computed is kept and written).

@@ -23,6 +23,7 @@
 #include "loop_command.hpp"
 #include "run_command.hpp"
 #include "study_command.hpp"
+#include "jointhb/fe/petsc_solvers.hpp"
 #include "jointhb/study/distributed.hpp"
 
 namespace {
@@ -100,6 +101,31 @@ int main(int argc, char** argv) {
   }
 
   if (loop.selected()) return run_guarded("jointhb loop", loop);
+  if (run.selected() && run.wants_petsc()) {
+    // Every rank makes the session; rank 0 runs the case, the others serve its linear algebra
+    // (fe/petsc_solvers.hpp) until rank 0's session ends.
+    std::optional<jointhb::fe::petsc::Session> petsc;
+    try {
+      petsc.emplace(&argc, &argv);
+    } catch (const std::exception& e) {
+      print_error("jointhb run", std::string("option '--linear-algebra': ") + e.what());
+      return exit_bad_input;
+    }
+    if (petsc->rank() > 0) {
+      petsc->serve();
+      return exit_ok;
+    }
+    run.set_ranks(petsc->size());
+    return run_guarded("jointhb run", run);
+  }
+  if (run.selected() && communicator->size() > 1) {
+    // Without the PETSc path every rank would run the whole case and write the same files.
+    if (communicator->rank() == 0)
+      print_error("jointhb run", "started on " + std::to_string(communicator->size()) +
+                                     " MPI ranks: only --linear-algebra petsc uses several ranks; "
+                                     "run it without mpirun");
+    return exit_bad_input;
+  }
   if (run.selected()) return run_guarded("jointhb run", run);
   if (fit.selected()) return run_guarded("jointhb fit", fit);
   if (study.selected()) return run_guarded("jointhb study", study);

@@ -51,6 +51,11 @@ RunCommand::RunCommand(CLI::App& parent) {
       ->type_name("CACHE_DIR");
   app_->add_flag("--no-cache", no_cache_,
                  "neither read nor write the stage cache: every stage is computed");
+  app_->add_option("--linear-algebra", linear_algebra_,
+                   "finite-element cases: 'serial' (CHOLMOD, ARPACK; default) or 'petsc' (MUMPS "
+                   "factorisations and SLEPc modes across MPI ranks: mpirun -np N jointhb run "
+                   "--linear-algebra petsc ...; docs/distributed.md)")
+      ->check(CLI::IsMember({"serial", "petsc"}));
   app_->add_flag("--check", check_only_,
                  "read and check the case file (and the meshes and target files it names), run "
                  "nothing and write nothing: exit 0 when it is valid, 2 with the error otherwise");
@@ -77,6 +82,8 @@ int RunCommand::run() const {
   const bool built_in = case_path_.empty();
   const io::CaseFile c = built_in ? io::parse_case_file(io::default_case_text(), "built-in default case")
                                   : io::read_case_file(case_path_);
+  if (wants_petsc() && !std::holds_alternative<io::FeCase>(c))
+    require_option("--linear-algebra", "petsc applies to finite-element cases only, not to this case");
   if (check_only_) {
     if (const auto* discrete = std::get_if<io::DiscreteCase>(&c)) check_discrete_setup(*discrete);
     std::fprintf(stderr, "jointhb run: %s: valid\n", built_in ? "built-in default case" : case_path_.c_str());
@@ -95,6 +102,11 @@ int RunCommand::run() const {
       FeRunOptions options;
       options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
       options.use_cache = !no_cache_;
+      if (wants_petsc()) {
+        options.solvers.linear = fe::LinearSolver::mumps;
+        options.solvers.eigen = modal::ModalOptions::EigenSolver::slepc;
+        options.ranks = ranks_;
+      }
       const int code = run_fe_case(*fe_case, dir, start, options);
       heartbeat.reset();
       if (plot_ || built_in) plot_results(dir);

@@ -26,6 +26,13 @@ class RunCommand {
   std::string cache_dir_;  ///< empty: OUTPUT/.cache
   bool no_cache_ = false;
   bool check_only_ = false;  // --check: read and check the case, run nothing
+  std::string linear_algebra_ = "serial";  // --linear-algebra serial | petsc
+  int ranks_ = 1;                          // of the petsc::Session main() made
+
+ public:
+  /// --linear-algebra petsc: main() makes a petsc::Session on every rank before run().
+  [[nodiscard]] bool wants_petsc() const { return linear_algebra_ == "petsc"; }
+  void set_ranks(int ranks) { ranks_ = ranks; }
 };
 
 }  // namespace jointhb::cli

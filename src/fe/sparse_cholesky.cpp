@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "../support/stopwatch.hpp"
+#include "jointhb/fe/petsc_solvers.hpp"
 
 namespace jointhb::fe {
 
@@ -57,7 +58,23 @@ std::string status_text(int status) {
   }
 }
 
+/// The mumps backend's statistics in SparseCholesky's terms.
+void copy_statistics(const petsc::DistributedCholeskyStatistics& from, SparseCholeskyStatistics& to) {
+  to.rows = from.rows;
+  to.matrix_nonzeros = from.matrix_nonzeros;
+  to.factor_nonzeros = from.factor_entries;
+  to.factor_entries = static_cast<long>(from.factor_entries);
+  to.factor_flops = from.factor_flops;
+  to.ordering = "MUMPS on " + std::to_string(from.ranks) + (from.ranks == 1 ? " rank" : " ranks");
+  to.analyze_seconds = from.analyze_seconds;
+  to.factorize_seconds = from.factorize_seconds;
+}
+
 }  // namespace
+
+const char* to_string(LinearSolver backend) {
+  return backend == LinearSolver::mumps ? "mumps" : "cholmod";
+}
 
 std::string SparseCholeskyStatistics::brief() const {
   const double fill =
@@ -73,6 +90,8 @@ std::string SparseCholeskyStatistics::brief() const {
 
 struct SparseCholesky::Impl {
   Options options;
+  // The mumps backend (fe/petsc_solvers.hpp); null for CHOLMOD.
+  std::unique_ptr<petsc::DistributedCholesky> distributed;
   cholmod_common common{};
   cholmod_factor* factor = nullptr;
   bool valid = false;  // a numeric factor of the analysed pattern exists
@@ -85,6 +104,11 @@ struct SparseCholesky::Impl {
   cholmod_dense* work_e = nullptr;
 
   explicit Impl(Options o) : options(o) {
+    if (options.backend == Options::Backend::mumps) {
+      distributed = std::make_unique<petsc::DistributedCholesky>(
+          options.method == Options::Method::supernodal_llt,
+          options.triangle == Options::Triangle::lower);
+    }
     cholmod_l_start(&common);
     common.print = 0;  // the library prints nothing; failures are reported by exceptions
     common.supernodal =
@@ -179,6 +203,13 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A_in) {
   std::optional<Eigen::SparseMatrix<double>> copy;
   const auto& A = compressed(A_in, copy);
   Impl& d = *impl_;
+  if (d.distributed) {
+    d.distributed->analyze(A);
+    d.statistics = {};
+    copy_statistics(d.distributed->statistics(), d.statistics);
+    d.valid = false;
+    return;
+  }
   d.free_factor();
 
   const long n = A.cols();
@@ -217,6 +248,19 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A_in) {
 
 void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A_in) {
   Impl& d = *impl_;
+  if (d.distributed) {
+    d.valid = false;
+    std::optional<Eigen::SparseMatrix<double>> copy;
+    try {
+      d.distributed->factorize(compressed(A_in, copy));
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("SparseCholesky::factorize: ") + e.what());
+    }
+    copy_statistics(d.distributed->statistics(), d.statistics);
+    ++d.statistics.factorizations;
+    d.valid = true;
+    return;
+  }
   if (d.factor == nullptr) analyze(A_in);
   const auto start = support::Clock::now();
   std::optional<Eigen::SparseMatrix<double>> copy;
@@ -268,6 +312,10 @@ void SparseCholesky::solve_into(const Eigen::Ref<const Eigen::VectorXd>& b,
                                 std::to_string(b.size()) + " rows, solution " +
                                 std::to_string(x.size()) + ", matrix " +
                                 std::to_string(d.statistics.rows));
+  if (d.distributed) {
+    x = d.distributed->solve(b);
+    return;
+  }
   d.solve(b.data(), b.size(), 1, b.size());
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(d.solution->x), b.size());
 }
@@ -280,18 +328,22 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B
                                 std::to_string(B.rows()) + " rows, matrix " +
                                 std::to_string(d.statistics.rows));
   if (B.cols() == 0) return Eigen::MatrixXd(B.rows(), 0);
+  if (d.distributed) return d.distributed->solve(B);
   d.solve(B.data(), B.rows(), B.cols(), B.outerStride());
   const auto ld = static_cast<Eigen::Index>(d.solution->d);
   return Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
       static_cast<const double*>(d.solution->x), B.rows(), B.cols(), Eigen::OuterStride<>(ld));
 }
 
-bool SparseCholesky::analyzed() const { return impl_->factor != nullptr; }
+bool SparseCholesky::analyzed() const {
+  return impl_->factor != nullptr || (impl_->distributed && impl_->statistics.rows > 0);
+}
 bool SparseCholesky::factorized() const { return impl_->valid; }
 long SparseCholesky::rows() const { return impl_->statistics.rows; }
 
 long SparseCholesky::negative_pivots() const {
   const Impl& d = *impl_;
+  if (d.distributed) return d.valid ? d.distributed->negative_pivots() : -1;
   if (!d.valid || d.factor->is_super || d.factor->is_ll) return -1;
   // Simplicial LDLᵀ: column j of L starts with its diagonal entry, which holds D(j).
   const auto* p = static_cast<const SuiteSparse_long*>(d.factor->p);

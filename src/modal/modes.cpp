@@ -1,4 +1,5 @@
 #include "jointhb/modal/modes.hpp"
+#include "jointhb/fe/petsc_solvers.hpp"
 
 #include <arpack/arpackdef.h>
 
@@ -148,6 +149,96 @@ Status ModalResult::status() const {
   return {termination, std::to_string(eigenvalues.size()) + " of " + std::to_string(requested) + " modes converged"};
 }
 
+namespace {
+
+/// Fills result's modes from the solver's m eigenpairs (values[j], vectors.col(j)): ascending λ,
+/// each φ mass-normalised with its largest |entry| positive (a fixed sign), with residuals and
+/// backward errors.
+void store_modes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                 const std::vector<double>& values, const Eigen::MatrixXd& vectors, int m,
+                 const ModalOptions& options, ModalResult& result) {
+  const Eigen::Index n = K.rows();
+  std::vector<int> order(static_cast<std::size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return values[static_cast<std::size_t>(a)] < values[static_cast<std::size_t>(b)];
+  });
+  result.eigenvalues.resize(m);
+  result.frequencies_hz.resize(m);
+  result.shapes.resize(n, m);
+  result.residuals.resize(m);
+  result.backward_errors.resize(m);
+  const double norm_k = support::norm1(K);
+  const double norm_m = support::norm1(M);
+  Eigen::VectorXd k_phi(n), m_phi(n);
+  for (int j = 0; j < m; ++j) {
+    const int source = order[static_cast<std::size_t>(j)];
+    const double lambda = values[static_cast<std::size_t>(source)];
+    Eigen::VectorXd phi = vectors.col(source);
+    m_phi.noalias() = M * phi;
+    const double modal_mass = phi.dot(m_phi);
+    if (modal_mass > 0.0) {
+      phi /= std::sqrt(modal_mass);
+      m_phi /= std::sqrt(modal_mass);
+    }
+    Eigen::Index largest = 0;
+    phi.cwiseAbs().maxCoeff(&largest);
+    if (phi(largest) < 0.0) {
+      phi = -phi;
+      m_phi = -m_phi;
+    }
+    k_phi.noalias() = K * phi;
+    const double r = (k_phi - lambda * m_phi).norm();
+    result.eigenvalues(j) = lambda;
+    result.frequencies_hz(j) = std::copysign(std::sqrt(std::abs(lambda)), lambda) / kTwoPi;
+    result.residuals(j) =
+        r /
+        (std::max({std::abs(lambda), std::abs(options.shift), std::numeric_limits<double>::min()}) *
+         m_phi.norm());
+    result.backward_errors(j) = r / ((norm_k + std::abs(lambda) * norm_m) * phi.norm());
+    result.shapes.col(j) = phi;
+  }
+}
+
+/// The modes by SLEPc across the ranks (fe/petsc_solvers.hpp), stored as ARPACK's are.
+ModalResult slepc_modes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                        const ModalOptions& options, ModalResult result,
+                        support::Clock::time_point start) {
+  fe::petsc::EigenpairOptions o;
+  o.count = options.count;
+  o.shift = options.shift;
+  o.tolerance = options.tolerance;
+  o.max_iterations = options.max_iterations;
+  o.ncv = options.ncv;
+  o.seed = options.seed;
+  const fe::petsc::EigenpairResult e = fe::petsc::distributed_eigenpairs(K, M, o);
+  result.iterations = e.iterations;
+  result.factor.rows = e.factor.rows;
+  result.factor.matrix_nonzeros = e.factor.matrix_nonzeros;
+  result.factor.factor_nonzeros = e.factor.factor_entries;
+  result.factor.factor_entries = static_cast<long>(e.factor.factor_entries);
+  result.factor.factor_flops = e.factor.factor_flops;
+  result.factor.factorizations = 1;
+  result.factor.ordering = "SLEPc/MUMPS on " + std::to_string(e.ranks) + (e.ranks == 1 ? " rank" : " ranks");
+  result.factor_seconds = e.factor_seconds;
+  result.lanczos_seconds = e.solve_seconds;
+  const int m = static_cast<int>(e.eigenvalues.size());
+  if (m == 0) {
+    result.termination = e.ok ? Termination::no_convergence : Termination::failed;
+    result.message = e.message.empty() ? "SLEPc: no eigenpair converged" : e.message;
+    result.seconds = support::seconds_since(start);
+    return result;
+  }
+  const std::vector<double> values(e.eigenvalues.data(), e.eigenvalues.data() + m);
+  store_modes(K, M, values, e.vectors, m, options, result);
+  result.termination = m == options.count ? Termination::converged : Termination::no_convergence;
+  result.message = result.termination == Termination::converged ? std::string() : e.message;
+  result.seconds = support::seconds_since(start);
+  return result;
+}
+
+}  // namespace
+
 ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
                           const Eigen::SparseMatrix<double>& M, const ModalOptions& options) {
   const auto start = support::Clock::now();
@@ -171,13 +262,15 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
   ModalResult result;
   result.shift = options.shift;
   result.requested = options.count;
+  if (options.eigen_solver == ModalOptions::EigenSolver::slepc)
+    return slepc_modes(K, M, options, std::move(result), start);
   const int nev = options.count;
   const int size = static_cast<int>(n);
   const int ncv = options.ncv > 0 ? options.ncv : std::min(size, std::max(2 * nev + 1, nev + 20));
   result.ncv = ncv;
 
   // Factor K − σM (lower triangle).
-  fe::SparseCholesky factor;
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.linear_solver});
   try {
     const Eigen::SparseMatrix<double> shifted =
         Eigen::SparseMatrix<double>(K - options.shift * M).triangularView<Eigen::Lower>();
@@ -282,47 +375,7 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
   }
   const int m = std::min(converged, nev);
 
-  // Ascending λ; each φ mass-normalised with its largest |entry| positive (a fixed sign).
-  std::vector<int> order(static_cast<std::size_t>(m));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return values[static_cast<std::size_t>(a)] < values[static_cast<std::size_t>(b)];
-  });
-  result.eigenvalues.resize(m);
-  result.frequencies_hz.resize(m);
-  result.shapes.resize(n, m);
-  result.residuals.resize(m);
-  result.backward_errors.resize(m);
-  const double norm_k = support::norm1(K);
-  const double norm_m = support::norm1(M);
-  Eigen::VectorXd k_phi(n), m_phi(n);
-  for (int j = 0; j < m; ++j) {
-    const int source = order[static_cast<std::size_t>(j)];
-    const double lambda = values[static_cast<std::size_t>(source)];
-    Eigen::VectorXd phi = vectors.col(source);
-    m_phi.noalias() = M * phi;
-    const double modal_mass = phi.dot(m_phi);
-    if (modal_mass > 0.0) {
-      phi /= std::sqrt(modal_mass);
-      m_phi /= std::sqrt(modal_mass);
-    }
-    Eigen::Index largest = 0;
-    phi.cwiseAbs().maxCoeff(&largest);
-    if (phi(largest) < 0.0) {
-      phi = -phi;
-      m_phi = -m_phi;
-    }
-    k_phi.noalias() = K * phi;
-    const double r = (k_phi - lambda * m_phi).norm();
-    result.eigenvalues(j) = lambda;
-    result.frequencies_hz(j) = std::copysign(std::sqrt(std::abs(lambda)), lambda) / kTwoPi;
-    result.residuals(j) =
-        r /
-        (std::max({std::abs(lambda), std::abs(options.shift), std::numeric_limits<double>::min()}) *
-         m_phi.norm());
-    result.backward_errors(j) = r / ((norm_k + std::abs(lambda) * norm_m) * phi.norm());
-    result.shapes.col(j) = phi;
-  }
+  store_modes(K, M, values, vectors, m, options, result);
   result.termination = (m == nev) ? Termination::converged : Termination::no_convergence;
   result.message = result.termination == Termination::converged ? std::string() : message;
   result.seconds = support::seconds_since(start);

@@ -50,9 +50,13 @@ bool FePipeline::needs_preload() const {
 }
 
 std::optional<modal::ModalOptions> FePipeline::modal_options() const {
-  if (analysis_.modes) return analysis_.modes;
-  if (analysis_.dynamics) return modal::ModalOptions{};
-  return std::nullopt;
+  std::optional<modal::ModalOptions> o = analysis_.modes;
+  if (!o && analysis_.dynamics) o = modal::ModalOptions{};
+  if (o) {
+    o->linear_solver = analysis_.solvers.linear;
+    o->eigen_solver = analysis_.solvers.eigen;
+  }
+  return o;
 }
 
 // ---- stages ----------------------------------------------------------------------------------------
@@ -93,7 +97,9 @@ const preload::PreloadResult& FePipeline::preload() {
     info.store_seconds = seconds_since(start);
     ++counters_.preload_read;
   } else {
-    preload_ = preload::solve_preload(structure(), analysis_.preload);
+    preload::PreloadOptions options = analysis_.preload;
+    options.linear_solver = analysis_.solvers.linear;
+    preload_ = preload::solve_preload(structure(), options);
     ++counters_.preload_solved;
     if (preload_->status().ok()) {
       const auto store_start = Clock::now();

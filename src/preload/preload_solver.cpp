@@ -289,7 +289,7 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   for (const Bolt& b : model.bolts) max_preload = std::max(max_preload, b.preload);
   const double reference = load_norm > 0.0 ? load_norm : 1.0;
 
-  fe::SparseCholesky cholesky;
+  fe::SparseCholesky cholesky(fe::SparseCholesky::Options{.backend = options.linear_solver});
   Eigen::Index analysed_nonzeros = -1;
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   Evaluation last;

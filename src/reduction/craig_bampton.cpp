@@ -83,7 +83,7 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
 
   // K_ii's factor, for the constraint modes below.
   auto t = support::Clock::now();
-  fe::SparseCholesky factor;
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.modal.linear_solver});
   try {
     factor.compute(K_ii);
   } catch (const std::runtime_error& error) {

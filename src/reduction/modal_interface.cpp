@@ -232,7 +232,7 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
 
   // ---- S = K_t − sM, factored once ------------------------------------------------------------
   t = support::Clock::now();
-  fe::SparseCholesky factor;
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.modal.linear_solver});
   try {
     factor.compute(SpMat(K - s * M));
   } catch (const std::runtime_error& error) {

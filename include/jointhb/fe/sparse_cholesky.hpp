@@ -43,9 +43,19 @@ struct SparseCholeskyOptions {
     /// of inertia). No pivoting means no stability guarantee for indefinite A: check residuals.
     simplicial_ldlt,
   };
+  /// Who factors: CHOLMOD in this process, or MUMPS across the ranks of the petsc::Session
+  /// (fe/petsc_solvers.hpp; supernodal_llt → MUMPS's SPD mode, simplicial_ldlt → its symmetric
+  /// indefinite mode with the inertia). Same contract, results equal to round-off.
+  enum class Backend { cholmod, mumps };
   Triangle triangle = Triangle::lower;     ///< which triangle of A holds the values
   Method method = Method::supernodal_llt;  ///< factorisation kind
+  Backend backend = Backend::cholmod;
 };
+
+/// The linear solver a stage factors with (its options' `linear_solver`).
+using LinearSolver = SparseCholeskyOptions::Backend;
+/// "cholmod", "mumps".
+[[nodiscard]] const char* to_string(LinearSolver backend);
 
 /// What the factorisation cost, for performance logs.
 struct SparseCholeskyStatistics {

@@ -41,6 +41,14 @@ struct ModalOptions {
   /// count < ncv ≤ n. Larger ncv: fewer restarts, more memory (n·ncv doubles).
   int ncv = 0;
   std::uint64_t seed = 1;  ///< seed of the starting vector (std::mt19937_64)
+  /// Who factors K − σM (and, in the condensation, the constraint and residual solves): CHOLMOD,
+  /// or MUMPS across MPI ranks (fe/petsc_solvers.hpp).
+  fe::LinearSolver linear_solver = fe::LinearSolver::cholmod;
+  /// Lanczos by ARPACK (in this process; with the linear_solver's factor), or SLEPc's
+  /// Krylov–Schur across MPI ranks (its own MUMPS factor of K − σM; ncv and tolerance mean the
+  /// same; `iterations` counts its restarts, operator/mass applications are not reported).
+  enum class EigenSolver { arpack, slepc };
+  EigenSolver eigen_solver = EigenSolver::arpack;
 
   /// Empty when valid, else "field: constraint, got value".
   [[nodiscard]] std::string validate() const;

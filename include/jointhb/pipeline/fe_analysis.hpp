@@ -93,6 +93,14 @@ struct FeDynamicsSpec {
 /// two ≥ max(32, 16 H), i.e. 16 samples per period of the highest harmonic.
 [[nodiscard]] int default_time_samples(int harmonics);
 
+/// Which linear algebra the FE stages use (docs/distributed.md): CHOLMOD and ARPACK in this process
+/// (the default), or MUMPS and SLEPc across the MPI ranks of a petsc::Session. Not part of the
+/// stage keys: both paths give the same results to round-off (tests/cli/petsc.sh).
+struct FeSolvers {
+  fe::LinearSolver linear = fe::LinearSolver::cholmod;  ///< preload Newton, K − σM, condensation
+  modal::ModalOptions::EigenSolver eigen = modal::ModalOptions::EigenSolver::arpack;
+};
+
 /// What is computed on a finite-element model and with which settings.
 struct FeAnalysis {
   preload::PreloadOptions preload;           ///< the preloaded static state (defaults when not given)
@@ -101,6 +109,7 @@ struct FeAnalysis {
   /// Damping curves / FRFs; they need the preload and the modes, which then run with their
   /// defaults when not given.
   std::optional<FeDynamicsSpec> dynamics;
+  FeSolvers solvers;  ///< applied to every stage's options by the pipeline
 };
 
 }  // namespace jointhb::pipeline

@@ -75,6 +75,8 @@ struct PreloadOptions {
   /// [0, 1): a point counts as closed when p_N ≥ this fraction of the interface's mean pressure
   /// (clamping force / area).
   double closed_pressure_fraction = 0.01;
+  /// Who factors the Newton matrix: CHOLMOD, or MUMPS across MPI ranks (fe/petsc_solvers.hpp).
+  fe::LinearSolver linear_solver = fe::LinearSolver::cholmod;
   /// Called after every Newton iteration (load step, iteration, relative residual).
   std::function<void(int, int, double)> progress;
 

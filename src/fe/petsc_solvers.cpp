@@ -1,0 +1,700 @@
+// The PETSc/SLEPc path of the FE stages (fe/petsc_solvers.hpp, docs/distributed.md).
+#include "jointhb/fe/petsc_solvers.hpp"
+
+#include <stdexcept>
+
+#ifdef JOINTHB_WITH_PETSC
+#include <fmt/format.h>
+#include <mpi.h>
+#include <petscmat.h>
+#include <slepceps.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "../support/stopwatch.hpp"
+#endif
+
+namespace jointhb::fe::petsc {
+
+#ifndef JOINTHB_WITH_PETSC
+
+namespace {
+[[noreturn]] void not_built() {
+  throw std::runtime_error(
+      "this jointhb was built without PETSc/SLEPc (configure with -DJOINTHB_WITH_PETSC=ON after "
+      "installing libpetsc-real-dev and libslepc-real-dev: bash .ci/setup)");
+}
+}  // namespace
+
+bool built() { return false; }
+Session::Session(int*, char***) { not_built(); }
+Session::~Session() = default;
+int Session::rank() const { return 0; }
+int Session::size() const { return 1; }
+void Session::serve() {}
+Session* Session::current() { return nullptr; }
+DistributedCholesky::DistributedCholesky(bool, bool) { not_built(); }
+DistributedCholesky::~DistributedCholesky() = default;
+void DistributedCholesky::analyze(const Eigen::SparseMatrix<double>&) { not_built(); }
+void DistributedCholesky::factorize(const Eigen::SparseMatrix<double>&) { not_built(); }
+Eigen::MatrixXd DistributedCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>&) const {
+  not_built();
+}
+long DistributedCholesky::negative_pivots() const { return -1; }
+const DistributedCholeskyStatistics& DistributedCholesky::statistics() const { return statistics_; }
+EigenpairResult distributed_eigenpairs(const Eigen::SparseMatrix<double>&,
+                                       const Eigen::SparseMatrix<double>&, const EigenpairOptions&) {
+  not_built();
+}
+
+#else
+
+namespace {
+
+/// Throws the PETSc error `code` as one line naming the call.
+void check(PetscErrorCode code, const char* call) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw std::runtime_error(fmt::format("PETSc {} failed: {}", call,
+                                       text != nullptr ? text : fmt::format("error {}", code)));
+}
+
+// ---- the commands rank 0 sends -------------------------------------------------------------------
+enum class Op : int { quit, analyze, factorize, solve, release, eigenpairs };
+
+struct Command {
+  Op op = Op::quit;
+  int handle = -1;
+  int positive_definite = 1;
+  int count = 0;            // eigenpairs
+  int max_iterations = 0;   // eigenpairs
+  int ncv = 0;              // eigenpairs
+  long long n = 0;          // rows
+  long long columns = 0;    // right-hand sides (solve)
+  double shift = 0.0;       // eigenpairs
+  double tolerance = 0.0;   // eigenpairs
+};
+
+/// The upper triangle of a symmetric matrix in compressed rows (global column indices).
+struct UpperRows {
+  std::vector<PetscInt> pointers;  // n + 1
+  std::vector<PetscInt> columns;
+  std::vector<double> values;
+};
+
+/// The upper triangle of A in compressed rows, read from A's lower (lower_triangle) or upper
+/// triangle; columns ascending in every row.
+UpperRows upper_rows(const Eigen::SparseMatrix<double>& A, bool lower_triangle) {
+  const Eigen::Index n = A.cols();
+  UpperRows u;
+  u.pointers.assign(static_cast<std::size_t>(n) + 1, 0);
+  const auto kept = [&](Eigen::Index i, Eigen::Index j) { return lower_triangle ? i >= j : i <= j; };
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      if (kept(it.row(), j)) ++u.pointers[static_cast<std::size_t>(std::min(it.row(), j)) + 1];
+    }
+  }
+  for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) u.pointers[r + 1] += u.pointers[r];
+  u.columns.resize(static_cast<std::size_t>(u.pointers.back()));
+  u.values.resize(u.columns.size());
+  std::vector<PetscInt> next(u.pointers.begin(), u.pointers.end() - 1);
+  // Column j in order: for the lower triangle row j of the upper one receives ascending i ≥ j; for
+  // the upper triangle each row i ≤ j receives column j, and j ascends.
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      if (!kept(it.row(), j)) continue;
+      const auto row = static_cast<std::size_t>(std::min(it.row(), j));
+      const auto at = static_cast<std::size_t>(next[row]++);
+      u.columns[at] = static_cast<PetscInt>(std::max(it.row(), j));
+      u.values[at] = it.value();
+    }
+  }
+  return u;
+}
+
+/// Rows [first[r], first[r + 1]) belong to rank r: n / size each, the first n % size one more.
+std::vector<PetscInt> row_ranges(long long n, int size) {
+  std::vector<PetscInt> first(static_cast<std::size_t>(size) + 1, 0);
+  for (int r = 0; r < size; ++r) {
+    first[static_cast<std::size_t>(r) + 1] =
+        first[static_cast<std::size_t>(r)] + static_cast<PetscInt>(n / size + (r < n % size ? 1 : 0));
+  }
+  return first;
+}
+
+/// A distributed symmetric matrix: this rank's rows of the upper triangle.
+struct LocalRows {
+  std::vector<PetscInt> pointers;  // local, from 0
+  std::vector<PetscInt> columns;   // global
+  std::vector<double> values;
+};
+
+struct Factor {
+  Mat matrix = nullptr;
+  Mat factor = nullptr;
+  LocalRows rows;
+  PetscInt first_row = 0;
+};
+
+struct World {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int rank = 0;
+  int size = 1;
+  bool initialised_mpi = false;
+  std::map<int, Factor> factors;
+  int next_handle = 0;
+};
+
+World* world = nullptr;       // the Session's state
+Session* session = nullptr;   // the Session of this process
+
+/// What rank 0 passes to and receives from a command (null on the other ranks).
+struct Rank0Data {
+  const UpperRows* a = nullptr;        // analyze, factorize, eigenpairs (K)
+  const UpperRows* b = nullptr;        // eigenpairs (M)
+  const double* right_hand_sides = nullptr;  // solve: n × columns, column-major
+  const double* start_vector = nullptr;      // eigenpairs: n
+  Eigen::MatrixXd* solution = nullptr;       // solve
+  EigenpairResult* eigen = nullptr;          // eigenpairs
+  DistributedCholeskyStatistics* statistics = nullptr;  // analyze, factorize
+  std::string* failure = nullptr;      // factorize: MUMPS's numerical failure, else empty
+  long* negative = nullptr;            // factorize: inertia
+};
+
+/// Rank 0's rows of `u` for each rank: scattered so that every rank holds its block (collective).
+LocalRows scatter_rows(const World& w, const UpperRows* u, long long n) {
+  const auto first = row_ranges(n, w.size);
+  const auto r = static_cast<std::size_t>(w.rank);
+  const PetscInt local = first[r + 1] - first[r];
+  std::vector<int> entry_counts(static_cast<std::size_t>(w.size)), entry_offsets(entry_counts.size());
+  std::vector<int> row_counts(entry_counts.size()), row_offsets(entry_counts.size());
+  if (w.rank == 0) {
+    for (std::size_t q = 0; q < entry_counts.size(); ++q) {
+      entry_offsets[q] = u->pointers[static_cast<std::size_t>(first[q])];
+      entry_counts[q] = u->pointers[static_cast<std::size_t>(first[q + 1])] - entry_offsets[q];
+      row_offsets[q] = first[q] + 1;
+      row_counts[q] = first[q + 1] - first[q];
+    }
+  }
+  LocalRows rows;
+  // The row ends of rank q's rows (global pointers), shifted to start from 0 below.
+  std::vector<PetscInt> ends(static_cast<std::size_t>(local));
+  MPI_Scatterv(w.rank == 0 ? u->pointers.data() : nullptr, row_counts.data(), row_offsets.data(),
+               MPIU_INT, ends.data(), local, MPIU_INT, 0, w.comm);
+  int entries = 0;
+  MPI_Scatter(entry_counts.data(), 1, MPI_INT, &entries, 1, MPI_INT, 0, w.comm);
+  int begin = 0;
+  MPI_Scatter(entry_offsets.data(), 1, MPI_INT, &begin, 1, MPI_INT, 0, w.comm);
+  rows.pointers.resize(static_cast<std::size_t>(local) + 1);
+  rows.pointers[0] = 0;
+  for (std::size_t i = 0; i < ends.size(); ++i) rows.pointers[i + 1] = ends[i] - begin;
+  rows.columns.resize(static_cast<std::size_t>(entries));
+  rows.values.resize(static_cast<std::size_t>(entries));
+  MPI_Scatterv(w.rank == 0 ? u->columns.data() : nullptr, entry_counts.data(), entry_offsets.data(),
+               MPIU_INT, rows.columns.data(), entries, MPIU_INT, 0, w.comm);
+  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, entry_counts.data(), entry_offsets.data(),
+               MPI_DOUBLE, rows.values.data(), entries, MPI_DOUBLE, 0, w.comm);
+  return rows;
+}
+
+/// The values only, into `rows` (its pattern from an earlier scatter_rows).
+void scatter_values(const World& w, const UpperRows* u, long long n, LocalRows& rows) {
+  const auto first = row_ranges(n, w.size);
+  std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
+  if (w.rank == 0) {
+    for (std::size_t q = 0; q < counts.size(); ++q) {
+      offsets[q] = u->pointers[static_cast<std::size_t>(first[q])];
+      counts[q] = u->pointers[static_cast<std::size_t>(first[q + 1])] - offsets[q];
+    }
+  }
+  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, counts.data(), offsets.data(), MPI_DOUBLE,
+               rows.values.data(), static_cast<int>(rows.values.size()), MPI_DOUBLE, 0, w.comm);
+}
+
+/// An MPISBAIJ matrix (block size 1) of this rank's rows (collective).
+Mat create_matrix(const World& w, const LocalRows& rows, long long n) {
+  const auto local = static_cast<PetscInt>(rows.pointers.size()) - 1;
+  Mat m = nullptr;
+  check(MatCreateMPISBAIJWithArrays(w.comm, 1, local, local, static_cast<PetscInt>(n),
+                                    static_cast<PetscInt>(n), rows.pointers.data(),
+                                    rows.columns.data(), rows.values.data(), &m),
+        "MatCreateMPISBAIJWithArrays");
+  return m;
+}
+
+/// A vector's entries gathered on rank 0 into `out` (n entries; untouched on other ranks).
+void gather_vector(const World& w, Vec v, long long n, double* out) {
+  const auto first = row_ranges(n, w.size);
+  std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
+  for (std::size_t q = 0; q < counts.size(); ++q) {
+    offsets[q] = first[q];
+    counts[q] = first[q + 1] - first[q];
+  }
+  const double* local = nullptr;
+  check(VecGetArrayRead(v, &local), "VecGetArrayRead");
+  MPI_Gatherv(local, counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, out, counts.data(),
+              offsets.data(), MPI_DOUBLE, 0, w.comm);
+  check(VecRestoreArrayRead(v, &local), "VecRestoreArrayRead");
+}
+
+double infog_real(Mat factor, PetscInt index) {
+  PetscReal value = 0.0;
+  if (MatMumpsGetRinfog(factor, index, &value) != 0) return 0.0;
+  return static_cast<double>(value);
+}
+
+/// Entries of the factors (INFOG(29); MUMPS gives −value·10⁶ when it exceeds an int).
+double factor_entries(Mat factor) {
+  PetscInt value = 0;
+  if (MatMumpsGetInfog(factor, 29, &value) != 0) return 0.0;
+  return value < 0 ? -1e6 * static_cast<double>(value) : static_cast<double>(value);
+}
+
+/// MUMPS's numerical failure of `factor` as one line, or empty.
+std::string factor_failure(Mat factor) {
+  MatFactorError error = MAT_FACTOR_NOERROR;
+  check(MatFactorGetError(factor, &error), "MatFactorGetError");
+  if (error == MAT_FACTOR_NOERROR) return {};
+  PetscInt info = 0;
+  MatMumpsGetInfog(factor, 1, &info);
+  PetscInt info2 = 0;
+  MatMumpsGetInfog(factor, 2, &info2);
+  const char* kind = error == MAT_FACTOR_NUMERIC_ZEROPIVOT ? "zero or negative pivot"
+                     : error == MAT_FACTOR_OUTMEMORY       ? "out of memory"
+                                                           : "factorisation failed";
+  return fmt::format("MUMPS: {} (INFOG(1) = {}, INFOG(2) = {})", kind, info, info2);
+}
+
+// ---- the commands, executed by every rank -------------------------------------------------------
+
+void run_analyze(World& w, const Command& c, Rank0Data* io) {
+  const auto start = support::Clock::now();
+  Factor f;
+  f.rows = scatter_rows(w, io != nullptr ? io->a : nullptr, c.n);
+  f.first_row = row_ranges(c.n, w.size)[static_cast<std::size_t>(w.rank)];
+  f.matrix = create_matrix(w, f.rows, c.n);
+  if (c.positive_definite != 0) check(MatSetOption(f.matrix, MAT_SPD, PETSC_TRUE), "MatSetOption");
+  check(MatGetFactor(f.matrix, MATSOLVERMUMPS, MAT_FACTOR_CHOLESKY, &f.factor), "MatGetFactor");
+  // Inertia in parallel needs MUMPS to keep the negative pivots' count (ICNTL(13) = 1: no
+  // ScaLAPACK on the root node).
+  if (c.positive_definite == 0) check(MatMumpsSetIcntl(f.factor, 13, 1), "MatMumpsSetIcntl");
+  MatFactorInfo info;
+  check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
+  check(MatCholeskyFactorSymbolic(f.factor, f.matrix, nullptr, &info), "MatCholeskyFactorSymbolic");
+  w.factors[c.handle] = std::move(f);
+  if (io != nullptr) {
+    io->statistics->rows = c.n;
+    io->statistics->matrix_nonzeros = static_cast<long>(io->a->columns.size());
+    io->statistics->ranks = w.size;
+    io->statistics->analyze_seconds = support::seconds_since(start);
+  }
+}
+
+void run_factorize(World& w, const Command& c, Rank0Data* io) {
+  const auto start = support::Clock::now();
+  Factor& f = w.factors.at(c.handle);
+  scatter_values(w, io != nullptr ? io->a : nullptr, c.n, f.rows);
+  const auto local = static_cast<PetscInt>(f.rows.pointers.size()) - 1;
+  for (PetscInt i = 0; i < local; ++i) {
+    const PetscInt row = f.first_row + i;
+    const PetscInt begin = f.rows.pointers[static_cast<std::size_t>(i)];
+    const PetscInt count = f.rows.pointers[static_cast<std::size_t>(i) + 1] - begin;
+    check(MatSetValues(f.matrix, 1, &row, count, f.rows.columns.data() + begin,
+                       f.rows.values.data() + begin, INSERT_VALUES),
+          "MatSetValues");
+  }
+  check(MatAssemblyBegin(f.matrix, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(f.matrix, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  MatFactorInfo info;
+  check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
+  check(MatCholeskyFactorNumeric(f.factor, f.matrix, &info), "MatCholeskyFactorNumeric");
+  const std::string failure = factor_failure(f.factor);
+  PetscInt negative = -1;
+  if (failure.empty() && c.positive_definite == 0) {
+    PetscInt zero = 0, positive = 0;
+    check(MatGetInertia(f.factor, &negative, &zero, &positive), "MatGetInertia");
+  }
+  if (io != nullptr) {
+    *io->failure = failure;
+    *io->negative = static_cast<long>(negative);
+    io->statistics->factor_entries = factor_entries(f.factor);
+    io->statistics->factor_flops = infog_real(f.factor, 3);
+    io->statistics->factorize_seconds = support::seconds_since(start);
+  }
+}
+
+void run_solve(World& w, const Command& c, Rank0Data* io) {
+  Factor& f = w.factors.at(c.handle);
+  const auto first = row_ranges(c.n, w.size);
+  const auto r = static_cast<std::size_t>(w.rank);
+  const PetscInt local = first[r + 1] - first[r];
+  const auto k = static_cast<PetscInt>(c.columns);
+  // Rank q receives rows [first[q], first[q+1]) of every column, column after column.
+  std::vector<double> send;
+  std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
+  if (w.rank == 0) {
+    send.resize(static_cast<std::size_t>(c.n) * static_cast<std::size_t>(k));
+    std::size_t at = 0;
+    for (std::size_t q = 0; q < counts.size(); ++q) {
+      offsets[q] = static_cast<int>(at);
+      for (PetscInt j = 0; j < k; ++j) {
+        const double* column = io->right_hand_sides + static_cast<std::size_t>(j) * c.n;
+        for (PetscInt i = first[q]; i < first[q + 1]; ++i) send[at++] = column[i];
+      }
+      counts[q] = static_cast<int>(at) - offsets[q];
+    }
+  }
+  std::vector<double> b(static_cast<std::size_t>(local) * static_cast<std::size_t>(k));
+  std::vector<double> x(b.size());
+  MPI_Scatterv(send.data(), counts.data(), offsets.data(), MPI_DOUBLE, b.data(),
+               static_cast<int>(b.size()), MPI_DOUBLE, 0, w.comm);
+  Mat bm = nullptr, xm = nullptr;
+  check(MatCreateDense(w.comm, local, PETSC_DECIDE, static_cast<PetscInt>(c.n), k, b.data(), &bm),
+        "MatCreateDense");
+  check(MatCreateDense(w.comm, local, PETSC_DECIDE, static_cast<PetscInt>(c.n), k, x.data(), &xm),
+        "MatCreateDense");
+  const PetscErrorCode code = MatMatSolve(f.factor, bm, xm);
+  MatDestroy(&bm);
+  MatDestroy(&xm);
+  check(code, "MatMatSolve");
+  MPI_Gatherv(x.data(), static_cast<int>(x.size()), MPI_DOUBLE, send.data(), counts.data(),
+              offsets.data(), MPI_DOUBLE, 0, w.comm);
+  if (w.rank == 0) {
+    Eigen::MatrixXd& out = *io->solution;
+    out.resize(static_cast<Eigen::Index>(c.n), k);
+    std::size_t at = 0;
+    for (std::size_t q = 0; q < counts.size(); ++q) {
+      for (PetscInt j = 0; j < k; ++j) {
+        for (PetscInt i = first[q]; i < first[q + 1]; ++i) out(i, j) = send[at++];
+      }
+    }
+  }
+}
+
+void release(World& w, int handle) {
+  auto it = w.factors.find(handle);
+  if (it == w.factors.end()) return;
+  MatDestroy(&it->second.factor);
+  MatDestroy(&it->second.matrix);
+  w.factors.erase(it);
+}
+
+void run_eigenpairs(World& w, const Command& c, Rank0Data* io) {
+  const auto start = support::Clock::now();
+  LocalRows k_rows = scatter_rows(w, io != nullptr ? io->a : nullptr, c.n);
+  LocalRows m_rows = scatter_rows(w, io != nullptr ? io->b : nullptr, c.n);
+  Mat K = create_matrix(w, k_rows, c.n);
+  Mat M = create_matrix(w, m_rows, c.n);
+  EPS eps = nullptr;
+  Vec start_vector = nullptr, x = nullptr;
+  const auto cleanup = [&] {
+    EPSDestroy(&eps);
+    VecDestroy(&start_vector);
+    VecDestroy(&x);
+    MatDestroy(&K);
+    MatDestroy(&M);
+  };
+  try {
+    check(EPSCreate(w.comm, &eps), "EPSCreate");
+    check(EPSSetOperators(eps, K, M), "EPSSetOperators");
+    check(EPSSetProblemType(eps, EPS_GHEP), "EPSSetProblemType");
+    check(EPSSetType(eps, EPSKRYLOVSCHUR), "EPSSetType");
+    check(EPSSetDimensions(eps, c.count, c.ncv > 0 ? c.ncv : PETSC_DEFAULT, PETSC_DEFAULT),
+          "EPSSetDimensions");
+    check(EPSSetTolerances(eps, c.tolerance, c.max_iterations), "EPSSetTolerances");
+    check(EPSSetTarget(eps, c.shift), "EPSSetTarget");
+    check(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE), "EPSSetWhichEigenpairs");
+    ST st = nullptr;
+    check(EPSGetST(eps, &st), "EPSGetST");
+    check(STSetType(st, STSINVERT), "STSetType");
+    // K and M are given on the union of their patterns (distributed_eigenpairs), so K − σM keeps it.
+    check(STSetMatStructure(st, SAME_NONZERO_PATTERN), "STSetMatStructure");
+    KSP ksp = nullptr;
+    check(STGetKSP(st, &ksp), "STGetKSP");
+    check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+    PC pc = nullptr;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+    check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    // The starting vector ARPACK's path uses (modal/modes.cpp), sent from rank 0.
+    check(MatCreateVecs(K, &start_vector, &x), "MatCreateVecs");
+    {
+      const auto first = row_ranges(c.n, w.size);
+      std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
+      for (std::size_t q = 0; q < counts.size(); ++q) {
+        offsets[q] = first[q];
+        counts[q] = first[q + 1] - first[q];
+      }
+      double* local = nullptr;
+      check(VecGetArray(start_vector, &local), "VecGetArray");
+      MPI_Scatterv(io != nullptr ? io->start_vector : nullptr, counts.data(), offsets.data(),
+                   MPI_DOUBLE, local, counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, 0,
+                   w.comm);
+      check(VecRestoreArray(start_vector, &local), "VecRestoreArray");
+    }
+    check(EPSSetInitialSpace(eps, 1, &start_vector), "EPSSetInitialSpace");
+    check(EPSSetUp(eps), "EPSSetUp");
+    Mat factor = nullptr;
+    check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+    const double factored = support::seconds_since(start);
+    const auto solve_start = support::Clock::now();
+    check(EPSSolve(eps), "EPSSolve");
+    PetscInt converged = 0, iterations = 0;
+    check(EPSGetConverged(eps, &converged), "EPSGetConverged");
+    check(EPSGetIterationNumber(eps, &iterations), "EPSGetIterationNumber");
+    const PetscInt kept = std::min<PetscInt>(converged, c.count);
+    EigenpairResult* r = io != nullptr ? io->eigen : nullptr;
+    if (r != nullptr) {
+      r->eigenvalues.resize(kept);
+      r->vectors.resize(static_cast<Eigen::Index>(c.n), kept);
+    }
+    for (PetscInt j = 0; j < kept; ++j) {
+      PetscScalar lambda = 0.0;
+      check(EPSGetEigenpair(eps, j, &lambda, nullptr, x, nullptr), "EPSGetEigenpair");
+      gather_vector(w, x, c.n, r != nullptr ? r->vectors.col(j).data() : nullptr);
+      if (r != nullptr) r->eigenvalues(j) = static_cast<double>(lambda);
+    }
+    if (r != nullptr) {
+      r->ok = kept > 0;
+      r->iterations = static_cast<int>(iterations);
+      r->ranks = w.size;
+      r->factor.rows = c.n;
+      r->factor.matrix_nonzeros = static_cast<long>(io->a->columns.size());
+      r->factor.ranks = w.size;
+      r->factor.factor_entries = factor_entries(factor);
+      r->factor.factor_flops = infog_real(factor, 3);
+      r->factor_seconds = factored;
+      r->solve_seconds = support::seconds_since(solve_start);
+      if (kept < c.count) {
+        r->message = fmt::format("SLEPc Krylov-Schur: {} of {} eigenpairs converged in {} restarts",
+                                 kept, c.count, iterations);
+      }
+    }
+  } catch (const std::exception& e) {
+    // PETSc's and SLEPc's failures here are collective (every rank sees the same code): rank 0
+    // reports it, the others carry on serving.
+    cleanup();
+    if (io != nullptr) {
+      io->eigen->ok = false;
+      io->eigen->message = e.what();
+    }
+    return;
+  }
+  cleanup();
+}
+
+void execute(World& w, const Command& c, Rank0Data* io) {
+  switch (c.op) {
+    case Op::analyze:
+      run_analyze(w, c, io);
+      return;
+    case Op::factorize:
+      run_factorize(w, c, io);
+      return;
+    case Op::solve:
+      run_solve(w, c, io);
+      return;
+    case Op::release:
+      release(w, c.handle);
+      return;
+    case Op::eigenpairs:
+      run_eigenpairs(w, c, io);
+      return;
+    case Op::quit:
+      return;
+  }
+}
+
+/// Rank 0: broadcasts `c`, then executes it with the other ranks.
+void command(const Command& c, Rank0Data* io) {
+  if (world == nullptr)
+    throw std::logic_error("the PETSc solvers need a petsc::Session (fe/petsc_solvers.hpp)");
+  Command copy = c;
+  MPI_Bcast(&copy, sizeof copy, MPI_BYTE, 0, world->comm);
+  execute(*world, copy, io);
+}
+
+}  // namespace
+
+bool built() { return true; }
+
+Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
+  if (session != nullptr) throw std::logic_error("petsc::Session: one per process");
+  auto w = std::make_unique<World>();
+  int mpi_ready = 0;
+  MPI_Initialized(&mpi_ready);
+  w->initialised_mpi = mpi_ready == 0;
+  // PETSc's own signal handlers would replace the program's (SIGINT stops a run cleanly); errors
+  // come back as codes and become exceptions (check()).
+  PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+  check(SlepcInitializeNoArguments(), "SlepcInitialize");
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  MPI_Comm_dup(PETSC_COMM_WORLD, &w->comm);
+  MPI_Comm_rank(w->comm, &w->rank);
+  MPI_Comm_size(w->comm, &w->size);
+  world = w.release();
+  session = this;
+}
+
+Session::~Session() {
+  if (world == nullptr) return;
+  if (world->rank == 0) {
+    Command quit;
+    quit.op = Op::quit;
+    MPI_Bcast(&quit, sizeof quit, MPI_BYTE, 0, world->comm);
+  }
+  for (auto& [handle, f] : world->factors) {
+    MatDestroy(&f.factor);
+    MatDestroy(&f.matrix);
+  }
+  MPI_Comm_free(&world->comm);
+  delete world;
+  world = nullptr;
+  session = nullptr;
+  SlepcFinalize();  // finalises MPI too when PETSc initialised it
+}
+
+int Session::rank() const { return world->rank; }
+int Session::size() const { return world->size; }
+Session* Session::current() { return session; }
+
+void Session::serve() {
+  if (world->rank == 0) return;
+  while (true) {
+    Command c;
+    MPI_Bcast(&c, sizeof c, MPI_BYTE, 0, world->comm);
+    if (c.op == Op::quit) return;
+    try {
+      execute(*world, c, nullptr);
+    } catch (const std::exception& e) {
+      // A failure on this rank alone would leave rank 0 waiting in a collective call.
+      std::fprintf(stderr, "jointhb: rank %d: %s\n", world->rank, e.what());
+      MPI_Abort(world->comm, 1);
+    }
+  }
+}
+
+DistributedCholesky::DistributedCholesky(bool positive_definite, bool lower_triangle)
+    : positive_definite_(positive_definite), lower_(lower_triangle) {
+  if (world == nullptr)
+    throw std::logic_error(
+        "the mumps linear solver needs a petsc::Session (jointhb run --linear-algebra petsc)");
+  handle_ = world->next_handle++;
+}
+
+DistributedCholesky::~DistributedCholesky() {
+  if (world == nullptr || handle_ < 0 || world->factors.count(handle_) == 0) return;
+  Command c;
+  c.op = Op::release;
+  c.handle = handle_;
+  try {
+    command(c, nullptr);
+  } catch (...) {  // a destructor must not throw; the factor is freed at the session's end
+  }
+}
+
+void DistributedCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
+  if (world->factors.count(handle_) != 0) {
+    Command r;
+    r.op = Op::release;
+    r.handle = handle_;
+    command(r, nullptr);
+  }
+  factorized_ = false;
+  const UpperRows u = upper_rows(A, lower_);
+  Command c;
+  c.op = Op::analyze;
+  c.handle = handle_;
+  c.positive_definite = positive_definite_ ? 1 : 0;
+  c.n = A.rows();
+  Rank0Data io;
+  io.a = &u;
+  statistics_ = {};
+  io.statistics = &statistics_;
+  command(c, &io);
+}
+
+void DistributedCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
+  if (world->factors.count(handle_) == 0) analyze(A);
+  factorized_ = false;
+  const UpperRows u = upper_rows(A, lower_);
+  if (static_cast<long>(u.columns.size()) != statistics_.matrix_nonzeros ||
+      A.rows() != statistics_.rows)
+    throw std::invalid_argument(
+        "DistributedCholesky::factorize: A's pattern differs from the analysed one");
+  Command c;
+  c.op = Op::factorize;
+  c.handle = handle_;
+  c.positive_definite = positive_definite_ ? 1 : 0;
+  c.n = A.rows();
+  std::string failure;
+  Rank0Data io;
+  io.a = &u;
+  io.statistics = &statistics_;
+  io.failure = &failure;
+  io.negative = &negative_;
+  command(c, &io);
+  if (!failure.empty()) throw std::runtime_error(failure);
+  factorized_ = true;
+}
+
+Eigen::MatrixXd DistributedCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
+  if (!factorized_) throw std::logic_error("DistributedCholesky::solve: no valid factor");
+  const Eigen::MatrixXd packed = B;  // contiguous columns
+  Command c;
+  c.op = Op::solve;
+  c.handle = handle_;
+  c.n = B.rows();
+  c.columns = B.cols();
+  Eigen::MatrixXd x;
+  Rank0Data io;
+  io.right_hand_sides = packed.data();
+  io.solution = &x;
+  command(c, &io);
+  return x;
+}
+
+long DistributedCholesky::negative_pivots() const {
+  return factorized_ && !positive_definite_ ? negative_ : -1;
+}
+
+const DistributedCholeskyStatistics& DistributedCholesky::statistics() const { return statistics_; }
+
+EigenpairResult distributed_eigenpairs(const Eigen::SparseMatrix<double>& K,
+                                       const Eigen::SparseMatrix<double>& M,
+                                       const EigenpairOptions& options) {
+  // The same pattern for both (the union, explicit zeros kept), so that SLEPc forms K − σM in place.
+  const Eigen::SparseMatrix<double> k_union = K + 0.0 * M;
+  const Eigen::SparseMatrix<double> m_union = M + 0.0 * K;
+  const UpperRows ku = upper_rows(k_union, true);
+  const UpperRows mu = upper_rows(m_union, true);
+  // ARPACK's starting vector (modal/modes.cpp): uniform in [−1, 1) from mt19937_64(seed).
+  std::vector<double> start(static_cast<std::size_t>(K.rows()));
+  std::mt19937_64 random(options.seed);
+  for (double& r : start) r = static_cast<double>(random() >> 11) * 0x1.0p-52 - 1.0;
+  Command c;
+  c.op = Op::eigenpairs;
+  c.n = K.rows();
+  c.count = options.count;
+  c.shift = options.shift;
+  c.tolerance = options.tolerance;
+  c.max_iterations = options.max_iterations;
+  c.ncv = options.ncv;
+  EigenpairResult result;
+  Rank0Data io;
+  io.a = &ku;
+  io.b = &mu;
+  io.start_vector = start.data();
+  io.eigen = &result;
+  command(c, &io);
+  return result;
+}
+
+#endif
+
+}  // namespace jointhb::fe::petsc
