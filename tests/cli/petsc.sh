@@ -1,0 +1,54 @@
+# The PETSc path of the FE stages (docs/distributed.md): the damping curve of the lap (case 08:
+# preload, modes, condensation, harmonic balance) with MUMPS factorisations and SLEPc modes on two
+# MPI ranks and on one, against the CHOLMOD/ARPACK path: contact pressures, elastic frequencies and
+# the curve agree to round-off amplified by the solves (bounds below, measured values ~1e-14, 1e-10,
+# 1e-11). Then the refusals: a discrete case, an unknown value, `mpirun -np 2` without the PETSc path.
+source "$(dirname "$0")/common.inc" "$@"
+PYTHON=/usr/bin/python3
+MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
+CASE="$SOURCE_DIR/cases/08-lap-damping/case.yaml"
+run_capture run "$CASE" -o "$WORK/serial" --no-cache
+[ "$STATUS" -eq 0 ] || fail "serial run exited $STATUS: $(tail -2 "$ERR")"
+"${MPIRUN[@]}" -np 2 "$JOINTHB" run "$CASE" -o "$WORK/two" --no-cache --linear-algebra petsc \
+  >"$WORK/two.out" 2>"$WORK/two.err"
+STATUS=$?
+[ "$STATUS" -eq 0 ] || fail "mpirun -np 2 --linear-algebra petsc exited $STATUS: $(tail -3 "$WORK/two.err")"
+run_capture run "$CASE" -o "$WORK/one" --no-cache --linear-algebra petsc
+[ "$STATUS" -eq 0 ] || fail "--linear-algebra petsc on one process exited $STATUS: $(tail -2 "$ERR")"
+for d in two one; do
+  "$PYTHON" - "$WORK/serial" "$WORK/$d" <<'PY' || fail "PETSc path ($d) differs from the serial one"
+import csv, json, sys
+ref, d = sys.argv[1:]
+def column(directory, name, key):
+    return [float(r[key]) for r in csv.DictReader(open(f"{directory}/{name}"))]
+def worst(name, key, bound, skip=0, relative_to_max=False):
+    a, b = column(ref, name, key)[skip:], column(d, name, key)[skip:]
+    assert len(a) == len(b) and a, (name, len(a), len(b))
+    if relative_to_max:
+        e = max(abs(x - y) for x, y in zip(a, b)) / max(abs(x) for x in a)
+    else:
+        e = max(abs(x - y) / abs(x) for x, y in zip(a, b))
+    print(f"{d}: {name} {key}: {e:.2e} (bound {bound:g})")
+    assert e <= bound, (name, key, e)
+worst("contact_lap.csv", "pressure", 1e-10, relative_to_max=True)
+worst("contact_lap.csv", "gap", 1e-9, relative_to_max=True)
+worst("modes.csv", "frequency_hz", 1e-8, skip=6)  # the 6 rigid-body modes sit at round-off, ~1e-3 Hz
+worst("backbone.csv", "frequency_hz", 1e-8)
+worst("backbone.csv", "damping_ratio", 1e-8)
+s = json.load(open(f"{d}/summary.json"))
+ranks = 2 if d.endswith("two") else 1
+assert s["solvers"] == {"linear": "mumps", "eigen": "slepc", "ranks": ranks}, s["solvers"]
+assert s["status"] == json.load(open(f"{ref}/summary.json"))["status"] == "ok", s["status"]
+assert all(float(r["backward_error"]) < 1e-12 for r in csv.DictReader(open(f"{d}/modes.csv")))
+PY
+done
+# Refusals: one line, exit 2.
+expect_bad_input run "$SOURCE_DIR/cases/02-two-dof-frf/case.yaml" -o "$WORK/discrete" --linear-algebra petsc
+grep -q "finite-element cases only" "$ERR" || fail "discrete case: $(cat "$ERR")"
+expect_bad_input run "$CASE" -o "$WORK/bad" --linear-algebra mpi
+"${MPIRUN[@]}" -np 2 "$JOINTHB" run "$CASE" -o "$WORK/plain" --no-cache >"$WORK/plain.out" 2>"$WORK/plain.err"
+STATUS=$?
+[ "$STATUS" -ne 0 ] || fail "mpirun -np 2 without --linear-algebra petsc exited 0"
+grep -q "only --linear-algebra petsc uses several ranks" "$WORK/plain.err" || fail "no refusal line: $(cat "$WORK/plain.err")"
+[ ! -e "$WORK/plain/summary.json" ] || fail "the refused run wrote summary.json"
+finish

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The FE stages (preload, 20 modes) of cases/05-bolted-lap refined to about 10k, 100k and 300k
+# DOFs (docs/performance.md, "Finite-element preload and modes": m = 4, 10, 15), on the serial path
+# (CHOLMOD, ARPACK) and on the PETSc path (MUMPS, SLEPc) under mpirun -np 1 and 2: wall time,
+# stage times and each rank's peak RSS, and the agreement of the two paths (contact pressure,
+# elastic frequencies). docs/distributed.md §5.
+#   validation/fe/run_petsc_scaling.sh BUILD_DIR OUTPUT_DIR [M ...]     (default 4 10 15)
+# One row per run is appended to OUTPUT_DIR/petsc_scaling.csv as soon as the run ends.
+set -euo pipefail
+if (($# < 2)); then
+  echo "usage: $0 BUILD_DIR OUTPUT_DIR [M ...]" >&2
+  exit 2
+fi
+jointhb="$(cd "$1" && pwd)/jointhb"
+out="$2"
+shift 2
+sizes=("$@")
+((${#sizes[@]})) || sizes=(4 10 15)
+source_dir=$(cd "$(dirname "$0")/../.." && pwd)
+mkdir -p "$out"
+table="$out/petsc_scaling.csv"
+[ -f "$table" ] || echo "m,dofs,path,ranks,wall_s,preload_s,modes_s,rss_rank0_mib,rss_rank1_mib,factor_entries,max_pressure_rel_diff,max_elastic_freq_rel_diff,load" >"$table"
+mpirun=(mpirun --allow-run-as-root --oversubscribe)
+for m in "${sizes[@]}"; do
+  case_file="$out/case_m$m.yaml"
+  sed -e "s/divisions: \[40, 12, 2\]/divisions: [$((10 * m)), $((3 * m)), $((m / 2))]/" \
+    "$source_dir/cases/05-bolted-lap/case.yaml" >"$case_file"
+  grep -q "divisions: \[$((10 * m)), " "$case_file" || { echo "divisions not replaced" >&2; exit 1; }
+  for run in serial petsc1 petsc2; do
+    dir="$out/m${m}_$run"
+    rm -rf "$dir"
+    load=$(cut -d' ' -f1 /proc/loadavg)
+    echo "== m = $m, $run, load $load" >&2
+    start=$(date +%s.%N)
+    case $run in
+      serial) /usr/bin/time -f "%M" -o "$out/rss_${m}_$run.0" "$jointhb" run "$case_file" -o "$dir" --no-cache ;;
+      petsc1) "${mpirun[@]}" -np 1 /usr/bin/time -f "%M" -o "$out/rss_${m}_$run.0" \
+                "$jointhb" run "$case_file" -o "$dir" --no-cache --linear-algebra petsc ;;
+      petsc2) "${mpirun[@]}" -np 2 bash -c "exec /usr/bin/time -f %M -o $out/rss_${m}_$run.\$OMPI_COMM_WORLD_RANK \
+                $jointhb run $case_file -o $dir --no-cache --linear-algebra petsc" ;;
+    esac
+    wall=$(echo "$(date +%s.%N) - $start" | bc)
+    rss0=$(($(tail -1 "$out/rss_${m}_$run.0") / 1024))
+    rss1=""
+    [ -f "$out/rss_${m}_$run.1" ] && rss1=$(($(tail -1 "$out/rss_${m}_$run.1") / 1024))
+    /usr/bin/python3 - "$out/m${m}_serial" "$dir" "$m" "$run" "$wall" "$rss0" "$rss1" "$load" >>"$table" <<'PY'
+import csv, json, sys
+ref, d, m, run, wall, rss0, rss1, load = sys.argv[1:]
+s = json.load(open(f"{d}/summary.json"))
+p = s["preload"]
+mo = s["modes"]
+ranks = s.get("solvers", {}).get("ranks", 1)
+factor = p.get("factor", "")
+def column(directory, name, key):
+    return [float(r[key]) for r in csv.DictReader(open(f"{directory}/{name}"))]
+pa, pb = column(ref, "contact_lap.csv", "pressure"), column(d, "contact_lap.csv", "pressure")
+dp = max(abs(x - y) for x, y in zip(pa, pb)) / max(abs(x) for x in pa)
+fa, fb = column(ref, "modes.csv", "frequency_hz"), column(d, "modes.csv", "frequency_hz")
+df = max(abs(x - y) / x for x, y in zip(fa[6:], fb[6:]))
+print(f"{m},{s['model']['dofs']},{'serial' if run == 'serial' else 'petsc'},{ranks},{float(wall):.2f},"
+      f"{p['seconds']['total']:.2f},{mo['seconds']:.2f},{rss0},{rss1},\"{factor}\",{dp:.2e},{df:.2e},{load}")
+PY
+    tail -1 "$table" >&2
+  done
+done
