@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The FE stages (preload, 20 modes) of cases/05-bolted-lap refined to about 10k, 100k and 300k
-# DOFs (docs/performance.md, "Finite-element preload and modes": m = 4, 10, 15), on the serial path
+# DOFs (docs/performance.md, "Finite-element preload and modes": plates 10m × 3m × n_z with
+# m, n_z = 4, 2 / 10, 4 / 15, 6), on the serial path
 # (CHOLMOD, ARPACK) and on the PETSc path (MUMPS, SLEPc) under mpirun -np 1 and 2: wall time,
 # stage times and each rank's peak RSS, and the agreement of the two paths (contact pressure,
 # elastic frequencies). docs/distributed.md §5.
@@ -23,7 +24,7 @@ table="$out/petsc_scaling.csv"
 mpirun=(mpirun --allow-run-as-root --oversubscribe)
 for m in "${sizes[@]}"; do
   case_file="$out/case_m$m.yaml"
-  sed -e "s/divisions: \[40, 12, 2\]/divisions: [$((10 * m)), $((3 * m)), $((m / 2))]/" \
+  sed -e "s/divisions: \[40, 12, 2\]/divisions: [$((10 * m)), $((3 * m)), $(((2 * m + 2) / 5))]/" \
     "$source_dir/cases/05-bolted-lap/case.yaml" >"$case_file"
   grep -q "divisions: \[$((10 * m)), " "$case_file" || { echo "divisions not replaced" >&2; exit 1; }
   for run in serial petsc1 petsc2; do

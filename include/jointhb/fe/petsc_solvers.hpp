@@ -67,8 +67,9 @@ struct DistributedCholeskyStatistics {
 /// the pattern once, factorize() new values, solve() many right-hand sides.
 class DistributedCholesky {
  public:
-  /// positive_definite: MUMPS's symmetric positive definite mode (SYM = 1, no pivoting), else the
-  /// general symmetric mode (SYM = 2, LDLᵀ with 2×2 pivots) with the inertia available.
+  /// positive_definite: MUMPS's symmetric positive definite mode (SYM = 1, no pivoting; a matrix
+  /// with negative pivots is refused, which MUMPS itself does not do), else the general symmetric
+  /// mode (SYM = 2, LDLᵀ with 2×2 pivots) with the inertia available.
   /// lower_triangle: which triangle of A holds the values. Throws std::logic_error without a Session.
   DistributedCholesky(bool positive_definite, bool lower_triangle);
   ~DistributedCholesky();
