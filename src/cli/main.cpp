@@ -21,6 +21,7 @@
 #include "fit_command.hpp"
 #include "jointhb/io/input_error.hpp"
 #include "loop_command.hpp"
+#include "run_support.hpp"
 #include "run_command.hpp"
 #include "study_command.hpp"
 #include "jointhb/fe/petsc_solvers.hpp"
@@ -77,7 +78,10 @@ int main(int argc, char** argv) {
   LoopCommand loop(app);
   RunCommand run(app);
   FitCommand fit(app);
-  // MPI is initialised only when an MPI launcher started the program (study/distributed.hpp).
+  // MPI is initialised only when an MPI launcher started the program (study/distributed.hpp). Its
+  // threads must not take SIGINT/SIGTERM from the handlers of run and study (run_support.hpp).
+  const bool under_mpi = jointhb::study::Communicator::launched_by_mpi();
+  if (under_mpi) defer_termination_signals();
   std::optional<jointhb::study::Communicator> communicator;
   try {
     communicator.emplace(&argc, &argv);
@@ -100,11 +104,13 @@ int main(int argc, char** argv) {
     return exit_bad_input;
   }
 
+  if (under_mpi && !run.selected() && !study.selected()) allow_termination_signals();  // no handler
   if (loop.selected()) return run_guarded("jointhb loop", loop);
   if (run.selected() && run.wants_petsc()) {
     // Every rank makes the session; rank 0 runs the case, the others serve its linear algebra
     // (fe/petsc_solvers.hpp) until rank 0's session ends.
     std::optional<jointhb::fe::petsc::Session> petsc;
+    defer_termination_signals();  // MPI may start its threads here (one process, no launcher)
     try {
       petsc.emplace(&argc, &argv);
     } catch (const std::exception& e) {

@@ -127,6 +127,19 @@ bool block_termination_signals(sigset_t& set) {
   return ::pthread_sigmask(SIG_BLOCK, &set, nullptr) == 0;
 }
 
+void defer_termination_signals() {
+  sigset_t set;
+  block_termination_signals(set);
+}
+
+void allow_termination_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  ::pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+}
+
 void install_interrupt_handler(const std::string& command) {
   sigset_t set;
   if (!block_termination_signals(set)) return;

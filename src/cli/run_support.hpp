@@ -60,6 +60,13 @@ void install_interrupt_handler(const std::string& command);
 /// signals are blocked in the calling thread and in every thread or child process it starts
 /// afterwards: a study's worker processes finish their sample). `stop` must outlive the process.
 void install_stop_request(const std::string& command, std::atomic<bool>& stop, const std::string& what);
+/// Blocks SIGINT and SIGTERM (unless ignored at the start) in the calling thread before a library
+/// starts threads of its own (MPI_Init, PETSc): a process-directed signal would otherwise reach one
+/// of them and its default action end the process before install_interrupt_handler's thread sees
+/// it. allow_termination_signals() undoes it in the calling thread for commands without a handler.
+void defer_termination_signals();
+void allow_termination_signals();
+
 /// When the last summary written still says "running" (the run ends with an exception), rewrites
 /// it with "status": "failed" and the message; does nothing otherwise.
 void mark_summary_failed(const std::string& message);

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <map>
 #include <random>
@@ -46,7 +47,7 @@ void DistributedCholesky::factorize(const Eigen::SparseMatrix<double>&) { not_bu
 Eigen::MatrixXd DistributedCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>&) const {
   not_built();
 }
-long DistributedCholesky::negative_pivots() const { return -1; }
+long DistributedCholesky::negative_pivots() const { return negative_; }
 const DistributedCholeskyStatistics& DistributedCholesky::statistics() const { return statistics_; }
 EigenpairResult distributed_eigenpairs(const Eigen::SparseMatrix<double>&,
                                        const Eigen::SparseMatrix<double>&, const EigenpairOptions&) {
@@ -127,6 +128,20 @@ std::vector<PetscInt> row_ranges(long long n, int size) {
         first[static_cast<std::size_t>(r)] + static_cast<PetscInt>(n / size + (r < n % size ? 1 : 0));
   }
   return first;
+}
+
+/// Rank q's share of an n-vector for MPI_Scatterv/Gatherv: counts[q] entries from offsets[q].
+struct RowBlocks {
+  std::vector<int> counts, offsets;
+};
+RowBlocks row_blocks(long long n, int size) {
+  const auto first = row_ranges(n, size);
+  RowBlocks b;
+  for (std::size_t q = 0; q + 1 < first.size(); ++q) {
+    b.offsets.push_back(first[q]);
+    b.counts.push_back(first[q + 1] - first[q]);
+  }
+  return b;
 }
 
 /// A distributed symmetric matrix: this rank's rows of the upper triangle.
@@ -231,16 +246,11 @@ Mat create_matrix(const World& w, const LocalRows& rows, long long n) {
 
 /// A vector's entries gathered on rank 0 into `out` (n entries; untouched on other ranks).
 void gather_vector(const World& w, Vec v, long long n, double* out) {
-  const auto first = row_ranges(n, w.size);
-  std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
-  for (std::size_t q = 0; q < counts.size(); ++q) {
-    offsets[q] = first[q];
-    counts[q] = first[q + 1] - first[q];
-  }
+  const RowBlocks b = row_blocks(n, w.size);
   const double* local = nullptr;
   check(VecGetArrayRead(v, &local), "VecGetArrayRead");
-  MPI_Gatherv(local, counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, out, counts.data(),
-              offsets.data(), MPI_DOUBLE, 0, w.comm);
+  MPI_Gatherv(local, b.counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, out, b.counts.data(),
+              b.offsets.data(), MPI_DOUBLE, 0, w.comm);
   check(VecRestoreArrayRead(v, &local), "VecRestoreArrayRead");
 }
 
@@ -431,20 +441,18 @@ void run_eigenpairs(World& w, const Command& c, Rank0Data* io) {
     // The starting vector ARPACK's path uses (modal/modes.cpp), sent from rank 0.
     check(MatCreateVecs(K, &start_vector, &x), "MatCreateVecs");
     {
-      const auto first = row_ranges(c.n, w.size);
-      std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
-      for (std::size_t q = 0; q < counts.size(); ++q) {
-        offsets[q] = first[q];
-        counts[q] = first[q + 1] - first[q];
-      }
+      const RowBlocks b = row_blocks(c.n, w.size);
       double* local = nullptr;
       check(VecGetArray(start_vector, &local), "VecGetArray");
-      MPI_Scatterv(io != nullptr ? io->start_vector : nullptr, counts.data(), offsets.data(),
-                   MPI_DOUBLE, local, counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, 0,
+      MPI_Scatterv(io != nullptr ? io->start_vector : nullptr, b.counts.data(), b.offsets.data(),
+                   MPI_DOUBLE, local, b.counts[static_cast<std::size_t>(w.rank)], MPI_DOUBLE, 0,
                    w.comm);
       check(VecRestoreArray(start_vector, &local), "VecRestoreArray");
     }
     check(EPSSetInitialSpace(eps, 1, &start_vector), "EPSSetInitialSpace");
+    // The user's PETSc options last (PETSC_OPTIONS="-eps_ncv 60 -mat_mumps_icntl_14 50 ..."):
+    // docs/distributed.md §5.
+    check(EPSSetFromOptions(eps), "EPSSetFromOptions");
     check(EPSSetUp(eps), "EPSSetUp");
     Mat factor = nullptr;
     check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
@@ -593,6 +601,12 @@ Session* Session::current() { return session; }
 
 void Session::serve() {
   if (world->rank == 0) return;
+  // mpirun forwards a Ctrl-C (SIGINT) and SIGTERM to every rank: rank 0 stops the run the way a
+  // serial run stops (summary "interrupted", exit 130/143) and ends the session, which releases the
+  // ranks serving it. Dying here instead would abort rank 0 in its next collective call. If rank 0
+  // dies, mpirun ends this rank with SIGKILL.
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
   while (true) {
     Command c;
     broadcast(*world, c);

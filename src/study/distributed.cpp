@@ -16,15 +16,17 @@ namespace {
 constexpr int kTagRequest = 1;  // worker → rank 0: the previous result (bytes), asks for a sample
 constexpr int kTagAssign = 2;   // rank 0 → worker: the sample index (long long, −1: done)
 
-bool launched_by_mpi() {
+}  // namespace
+#endif
+
+bool Communicator::launched_by_mpi() {
+#ifdef JOINTHB_WITH_MPI
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
     if (std::getenv(name)) return true;
   }
+#endif
   return false;
 }
-
-}  // namespace
-#endif
 
 bool Communicator::built_with_mpi() {
 #ifdef JOINTHB_WITH_MPI

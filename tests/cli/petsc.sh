@@ -42,6 +42,22 @@ assert s["status"] == json.load(open(f"{ref}/summary.json"))["status"] == "ok", 
 assert all(float(r["backward_error"]) < 1e-12 for r in csv.DictReader(open(f"{d}/modes.csv")))
 PY
 done
+# Ctrl-C on mpirun (which sends SIGTERM to every rank): rank 0 marks summary.json "interrupted"
+# (MPI's own threads must not take the signal), the serving rank ends, nothing is left running.
+sed -e 's/divisions: \[40, 12, 2\]/divisions: [80, 24, 2]/' "$SOURCE_DIR/cases/05-bolted-lap/case.yaml" >"$WORK/lap20k.yaml"
+grep -q "divisions: \[80, 24, 2\]" "$WORK/lap20k.yaml" || fail "the divisions were not replaced"
+"${MPIRUN[@]}" -np 2 "$JOINTHB" run "$WORK/lap20k.yaml" -o "$WORK/interrupted" --no-cache --linear-algebra petsc \
+  >"$WORK/int.out" 2>"$WORK/int.err" &
+for _ in $(seq 1 200); do
+  [ -f "$WORK/interrupted/summary.json" ] && break
+  sleep 0.05
+done
+sleep 1
+kill -INT "$(jobs -p)" 2>/dev/null
+wait
+grep -q '"status": "interrupted"' "$WORK/interrupted/summary.json" || fail "no interrupted summary: $(tail -2 "$WORK/int.err")"
+grep -q "interrupted by SIG" "$WORK/int.err" || fail "no interrupt line: $(tail -2 "$WORK/int.err")"
+pgrep -f "$WORK/lap20k.yaml" >/dev/null && fail "a rank is still running after the interrupt"
 # Refusals: one line, exit 2.
 expect_bad_input run "$SOURCE_DIR/cases/02-two-dof-frf/case.yaml" -o "$WORK/discrete" --linear-algebra petsc
 grep -q "finite-element cases only" "$ERR" || fail "discrete case: $(cat "$ERR")"

@@ -88,10 +88,11 @@ class DistributedCholesky {
   [[nodiscard]] const DistributedCholeskyStatistics& statistics() const;
 
  private:
-  int handle_ = -1;
-  bool positive_definite_ = true;
-  bool lower_ = true;
-  bool factorized_ = false;
+  // (unused in a build without PETSc, apart from negative_)
+  [[maybe_unused]] int handle_ = -1;
+  [[maybe_unused]] bool positive_definite_ = true;
+  [[maybe_unused]] bool lower_ = true;
+  [[maybe_unused]] bool factorized_ = false;
   long negative_ = -1;
   DistributedCholeskyStatistics statistics_;
 };

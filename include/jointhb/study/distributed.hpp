@@ -28,6 +28,8 @@ class Communicator {
   [[nodiscard]] int size() const { return size_; }
   /// Whether this build can run on several ranks at all.
   [[nodiscard]] static bool built_with_mpi();
+  /// Whether MPI will be initialised: the build has it and a launcher started the program.
+  [[nodiscard]] static bool launched_by_mpi();
 
   // ---- the study's protocol (study/runner.cpp) -------------------------------------------------
   struct Request {
