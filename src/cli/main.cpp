@@ -75,7 +75,6 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 runtime failure, 2 bad input (options, case file).");
   LoopCommand loop(app);
   RunCommand run(app);
-  FitCommand fit(app);
   // MPI is initialised only when an MPI launcher started the program (study/distributed.hpp).
   std::optional<jointhb::study::Communicator> communicator;
   try {
@@ -84,6 +83,7 @@ int main(int argc, char** argv) {
     print_error("jointhb", e.what());
     return exit_failure;
   }
+  FitCommand fit(app, *communicator);
   StudyCommand study(app, *communicator);
 
   try {
