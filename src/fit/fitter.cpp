@@ -456,19 +456,20 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
     pb.starts.push_back(u);
   }
   // direct and mlsl search from start 0 only; their global phase calls the objective in sequence.
+  // A single search runs in this process (of rank 0): its model's counters stay this process's.
   const bool global = options.algorithm == "direct" || options.algorithm == "mlsl";
   if (global) pb.starts.resize(1);
   const bool ranks = parallel.communicator && parallel.communicator->size() > 1;
   FitResult r;
   Gather gather(r, sink);
-  if (!global && (parallel.jobs > 1 || ranks)) {
+  if (pb.starts.size() > 1 && (parallel.jobs > 1 || ranks)) {
     if (!farm_starts(pb, parallel, gather, r)) {
       r.root = false;
       return r;
     }
   } else {
     if (parallel.communicator && parallel.communicator->rank() != 0) {
-      r.root = false;  // nothing to share: rank 0 runs the global search alone
+      r.root = false;  // one start (or direct/mlsl): rank 0 searches alone, its children spread the Jacobian
       return r;
     }
     for (std::size_t k = 0; k < pb.starts.size(); ++k) {

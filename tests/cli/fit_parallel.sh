@@ -6,28 +6,10 @@ source "$(dirname "$0")/common.inc" "$@"
 PYTHON=/usr/bin/python3
 cp "$SOURCE_DIR/cases/10-fit-one-dof/measured_backbone.csv" "$WORK/"
 
-write_case() {  # write_case FILE STARTS
-  cat >"$1" <<YAML
-model:
-  type: discrete
-  mass: 1.0
-  stiffness: 1.0e4
-  damping: {modal: [0.002]}
-contacts:
-  - {law: gaul-mayer, dofs: [0], kt0: 1.0e4, mu: 0.2, normal_force: 20.0, n: 0.3333333333333333}
-analysis:
-  nonlinear_modes: {mode: 1, log10_amplitude: [-7, -3.5], harmonics: 3}
-fit:
-  parameters:
-    - {name: "contacts[0].normal_force", lower: 0.5, upper: 50.0, start: 20.0, log_scale: true}
-    - {name: "contacts[0].kt0", lower: 3.0e3, upper: 3.0e5, start: 1.0e4, log_scale: true}
-  targets:
-    - {type: backbone, mode: 1, file: measured_backbone.csv}
-  xtol: 1.0e-3
-  multistart: {starts: $2, seed: 2}
-YAML
-}
-write_case "$WORK/fit.yaml" 4
+source "$(dirname "$0")/fit_common.inc"
+PARAMETERS='    - {name: "contacts[0].normal_force", lower: 0.5, upper: 50.0, start: 20.0, log_scale: true}
+    - {name: "contacts[0].kt0", lower: 3.0e3, upper: 3.0e5, start: 1.0e4, log_scale: true}'
+write_case "$WORK/fit.yaml" "$PARAMETERS" "  multistart: {starts: 4, seed: 2}"
 
 # same_fit A B: fit.json equal but for seconds and parallel (and, with a third argument, the
 # replayed/new split of the evaluations); fit_history.csv and fit_curves.csv byte for byte.
@@ -94,7 +76,7 @@ assert s["model_evaluations"] == s["evaluations"] - 30
 PY
 
 # One start: -j 2 cannot spread the search, and says so.
-write_case "$WORK/single.yaml" 1
+write_case "$WORK/single.yaml" "$PARAMETERS"
 run_capture fit "$WORK/single.yaml" -o "$WORK/single" -j 2
 [ "$STATUS" -eq 0 ] || fail "single start -j 2 exited $STATUS: $(cat "$ERR")"
 grep -q "note: 2 workers, but a single start" "$ERR" || fail "-j 2 with one start: no note: $(cat "$ERR")"

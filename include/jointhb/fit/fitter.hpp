@@ -95,9 +95,9 @@ struct StartSummary {
 
 /// Where the searches run. The result does not depend on it (bit for bit).
 struct ParallelOptions {
-  /// Local workers (≥ 1). More than one: the starts (each one task: its whole local search) and
-  /// then the Jacobian's points run in that many child processes of this process (of rank 0),
-  /// each taking the next when free; not threads (study/worker_processes.hpp).
+  /// Local workers (≥ 1). More than one: the starts, when there are several (each one task: its
+  /// whole local search), and then the Jacobian's points run in that many child processes of this
+  /// process (of rank 0), each taking the next when free; not threads (study/worker_processes.hpp).
   int jobs = 1;
   /// With size > 1, the other ranks take starts too (rank 0 coordinates, and its `jobs` children
   /// compute); every rank calls fit() with the same problem. nullptr: this process alone.
