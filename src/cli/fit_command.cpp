@@ -68,17 +68,17 @@ void write_model_curves(io::CsvWriter& csv, double label, const std::vector<fit:
 }
 
 // Says what -j N (or the ranks) cannot spread: a single start, or the global phase of direct/mlsl.
-void note_serial_search(const fit::FitOptions& o, int workers, std::size_t parameters) {
+void note_serial_search(const fit::FitOptions& o, int jobs, int workers, std::size_t parameters) {
   if (workers <= 1) return;
   const bool global = o.algorithm == "direct" || o.algorithm == "mlsl";
   if (!global && o.starts > 1) return;
   std::cerr << fmt::format(
-      "jointhb fit: note: {} workers, but {}: the search runs in one process; only the Jacobian's "
-      "{} evaluations at the optimum are spread over the local workers\n",
-      workers,
+      "jointhb fit: note: {} workers, but {}: the search runs in one process; {}\n", workers,
       global ? fmt::format("algorithm {} calls the model in sequence (NLopt's global phase)", o.algorithm)
              : std::string("a single start (fit.options multistart.starts = 1)"),
-      2 * parameters);
+      jobs > 1 ? fmt::format("only the Jacobian's {} evaluations at the optimum are spread over the {} "
+                             "local workers", 2 * parameters, jobs)
+               : std::string("the other ranks have nothing to do"));
 }
 
 }  // namespace
@@ -207,7 +207,7 @@ int FitCommand::run() const {
   std::optional<fit::HistoryWriter> history;
   if (root) history.emplace(history_file, names, m, resume_);
   const int workers = parallel.jobs + communicator_.size() - 1;
-  if (root && !quiet_) note_serial_search(section.options, workers, names.size());
+  if (root && !quiet_) note_serial_search(section.options, parallel.jobs, workers, names.size());
   double best = std::numeric_limits<double>::infinity();
   int shown = 0;
   const auto sink = [&](const fit::HistoryRow& row) {

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <exception>
 #include <limits>
-#include <map>
 #include <random>
 #include <optional>
 #include <set>
@@ -388,7 +387,7 @@ bool farm_starts(const Problem& pb, const ParallelOptions& parallel, Gather& gat
                                              : failed_start(pb, d.task, d.failure, r);
         flush();
       },
-      {parallel.jobs, parallel.communicator});
+      {std::min<int>(parallel.jobs, static_cast<int>(pb.starts.size())), parallel.communicator});
   if (parallel.communicator && parallel.communicator->rank() != 0) return false;
   for (std::size_t k = 0; k < outcomes.size(); ++k) {
     if (!outcomes[k]) outcomes[k] = failed_start(pb, k, "no worker was left to run it", r);
