@@ -19,6 +19,7 @@
 #include "jointhb/io/csv_writer.hpp"
 #include "jointhb/io/stage_cache.hpp"
 #include "jointhb/pipeline/fe_fit_model.hpp"
+#include "jointhb/study/distributed.hpp"
 #include "plot_results.hpp"
 #include "run_support.hpp"
 #include "status_json.hpp"
@@ -66,9 +67,24 @@ void write_model_curves(io::CsvWriter& csv, double label, const std::vector<fit:
   }
 }
 
+// Says what -j N (or the ranks) cannot spread: a single start, or the global phase of direct/mlsl.
+void note_serial_search(const fit::FitOptions& o, int jobs, int workers, std::size_t parameters) {
+  if (workers <= 1) return;
+  const bool global = o.algorithm == "direct" || o.algorithm == "mlsl";
+  if (!global && o.starts > 1) return;
+  std::cerr << fmt::format(
+      "jointhb fit: note: {} workers, but {}: the search runs in one process; {}\n", workers,
+      global ? fmt::format("algorithm {} calls the model in sequence (NLopt's global phase)", o.algorithm)
+             : std::string("a single start (fit.options multistart.starts = 1)"),
+      jobs > 1 ? fmt::format("only the Jacobian's {} evaluations at the optimum are spread over the {} "
+                             "local workers", 2 * parameters, jobs)
+               : std::string("the other ranks have nothing to do"));
+}
+
 }  // namespace
 
-FitCommand::FitCommand(CLI::App& parent) {
+FitCommand::FitCommand(CLI::App& parent, const study::Communicator& communicator)
+    : communicator_(communicator) {
   app_ = parent.add_subcommand(
       "fit",
       "Identify model parameters from measured data (docs/identification.md): the case's fit\n"
@@ -80,13 +96,22 @@ FitCommand::FitCommand(CLI::App& parent) {
       "                        identifiability warnings, residual per target, evaluations, time\n"
       "  DIR/fit_curves.csv    measured vs fitted at every target point\n"
       "  DIR/fit_model_curves.csv  the model's curves at the start and at the optimum\n"
-      "  DIR/fit.png           fitted vs measured (needs python3-matplotlib)");
+      "  DIR/fit.png           fitted vs measured (needs python3-matplotlib)\n"
+      "Parallel: the starts of a multi-start search (multistart.starts > 1), each a whole local\n"
+      "search, run on -j local worker processes and, under mpirun -np N, on the other ranks\n"
+      "(rank 0 coordinates and alone writes files); then the Jacobian's 2p evaluations at the\n"
+      "optimum on the local workers. Not parallel: a single start, and the global phase of\n"
+      "direct/mlsl (NLopt calls the model in sequence). The results do not depend on -j or ranks.");
   app_->add_option("case", case_path_, "case file (YAML) with a fit section")
       ->type_name("CASE.yaml")
       ->required();
   app_->add_option("-o,--output", output_dir_, "output directory, created if needed")
       ->type_name("DIR")
       ->capture_default_str();
+  app_->add_option("-j,--jobs", jobs_,
+                   "local worker processes for the starts and the Jacobian (default 1); the results do "
+                   "not depend on it")
+      ->type_name("N");
   app_->add_flag("--resume", resume_,
                  "continue from DIR/fit_history.csv: evaluations found in it are not recomputed");
   app_->add_option("--cache-dir", cache_dir_,
@@ -96,13 +121,18 @@ FitCommand::FitCommand(CLI::App& parent) {
   app_->add_flag("--quiet", quiet_, "no progress line, warnings or table (errors only)");
   app_->footer(
       "Exit codes: 0 ok, 1 every evaluation failed, 2 invalid case file or options.\n"
-      "Example: jointhb fit cases/10-fit-one-dof/case.yaml -o out");
+      "Example: jointhb fit cases/10-fit-one-dof/case.yaml -o out\n"
+      "         mpirun -np 2 jointhb fit CASE.yaml -o out");
 }
 
 bool FitCommand::selected() const { return app_->parsed(); }
 
 int FitCommand::run() const {
   const auto start = Clock::now();
+  const bool root = communicator_.rank() == 0;
+  fit::ParallelOptions parallel;
+  parallel.jobs = jobs_.empty() ? 1 : integer_option("--jobs", jobs_, 1, 1024);
+  parallel.communicator = &communicator_;
   const double progress_seconds = progress_interval();
   const io::CaseFile file = io::read_case_file(case_path_);
   const auto* c = std::get_if<io::DiscreteCase>(&file);
@@ -167,17 +197,21 @@ int FitCommand::run() const {
       throw UsageError(case_path_ + ": fit.parameters: the start values give an invalid case: " + e.what());
     }
   }
-  const OutputDirectory output(dir);  // created and locked for the whole fit
+  std::optional<OutputDirectory> output;
+  if (root) output.emplace(dir);  // created and locked for the whole fit by rank 0 alone
 
   const std::size_t m = fit::point_count(section.targets);
   const bool progress = stderr_is_terminal() && !quiet_;
   std::optional<ProgressHeartbeat> heartbeat;  // a line every 10 s when stderr is no terminal
-  if (!quiet_) heartbeat.emplace("jointhb fit", progress_seconds);
-  fit::HistoryWriter history(history_file, names, m, resume_);
+  if (!quiet_ && root) heartbeat.emplace("jointhb fit", progress_seconds);
+  std::optional<fit::HistoryWriter> history;
+  if (root) history.emplace(history_file, names, m, resume_);
+  const int workers = parallel.jobs + communicator_.size() - 1;
+  if (root && !quiet_) note_serial_search(section.options, parallel.jobs, workers, names.size());
   double best = std::numeric_limits<double>::infinity();
   int shown = 0;
   const auto sink = [&](const fit::HistoryRow& row) {
-    history.write(row);
+    history->write(row);
     if (!row.failed) best = std::min(best, row.objective);
     if (progress) {
       std::cerr << fmt::format(
@@ -194,7 +228,17 @@ int FitCommand::run() const {
     if (!row.failed) best = std::min(best, row.objective);
   }
   const fit::Model model = c ? pipeline::discrete_model(*c, names, section.targets) : fe_model->model();
-  const fit::FitResult r = fit::fit(model, section.parameters, section.options, sink, replay);
+  fit::FitResult r;
+  try {
+    r = fit::fit(model, section.parameters, section.options, sink, replay, parallel);
+  } catch (const std::exception& e) {
+    if (communicator_.size() > 1) {  // the other ranks would wait for rank 0 forever
+      std::cerr << "jointhb fit: " << e.what() << '\n';
+      communicator_.abort(exit_failure);
+    }
+    throw;
+  }
+  if (!root) return exit_ok;  // rank 0 writes everything
   if (progress && shown) std::cerr << '\r' << std::string(78, ' ') << '\r';
 
   // Outputs: the predictions at the start and at the optimum.
@@ -351,6 +395,7 @@ int FitCommand::run() const {
         {"penalty", o.penalty},
         {"initial_step", o.initial_step},
         {"jacobian_step", o.jacobian_step}}},
+      {"parallel", {{"jobs", parallel.jobs}, {"ranks", communicator_.size()}}},
       {"seconds", {{"fit", r.seconds}, {"total", seconds_since(start)}}}};
   put_status(summary, r.status());
   if (fe_model) {

@@ -77,9 +77,8 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 runtime failure, 2 bad input (options, case file).");
   LoopCommand loop(app);
   RunCommand run(app);
-  FitCommand fit(app);
   // MPI is initialised only when an MPI launcher started the program (study/distributed.hpp). Its
-  // threads must not take SIGINT/SIGTERM from the handlers of run and study (run_support.hpp).
+  // threads must not take SIGINT/SIGTERM from the handlers of run, fit and study (run_support.hpp).
   const bool under_mpi = jointhb::study::Communicator::launched_by_mpi();
   if (under_mpi) defer_termination_signals();
   std::optional<jointhb::study::Communicator> communicator;
@@ -89,6 +88,7 @@ int main(int argc, char** argv) {
     print_error("jointhb", e.what());
     return exit_failure;
   }
+  FitCommand fit(app, *communicator);
   StudyCommand study(app, *communicator);
 
   try {

@@ -9,10 +9,14 @@
 #include <cmath>
 #include <exception>
 #include <limits>
-#include <map>
 #include <random>
+#include <optional>
 #include <set>
 #include <stdexcept>
+
+#include "../study/task_farm.hpp"
+#include "jointhb/study/distributed.hpp"
+#include "start_search.hpp"
 
 namespace jointhb::fit {
 
@@ -82,160 +86,6 @@ std::vector<std::vector<double>> latin_hypercube(int count, int dimensions, unsi
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// The automatic penalty before any evaluation has succeeded (FitOptions::penalty).
-constexpr double no_success_penalty = 1e12;
-
-struct Known {
-  HistoryRow row;
-  bool from_file = false;
-  bool consumed = false;
-};
-
-// Evaluations with their bookkeeping: cache, replay, penalty, best point, history.
-class Evaluator {
- public:
-  Evaluator(const Model& model, const std::vector<FitParameter>& parameters,
-            const FitOptions& options, const HistorySink& sink,
-            const std::vector<HistoryRow>& replay)
-      : model_(model), parameters_(parameters), options_(options), sink_(sink) {
-    for (const auto& row : replay) {
-      if (row.values.size() != parameters.size()) continue;
-      known_.emplace(row.values, Known{row, true, false});
-    }
-  }
-
-  /// S at u (unit box) for start `start` (-1: Jacobian); fills `residuals` and `ok`.
-  double operator()(const std::vector<double>& u, int start,
-                    std::vector<double>* residuals = nullptr, bool* ok = nullptr) {
-    const std::vector<double> values = from_unit(parameters_, u);
-    auto it = known_.find(values);
-    if (it != known_.end()) {
-      Known& k = it->second;
-      if (k.from_file && !k.consumed) {
-        k.consumed = true;
-        ++count_;
-        ++result.replayed;
-        account(k.row);
-      }
-      if (residuals) *residuals = k.row.residuals;
-      if (ok) *ok = !k.row.failed;
-      return k.row.objective;
-    }
-    HistoryRow row;
-    row.eval = ++count_;
-    row.start = start;
-    row.values = values;
-    Evaluation e;
-    try {
-      e = model_(values);
-    } catch (const std::exception& ex) {
-      e.ok = false;
-      e.message = ex.what();
-    }
-    ++result.model_evaluations;
-    if (e.ok) {
-      if (m_ > 0 && e.residuals.size() != m_) {
-        e.ok = false;
-        e.message =
-            fmt::format("the model returned {} residuals, earlier {}", e.residuals.size(), m_);
-      }
-      for (double r : e.residuals) {
-        if (!std::isfinite(r)) {
-          e.ok = false;
-          e.message = "a residual is not finite";
-          break;
-        }
-      }
-      if (e.residuals.empty()) {
-        e.ok = false;
-        e.message = "the model returned no residuals";
-      }
-    }
-    if (e.ok) {
-      double s = 0.0;
-      for (double r : e.residuals) s += r * r;
-      row.objective = s;
-      row.residuals = e.residuals;
-    } else {
-      row.failed = true;
-      row.objective = penalty();
-      last_failure = e.message;
-    }
-    row.eval = count_;
-    account(row);
-    if (sink_) sink_(row);
-    known_.emplace(values, Known{row, false, true});
-    if (residuals) *residuals = row.residuals;
-    if (ok) *ok = !row.failed;
-    return row.objective;
-  }
-
-  double penalty() const {
-    if (options_.penalty > 0.0) return options_.penalty;
-    if (m_ == 0) return no_success_penalty;  // the scale of S is not known yet
-    return 10.0 * std::max(static_cast<double>(m_), largest_);
-  }
-
-  std::size_t residual_count() const { return m_; }
-
-  FitResult result;
-  std::vector<double> best_unit;
-  std::string last_failure;
-  int current_start = 0;
-  double start_best = std::numeric_limits<double>::infinity();
-  int start_evaluations = 0;
-
- private:
-  void account(const HistoryRow& row) {
-    ++start_evaluations;
-    if (row.failed) {
-      ++result.failed_evaluations;
-      return;
-    }
-    if (m_ == 0) m_ = row.residuals.size();
-    largest_ = std::max(largest_, row.objective);
-    start_best = std::min(start_best, row.objective);
-    if (row.start >= 0 && (!result.ok || row.objective < result.objective)) {
-      result.ok = true;
-      result.objective = row.objective;
-      result.best = row.values;
-      result.residuals = row.residuals;
-      best_unit = to_unit(parameters_, row.values);
-    }
-  }
-
-  const Model& model_;
-  const std::vector<FitParameter>& parameters_;
-  const FitOptions& options_;
-  const HistorySink& sink_;
-  std::map<std::vector<double>, Known> known_;
-  int count_ = 0;
-  std::size_t m_ = 0;
-  double largest_ = 0.0;
-};
-
-struct Callback {
-  Evaluator* evaluator;
-  int start;
-  nlopt_opt opt;
-  std::exception_ptr error;  // thrown by the history sink: rethrown after NLopt returns
-};
-
-double objective(unsigned n, const double* x, double* gradient, void* data) {
-  (void)gradient;  // derivative-free algorithms only
-  auto* c = static_cast<Callback*>(data);
-  std::vector<double> u(x, x + n);
-  for (double& v : u) v = std::clamp(v, 0.0, 1.0);
-  try {  // no exception may cross NLopt's C code
-    return (*c->evaluator)(u, c->start);
-  } catch (...) {
-    c->error = std::current_exception();
-    nlopt_force_stop(c->opt);
-    return 0.0;
-  }
-}
-
 nlopt_algorithm local_id(const std::string& name) {
   if (name == "neldermead") return NLOPT_LN_NELDERMEAD;
   if (name == "cobyla") return NLOPT_LN_COBYLA;
@@ -274,36 +124,59 @@ std::string describe(const std::vector<FitParameter>& parameters, const Eigen::V
   return s;
 }
 
-void uncertainty(Evaluator& ev, const std::vector<FitParameter>& parameters,
-                 const FitOptions& options) {
-  FitResult& r = ev.result;
+// The points of the central differences at u0 (§4): per parameter u0 + h e_i, then u0 − h e_i, each
+// only inside the box.
+struct JacobianPoint {
+  Eigen::Index parameter = 0;
+  bool up = true;
+  std::vector<double> u;
+  bool ok = false;                ///< evaluated successfully
+  std::vector<double> residuals;  ///< when ok
+};
+
+std::vector<JacobianPoint> jacobian_points(const std::vector<double>& u0, double h) {
+  std::vector<JacobianPoint> points;
+  for (std::size_t i = 0; i < u0.size(); ++i) {
+    for (const bool up : {true, false}) {
+      const double ui = up ? u0[i] + h : u0[i] - h;
+      if (ui > 1.0 || ui < 0.0) continue;
+      JacobianPoint pt;
+      pt.parameter = static_cast<Eigen::Index>(i);
+      pt.up = up;
+      pt.u = u0;
+      pt.u[i] = ui;
+      points.push_back(std::move(pt));
+    }
+  }
+  return points;
+}
+
+// J = ∂r/∂u from the evaluated points (central, or one-sided where a side is missing or failed),
+// then the covariance, standard errors and unresolved directions at θ̂ (§4, §5).
+void uncertainty(FitResult& r, const std::vector<FitParameter>& parameters, const FitOptions& options,
+                 const std::vector<double>& u0, const std::vector<JacobianPoint>& points) {
   const auto p = static_cast<Eigen::Index>(parameters.size());
   const auto m = static_cast<Eigen::Index>(r.residuals.size());
-  const std::vector<double> u0 = ev.best_unit;
   const double h = options.jacobian_step;
   Eigen::MatrixXd j(m, p);
-  const auto at = [&](Eigen::Index i, double ui, Eigen::VectorXd& out) {
-    std::vector<double> u = u0;
-    u[i] = ui;
-    std::vector<double> res;
-    bool ok = false;
-    ev(u, -1, &res, &ok);
-    if (!ok) return false;
-    out = Eigen::Map<const Eigen::VectorXd>(res.data(), m);
-    return true;
+  const auto side = [&](Eigen::Index i, bool up) -> const JacobianPoint* {
+    for (const auto& pt : points) {
+      if (pt.parameter == i && pt.up == up && pt.ok && static_cast<Eigen::Index>(pt.residuals.size()) == m)
+        return &pt;
+    }
+    return nullptr;
   };
+  const auto vec = [&](const JacobianPoint* pt) { return Eigen::Map<const Eigen::VectorXd>(pt->residuals.data(), m); };
   const Eigen::VectorXd r0 = Eigen::Map<const Eigen::VectorXd>(r.residuals.data(), m);
   for (Eigen::Index i = 0; i < p; ++i) {
-    Eigen::VectorXd plus, minus;
-    const double ui = u0[i];
-    const bool up = ui + h <= 1.0 && at(i, ui + h, plus);
-    const bool down = ui - h >= 0.0 && at(i, ui - h, minus);
-    if (up && down) {
-      j.col(i) = (plus - minus) / (2.0 * h);
-    } else if (up) {
-      j.col(i) = (plus - r0) / h;
-    } else if (down) {
-      j.col(i) = (r0 - minus) / h;
+    const JacobianPoint* plus = side(i, true);
+    const JacobianPoint* minus = side(i, false);
+    if (plus && minus) {
+      j.col(i) = (vec(plus) - vec(minus)) / (2.0 * h);
+    } else if (plus) {
+      j.col(i) = (vec(plus) - r0) / h;
+    } else if (minus) {
+      j.col(i) = (r0 - vec(minus)) / h;
     } else {
       r.jacobian_message = fmt::format(
           "the model failed on both sides of the optimum in {}: no uncertainty estimate",
@@ -387,69 +260,221 @@ void uncertainty(Evaluator& ev, const std::vector<FitParameter>& parameters,
 }
 
 }  // namespace
+namespace {
+
+using detail::StartOutcome;
+using detail::StartSearch;
+
+// Everything that one fit's searches share: the problem, the starts, where they run.
+struct Problem {
+  const Model& model;
+  const std::vector<FitParameter>& parameters;
+  const FitOptions& options;
+  const std::vector<HistoryRow>& replay;
+  std::vector<std::vector<double>> starts;  ///< unit box; start 0 is the user's
+};
+
+// Start k's whole search: the local algorithm from its point, or (start 0 of direct/mlsl) the
+// global phase and the local polish from its best point. `stream` sees each new row.
+StartOutcome run_start(const Problem& pb, std::size_t k,
+                       std::function<void(const HistoryRow&)> stream = {}) {
+  const FitOptions& o = pb.options;
+  const auto n = static_cast<unsigned>(pb.parameters.size());
+  const int start = static_cast<int>(k);
+  StartSearch search(pb.model, pb.parameters, o, start,
+                     detail::replay_rows(pb.replay, start, pb.parameters.size()), 0.0, 0,
+                     std::move(stream));
+  if (o.algorithm == "direct" || o.algorithm == "mlsl") {
+    {
+      Optimizer global(o.algorithm == "direct" ? NLOPT_GN_DIRECT_L : NLOPT_G_MLSL_LDS, n);
+      configure(global.opt, n, o, o.max_evaluations);
+      Optimizer local(local_id(o.local_algorithm), n);
+      if (o.algorithm == "mlsl") {
+        nlopt_srand(o.seed);
+        configure(local.opt, n, o, o.max_evaluations);
+        nlopt_set_local_optimizer(global.opt, local.opt);
+      }
+      search.run(global.opt, pb.starts[0], pb.starts[0]);
+    }
+    if (search.outcome().ok) {  // polish the global phase's best point with the local search
+      Optimizer local(local_id(o.local_algorithm), n);
+      configure(local.opt, n, o, o.max_evaluations);
+      search.run(local.opt, search.best_unit(), pb.starts[0]);
+    }
+  } else {
+    Optimizer local(local_id(o.algorithm), n);
+    configure(local.opt, n, o, o.max_evaluations);
+    search.run(local.opt, pb.starts[k], pb.starts[k]);
+  }
+  return search.outcome();
+}
+
+// The outcomes of the searches gathered into one result, in a fixed order whatever order they
+// finished in: starts 0, 1, …, then the Jacobian's points. Each new row is numbered after all rows
+// before it (replayed ones included) and goes to the sink, unless it was streamed already.
+class Gather {
+ public:
+  Gather(FitResult& r, const HistorySink& sink) : r_(r), sink_(sink) {}
+
+  /// The number the next row gets minus one: where a streamed start's rows begin.
+  [[nodiscard]] int offset() const { return offset_; }
+
+  void add(const StartOutcome& o, bool streamed) {
+    for (HistoryRow row : o.rows) {
+      row.eval += offset_;
+      if (!streamed && sink_) sink_(row);
+    }
+    offset_ += o.evaluations;
+    r_.model_evaluations += o.model_evaluations;
+    r_.replayed += o.replayed;
+    r_.failed_evaluations += o.failed;
+    if (!o.last_failure.empty()) last_failure = o.last_failure;
+    if (o.start < 0) return;  // the Jacobian's points
+    for (const auto& s : o.runs) r_.starts.push_back(s);
+    if (o.ok && (!r_.ok || o.best_objective < r_.objective)) {
+      r_.ok = true;
+      r_.objective = o.best_objective;
+      r_.best = o.best_values;
+      r_.residuals = o.best_residuals;
+    }
+  }
+
+  std::string last_failure;
+
+ private:
+  FitResult& r_;
+  const HistorySink& sink_;
+  int offset_ = 0;
+};
+
+// A stream that numbers a search's rows after the `offset` rows before it and passes them on.
+std::function<void(const HistoryRow&)> numbered(const HistorySink& sink, int offset) {
+  if (!sink) return {};
+  return [&sink, offset](const HistoryRow& row) {
+    HistoryRow copy = row;
+    copy.eval += offset;
+    sink(copy);
+  };
+}
+
+// A start whose worker died: no evaluation, the reason as its stop reason and a warning.
+StartOutcome failed_start(const Problem& pb, std::size_t k, const std::string& why, FitResult& r) {
+  StartOutcome o;
+  o.start = static_cast<int>(k);
+  StartSummary s;
+  s.start = o.start;
+  s.from = from_unit(pb.parameters, pb.starts[k]);
+  s.objective = std::numeric_limits<double>::infinity();
+  s.stop_reason = "worker failed: " + why;
+  o.runs.push_back(s);
+  r.warnings.push_back(fmt::format("start {}: {}; the start was not searched", k, why));
+  return o;
+}
+
+// The starts on the workers of `parallel`; their outcomes gathered in start order as they come
+// (a start's rows reach the sink once every start before it has finished). False on ranks > 0.
+bool farm_starts(const Problem& pb, const ParallelOptions& parallel, Gather& gather, FitResult& r) {
+  std::vector<std::optional<StartOutcome>> outcomes(pb.starts.size());
+  std::size_t next = 0;
+  const auto flush = [&] {
+    while (next < outcomes.size() && outcomes[next]) gather.add(*outcomes[next++], false);
+  };
+  study::farm_tasks(
+      pb.starts.size(), [&](std::size_t k) { return detail::outcome_to_json(run_start(pb, k)); },
+      [&](study::TaskDone d) {
+        if (d.task >= outcomes.size() || outcomes[d.task]) return;
+        outcomes[d.task] = d.failure.empty() ? detail::outcome_from_json(d.record)
+                                             : failed_start(pb, d.task, d.failure, r);
+        flush();
+      },
+      {std::min<int>(parallel.jobs, static_cast<int>(pb.starts.size())), parallel.communicator});
+  if (parallel.communicator && parallel.communicator->rank() != 0) return false;
+  for (std::size_t k = 0; k < outcomes.size(); ++k) {
+    if (!outcomes[k]) outcomes[k] = failed_start(pb, k, "no worker was left to run it", r);
+  }
+  flush();
+  return true;
+}
+
+// The Jacobian's points evaluated (§4): in sequence, or with jobs > 1 on rank 0's child processes,
+// one point a task. Their penalty is fixed (10 max(m, S(θ̂))) so that it does not depend on the order.
+void evaluate_jacobian(const Problem& pb, int jobs, Gather& gather, const HistorySink& sink,
+                       const FitResult& r, std::vector<JacobianPoint>& points) {
+  const FitOptions& o = pb.options;
+  const double penalty = o.penalty > 0.0 ? o.penalty
+                                         : 10.0 * std::max(static_cast<double>(r.residuals.size()), r.objective);
+  const auto search = [&](std::function<void(const HistoryRow&)> stream) {
+    return StartSearch(pb.model, pb.parameters, o, -1,
+                       detail::replay_rows(pb.replay, -1, pb.parameters.size()), penalty,
+                       r.residuals.size(), std::move(stream));
+  };
+  if (jobs <= 1 || points.empty()) {
+    StartSearch s = search(numbered(sink, gather.offset()));
+    for (auto& pt : points) s.evaluate(pt.u, &pt.residuals, &pt.ok);
+    gather.add(s.outcome(), true);
+    return;
+  }
+  std::vector<std::optional<StartOutcome>> outcomes(points.size());
+  study::farm_tasks(
+      points.size(),
+      [&](std::size_t k) {
+        StartSearch s = search({});
+        s.evaluate(points[k].u);
+        return detail::outcome_to_json(s.outcome());
+      },
+      [&](study::TaskDone d) {
+        if (d.task >= outcomes.size()) return;
+        StartOutcome failed;
+        failed.start = -1;
+        failed.last_failure = d.failure;
+        outcomes[d.task] = d.failure.empty() ? detail::outcome_from_json(d.record) : failed;
+      },
+      {std::min<int>(jobs, static_cast<int>(points.size())), nullptr});
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (!outcomes[k]) continue;  // no worker was left: the side counts as failed
+    points[k].ok = outcomes[k]->ok;
+    points[k].residuals = outcomes[k]->best_residuals;
+    gather.add(*outcomes[k], false);
+  }
+}
+
+}  // namespace
 
 FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
               const FitOptions& options, const HistorySink& sink,
-              const std::vector<HistoryRow>& replay) {
+              const std::vector<HistoryRow>& replay, const ParallelOptions& parallel) {
   if (auto e = validate(parameters); !e.empty()) throw std::invalid_argument(e);
   if (auto e = options.validate(); !e.empty()) throw std::invalid_argument(e);
+  if (parallel.jobs < 1) throw std::invalid_argument(fmt::format("jobs: must be >= 1, got {}", parallel.jobs));
   const auto began = Clock::now();
-  const auto n = static_cast<unsigned>(parameters.size());
-  Evaluator ev(model, parameters, options, sink, replay);
-
+  Problem pb{model, parameters, options, replay, {}};
   std::vector<double> start_values;
   for (const auto& p : parameters) start_values.push_back(p.start);
-  std::vector<std::vector<double>> starts = {to_unit(parameters, start_values)};
-  for (auto& u : latin_hypercube(options.starts, static_cast<int>(n), options.seed)) {
-    starts.push_back(u);
+  pb.starts.push_back(to_unit(parameters, start_values));
+  for (auto& u : latin_hypercube(options.starts, static_cast<int>(parameters.size()), options.seed)) {
+    pb.starts.push_back(u);
   }
-
-  const auto run = [&](nlopt_opt opt, int start, std::vector<double> x) {
-    Callback cb{&ev, start, opt, nullptr};
-    nlopt_set_min_objective(opt, objective, &cb);
-    ev.start_best = std::numeric_limits<double>::infinity();
-    ev.start_evaluations = 0;
-    double f = 0.0;
-    const nlopt_result res = nlopt_optimize(opt, x.data(), &f);
-    if (cb.error) std::rethrow_exception(cb.error);
-    StartSummary s;
-    s.start = start;
-    s.from = from_unit(parameters, starts[std::min<std::size_t>(start, starts.size() - 1)]);
-    s.objective = ev.start_best;
-    s.evaluations = ev.start_evaluations;
-    s.stop_reason = nlopt_result_to_string(res);
-    ev.result.starts.push_back(s);
-    return s;
-  };
-
-  const std::string& a = options.algorithm;
-  if (a == "direct" || a == "mlsl") {
-    {
-      Optimizer global(a == "direct" ? NLOPT_GN_DIRECT_L : NLOPT_G_MLSL_LDS, n);
-      configure(global.opt, n, options, options.max_evaluations);
-      Optimizer local(local_id(options.local_algorithm), n);
-      if (a == "mlsl") {
-        nlopt_srand(options.seed);
-        configure(local.opt, n, options, options.max_evaluations);
-        nlopt_set_local_optimizer(global.opt, local.opt);
-      }
-      run(global.opt, 0, starts[0]);
-    }
-    // Polish the global phase's best point with the local search.
-    if (ev.result.ok) {
-      Optimizer local(local_id(options.local_algorithm), n);
-      configure(local.opt, n, options, options.max_evaluations);
-      run(local.opt, 0, ev.best_unit);
+  // direct and mlsl search from start 0 only; their global phase calls the objective in sequence.
+  // A single search runs in this process (of rank 0): its model's counters stay this process's.
+  const bool global = options.algorithm == "direct" || options.algorithm == "mlsl";
+  if (global) pb.starts.resize(1);
+  const bool ranks = parallel.communicator && parallel.communicator->size() > 1;
+  FitResult r;
+  Gather gather(r, sink);
+  if (pb.starts.size() > 1 && (parallel.jobs > 1 || ranks)) {
+    if (!farm_starts(pb, parallel, gather, r)) {
+      r.root = false;
+      return r;
     }
   } else {
-    for (std::size_t k = 0; k < starts.size(); ++k) {
-      Optimizer local(local_id(a), n);
-      configure(local.opt, n, options, options.max_evaluations);
-      run(local.opt, static_cast<int>(k), starts[k]);
+    if (parallel.communicator && parallel.communicator->rank() != 0) {
+      r.root = false;  // one start (or direct/mlsl): rank 0 searches alone, its children spread the Jacobian
+      return r;
+    }
+    for (std::size_t k = 0; k < pb.starts.size(); ++k) {
+      gather.add(run_start(pb, k, numbered(sink, gather.offset())), true);
     }
   }
-
-  FitResult& r = ev.result;
   if (r.ok) {
     double best = std::numeric_limits<double>::infinity();
     for (const auto& s : r.starts) {
@@ -458,10 +483,13 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
         r.stop_reason = s.stop_reason;
       }
     }
-    uncertainty(ev, parameters, options);
+    const std::vector<double> u0 = to_unit(parameters, r.best);
+    std::vector<JacobianPoint> points = jacobian_points(u0, options.jacobian_step);
+    evaluate_jacobian(pb, parallel.jobs, gather, sink, r, points);
+    uncertainty(r, parameters, options, u0, points);
   } else {
     r.stop_reason = "every evaluation failed";
-    r.warnings.push_back("every model evaluation failed; last: " + ev.last_failure);
+    r.warnings.push_back("every model evaluation failed; last: " + gather.last_failure);
   }
   r.evaluations = r.model_evaluations + r.replayed;
   r.seconds = std::chrono::duration<double>(Clock::now() - began).count();

@@ -577,7 +577,7 @@ class Pipeline {
     return d;
   }
 
-  py::dict fit_case() {
+  py::dict fit_case(int jobs) {
     if (!case_->fit) throw py::value_error(case_->source + ": the case has no fit section");
     const io::FitSection& s = *case_->fit;
     std::vector<std::string> names;
@@ -586,7 +586,10 @@ class Pipeline {
     fit::FitResult r;
     {
       py::gil_scoped_release free;
-      r = fit::fit(model.model(), s.parameters, s.options);
+      // The starts on `jobs` child processes, which run C++ only (never Python).
+      fit::ParallelOptions parallel;
+      parallel.jobs = jobs;
+      r = fit::fit(model.model(), s.parameters, s.options, {}, {}, parallel);
     }
     py::dict d = fit_result_dict(r, names);
     d["values_put_on_the_curve"] = model.corrected();
@@ -1008,8 +1011,10 @@ PYBIND11_MODULE(_core, m) {
                                return py::dict(py::arg("model") = k.model, py::arg("preload") = k.preload,
                                                py::arg("modes") = k.modes);
                              })
-      .def("fit", &Pipeline::fit_case,
-           "Runs the case's fit section (parameters, measured targets, options) on this pipeline.");
+      .def("fit", &Pipeline::fit_case, py::arg("jobs") = 1,
+           "Runs the case's fit section (parameters, measured targets, options) on this pipeline. jobs > 1: "
+           "the starts of a multi-start search, then the Jacobian's points, on that many child processes "
+           "(the result is the same bit for bit).");
 
   py::class_<DiscreteModel>(m, "DiscreteModel",
                             "A lumped model M x'' + C x' + K x + f_nl(x) = f(t) with friction contacts (SI units).")

@@ -5,26 +5,7 @@ PYTHON=/usr/bin/python3
 CASE_DIR="$SOURCE_DIR/cases/10-fit-one-dof"
 cp "$CASE_DIR/measured_backbone.csv" "$WORK/"
 
-write_case() {  # write_case FILE PARAMETERS_BLOCK [EXTRA_FIT_KEYS]
-  cat >"$1" <<YAML
-model:
-  type: discrete
-  mass: 1.0
-  stiffness: 1.0e4
-  damping: {modal: [0.002]}
-contacts:
-  - {law: gaul-mayer, dofs: [0], kt0: 1.0e4, mu: 0.2, normal_force: 20.0, n: 0.3333333333333333}
-analysis:
-  nonlinear_modes: {mode: 1, log10_amplitude: [-7, -3.5], harmonics: 3}
-fit:
-  parameters:
-$2
-  targets:
-    - {type: backbone, mode: 1, file: measured_backbone.csv}
-  xtol: 1.0e-3
-${3:-}
-YAML
-}
+source "$(dirname "$0")/fit_common.inc"
 
 GOOD='    - {name: "contacts[0].normal_force", lower: 0.5, upper: 50.0, start: 20.0, log_scale: true}
     - {name: "contacts[0].kt0", lower: 3.0e3, upper: 3.0e5, start: 1.0e4, log_scale: true}'

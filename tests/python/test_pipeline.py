@@ -336,6 +336,12 @@ def test_the_cases_fit_section_runs_on_the_pipeline(tmp_path):
     assert abs(zeta - 0.005) < abs(0.015 - 0.005) / 2, zeta  # from the start 0.015 towards the truth
     c = p.counters
     assert c["preload_solved"] == 1 and c["condensed"] == 1 and c["curves"] >= 3, c
+    # The Jacobian's two points on two child processes: the same result bit for bit.
+    r2 = p.fit(jobs=2)
+    assert r2["values"] == r["values"] and r2["objective"] == r["objective"], (r, r2)
+    assert r2["standard_errors"] == r["standard_errors"] and r2["evaluations"] == r["evaluations"]
+    with pytest.raises(ValueError, match="jobs"):
+        p.fit(jobs=0)
 
 
 def test_contact_fields_along_the_curve_add_up_to_the_dissipation(lap):

@@ -14,13 +14,16 @@
 //
 // Failed evaluations (the model throws or reports !ok, e.g. a continuation that stopped) are not
 // fatal: their objective is the penalty (FitOptions::penalty, default 10 max(m, largest
-// successful objective so far), 1e12 before the first success), and they are counted. Everything is
-// deterministic: the starts come from a seeded Latin hypercube, and the evaluations run in
-// sequence.
+// successful objective of the same start so far), 1e12 before that start's first success), and
+// they are counted. Everything is deterministic: the starts come from a seeded Latin hypercube, and
+// each start's search sees only its own evaluations (its own cache, penalty and replayed rows), so
+// the starts can run in any order, in parallel on worker processes and MPI ranks
+// (ParallelOptions), and give the same result bit for bit. The global phase of direct/mlsl calls
+// the objective in sequence (NLopt) and runs in one process.
 //
 // Resume: every evaluation is a HistoryRow (fit/history.hpp writes and reads them as CSV). Given
-// the rows of an interrupted run, fit() answers evaluations at parameters found in them (exact
-// match) from the rows instead of the model; the deterministic search then retraces its path at
+// the rows of an interrupted run, fit() answers evaluations of a start at parameters found in that
+// start's rows (exact match) from the rows instead of the model; the deterministic search then retraces its path at
 // no cost and continues where the run stopped.
 
 #include <Eigen/Core>
@@ -30,6 +33,10 @@
 
 #include "jointhb/fit/parameters.hpp"
 #include "jointhb/contact/termination.hpp"
+
+namespace jointhb::study {
+class Communicator;
+}
 
 namespace jointhb::fit {
 
@@ -52,8 +59,8 @@ struct FitOptions {
   int max_evaluations = 400;  ///< ≥ 1: per start (the global phase of direct/mlsl has its own)
   int starts = 1;             ///< ≥ 1: the given start, then Latin-hypercube points
   unsigned seed = 1;          ///< Latin hypercube and MLSL
-  double penalty = 0.0;  ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S so far), 1e12
-                         ///< before the first successful evaluation
+  double penalty = 0.0;  ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S of the same
+                         ///< start so far), 1e12 before that start's first successful evaluation
   double initial_step = 0.1;    ///< (0, 0.5]: first step of the local searches (unit box)
   double jacobian_step = 1e-3;  ///< (0, 0.1]: h of the central differences in u
   [[nodiscard]] std::string validate() const;
@@ -86,7 +93,19 @@ struct StartSummary {
   std::string stop_reason;  ///< NLopt's result
 };
 
+/// Where the searches run. The result does not depend on it (bit for bit).
+struct ParallelOptions {
+  /// Local workers (≥ 1). More than one: the starts, when there are several (each one task: its
+  /// whole local search), and then the Jacobian's points run in that many child processes of this
+  /// process (of rank 0), each taking the next when free; not threads (study/worker_processes.hpp).
+  int jobs = 1;
+  /// With size > 1, the other ranks take starts too (rank 0 coordinates, and its `jobs` children
+  /// compute); every rank calls fit() with the same problem. nullptr: this process alone.
+  const study::Communicator* communicator = nullptr;
+};
+
 struct FitResult {
+  bool root = true;               ///< false on ranks > 0, which hold no result
   std::vector<double> best;       ///< θ̂
   double objective = 0.0;         ///< S(θ̂)
   std::vector<double> residuals;  ///< r(θ̂)
@@ -121,10 +140,12 @@ struct FitResult {
 };
 
 /// Runs the fit. Throws std::invalid_argument for invalid parameters or options. `replay`: rows
-/// of an earlier run of the same problem (resume); `sink` sees each new (not replayed) row.
+/// of an earlier run of the same problem (resume); `sink` sees each new (not replayed) row, in the
+/// order start 0, 1, …, then the Jacobian's (−1), numbered so: as it is made with one job, a
+/// start's rows when it and every start before it have finished with several.
 FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
               const FitOptions& options, const HistorySink& sink = {},
-              const std::vector<HistoryRow>& replay = {});
+              const std::vector<HistoryRow>& replay = {}, const ParallelOptions& parallel = {});
 
 /// The Latin-hypercube starts 1.. count−1 in the unit box (start 0 is the user's): deterministic
 /// for a seed (std::mt19937_64), one point per stratum of width 1/(count−1) in each coordinate.

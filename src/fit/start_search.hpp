@@ -1,0 +1,91 @@
+#pragma once
+// One start of a fit's search (private to src/fit; fit/fitter.hpp): NLopt's local search from one
+// point with its own evaluations — its own cache, its own replayed history rows and its own
+// automatic penalty
+//   P = 10 max(m, largest successful S of this start),   1e12 before this start's first success
+// (FitOptions::penalty, when given, instead). A start thus sees nothing of the others, and its
+// result is the same whether it runs first, last, alone in a worker process or on another MPI rank
+// (docs/identification.md §2, "parallel starts"). The Jacobian at the optimum is a search of its
+// own (start −1) with the fixed penalty 10 max(m, S(θ̂)), so that each of its points can be
+// evaluated anywhere too.
+//
+// A start's outcome travels between processes as one line of JSON whose doubles read back
+// bit-identical (nlohmann::json writes the shortest representation that round-trips).
+
+#include <nlopt.h>
+
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "jointhb/fit/fitter.hpp"
+
+namespace jointhb::fit::detail {
+
+/// What one start's search produced.
+struct StartOutcome {
+  int start = 0;
+  std::vector<StartSummary> runs;  ///< one per NLopt run (two for direct/mlsl: global, polish)
+  /// The new rows (not replayed), eval numbered 1, 2, ... within the start, replayed ones counted.
+  std::vector<HistoryRow> rows;
+  int evaluations = 0;        ///< new and replayed
+  int model_evaluations = 0;  ///< new
+  int replayed = 0;
+  int failed = 0;
+  bool ok = false;  ///< a successful evaluation exists
+  double best_objective = std::numeric_limits<double>::infinity();
+  std::vector<double> best_values, best_residuals;  ///< the first evaluation with the least S
+  std::string last_failure;
+  std::string worker_failure;  ///< the worker died during this start (set by the coordinator)
+};
+
+/// The rows of an earlier run that a start may replay: those of start `start`, by values.
+using ReplayRows = std::map<std::vector<double>, HistoryRow>;
+[[nodiscard]] ReplayRows replay_rows(const std::vector<HistoryRow>& replay, int start,
+                                     std::size_t parameters);
+
+class StartSearch {
+ public:
+  /// `penalty` > 0: the S of every failed evaluation (the Jacobian's); 0: options.penalty or the
+  /// automatic per-start penalty. `residual_count`: m when known (else that of the first success).
+  /// `stream` sees each new row as it is made (eval within the start).
+  StartSearch(const Model& model, const std::vector<FitParameter>& parameters,
+              const FitOptions& options, int start, ReplayRows replay, double penalty = 0.0,
+              std::size_t residual_count = 0, std::function<void(const HistoryRow&)> stream = {});
+
+  /// S at u (unit box); `residuals` and `ok` when given. Rethrows what `stream` threw.
+  double evaluate(const std::vector<double>& u, std::vector<double>* residuals = nullptr,
+                  bool* ok = nullptr);
+  /// Runs `opt` (configured, without objective) from u = `x`; appends its StartSummary (from:
+  /// the physical values of `from`). Rethrows what `stream` threw.
+  void run(nlopt_opt opt, std::vector<double> x, const std::vector<double>& from);
+
+  [[nodiscard]] const StartOutcome& outcome() const { return outcome_; }
+  [[nodiscard]] std::vector<double> best_unit() const;
+
+ private:
+  double penalty() const;
+  HistoryRow call_model(const std::vector<double>& values);
+  void account(const HistoryRow& row);
+
+  const Model& model_;
+  const std::vector<FitParameter>& parameters_;
+  const FitOptions& options_;
+  ReplayRows replay_;
+  std::map<std::vector<double>, HistoryRow> known_;  ///< this start's evaluations (cache)
+  double fixed_penalty_ = 0.0;
+  std::size_t m_ = 0;
+  double largest_ = 0.0;
+  std::function<void(const HistoryRow&)> stream_;
+  StartOutcome outcome_;
+  double run_best_ = std::numeric_limits<double>::infinity();
+  int run_evaluations_ = 0;
+};
+
+/// The outcome as one line of JSON, and back (throws std::runtime_error when it does not parse).
+[[nodiscard]] std::string outcome_to_json(const StartOutcome& outcome);
+[[nodiscard]] StartOutcome outcome_from_json(const std::string& text);
+
+}  // namespace jointhb::fit::detail
