@@ -23,6 +23,19 @@
 
 namespace jointhb::fe::petsc {
 
+SparseCholeskyStatistics as_sparse_cholesky_statistics(const DistributedCholeskyStatistics& s) {
+  SparseCholeskyStatistics to;
+  to.rows = s.rows;
+  to.matrix_nonzeros = s.matrix_nonzeros;
+  to.factor_nonzeros = s.factor_entries;
+  to.factor_entries = static_cast<long>(s.factor_entries);
+  to.factor_flops = s.factor_flops;
+  to.ordering = "MUMPS on " + std::to_string(s.ranks) + (s.ranks == 1 ? " rank" : " ranks");
+  to.analyze_seconds = s.analyze_seconds;
+  to.factorize_seconds = s.factorize_seconds;
+  return to;
+}
+
 #ifndef JOINTHB_WITH_PETSC
 
 namespace {
@@ -183,53 +196,51 @@ struct Rank0Data {
   long* negative = nullptr;            // factorize: inertia
 };
 
+/// Rank 0 (u given): rank q's entries of `u` (its rows' columns and values) for MPI_Scatterv.
+RowBlocks entry_blocks(const UpperRows* u, const std::vector<PetscInt>& first) {
+  RowBlocks b;
+  if (u == nullptr) return b;
+  for (std::size_t q = 0; q + 1 < first.size(); ++q) {
+    b.offsets.push_back(u->pointers[static_cast<std::size_t>(first[q])]);
+    b.counts.push_back(u->pointers[static_cast<std::size_t>(first[q + 1])] - b.offsets.back());
+  }
+  return b;
+}
+
 /// Rank 0's rows of `u` for each rank: scattered so that every rank holds its block (collective).
 LocalRows scatter_rows(const World& w, const UpperRows* u, long long n) {
   const auto first = row_ranges(n, w.size);
   const auto r = static_cast<std::size_t>(w.rank);
   const PetscInt local = first[r + 1] - first[r];
-  std::vector<int> entry_counts(static_cast<std::size_t>(w.size)), entry_offsets(entry_counts.size());
-  std::vector<int> row_counts(entry_counts.size()), row_offsets(entry_counts.size());
-  if (w.rank == 0) {
-    for (std::size_t q = 0; q < entry_counts.size(); ++q) {
-      entry_offsets[q] = u->pointers[static_cast<std::size_t>(first[q])];
-      entry_counts[q] = u->pointers[static_cast<std::size_t>(first[q + 1])] - entry_offsets[q];
-      row_offsets[q] = first[q] + 1;
-      row_counts[q] = first[q + 1] - first[q];
-    }
-  }
+  const RowBlocks entry = entry_blocks(w.rank == 0 ? u : nullptr, first);
+  // The row ends of rank q's rows (global pointers, from pointers[first[q] + 1]), shifted to start
+  // from 0 below.
+  RowBlocks row_ends = row_blocks(n, w.size);
+  for (int& offset : row_ends.offsets) ++offset;
   LocalRows rows;
-  // The row ends of rank q's rows (global pointers), shifted to start from 0 below.
   std::vector<PetscInt> ends(static_cast<std::size_t>(local));
-  MPI_Scatterv(w.rank == 0 ? u->pointers.data() : nullptr, row_counts.data(), row_offsets.data(),
+  MPI_Scatterv(w.rank == 0 ? u->pointers.data() : nullptr, row_ends.counts.data(), row_ends.offsets.data(),
                MPIU_INT, ends.data(), local, MPIU_INT, 0, w.comm);
   int entries = 0;
-  MPI_Scatter(entry_counts.data(), 1, MPI_INT, &entries, 1, MPI_INT, 0, w.comm);
+  MPI_Scatter(entry.counts.data(), 1, MPI_INT, &entries, 1, MPI_INT, 0, w.comm);
   int begin = 0;
-  MPI_Scatter(entry_offsets.data(), 1, MPI_INT, &begin, 1, MPI_INT, 0, w.comm);
+  MPI_Scatter(entry.offsets.data(), 1, MPI_INT, &begin, 1, MPI_INT, 0, w.comm);
   rows.pointers.resize(static_cast<std::size_t>(local) + 1);
   rows.pointers[0] = 0;
   for (std::size_t i = 0; i < ends.size(); ++i) rows.pointers[i + 1] = ends[i] - begin;
   rows.columns.resize(static_cast<std::size_t>(entries));
   rows.values.resize(static_cast<std::size_t>(entries));
-  MPI_Scatterv(w.rank == 0 ? u->columns.data() : nullptr, entry_counts.data(), entry_offsets.data(),
+  MPI_Scatterv(w.rank == 0 ? u->columns.data() : nullptr, entry.counts.data(), entry.offsets.data(),
                MPIU_INT, rows.columns.data(), entries, MPIU_INT, 0, w.comm);
-  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, entry_counts.data(), entry_offsets.data(),
+  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, entry.counts.data(), entry.offsets.data(),
                MPI_DOUBLE, rows.values.data(), entries, MPI_DOUBLE, 0, w.comm);
   return rows;
 }
 
 /// The values only, into `rows` (its pattern from an earlier scatter_rows).
 void scatter_values(const World& w, const UpperRows* u, long long n, LocalRows& rows) {
-  const auto first = row_ranges(n, w.size);
-  std::vector<int> counts(static_cast<std::size_t>(w.size)), offsets(counts.size());
-  if (w.rank == 0) {
-    for (std::size_t q = 0; q < counts.size(); ++q) {
-      offsets[q] = u->pointers[static_cast<std::size_t>(first[q])];
-      counts[q] = u->pointers[static_cast<std::size_t>(first[q + 1])] - offsets[q];
-    }
-  }
-  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, counts.data(), offsets.data(), MPI_DOUBLE,
+  const RowBlocks entry = entry_blocks(w.rank == 0 ? u : nullptr, row_ranges(n, w.size));
+  MPI_Scatterv(w.rank == 0 ? u->values.data() : nullptr, entry.counts.data(), entry.offsets.data(), MPI_DOUBLE,
                rows.values.data(), static_cast<int>(rows.values.size()), MPI_DOUBLE, 0, w.comm);
 }
 

@@ -58,18 +58,6 @@ std::string status_text(int status) {
   }
 }
 
-/// The mumps backend's statistics in SparseCholesky's terms.
-void copy_statistics(const petsc::DistributedCholeskyStatistics& from, SparseCholeskyStatistics& to) {
-  to.rows = from.rows;
-  to.matrix_nonzeros = from.matrix_nonzeros;
-  to.factor_nonzeros = from.factor_entries;
-  to.factor_entries = static_cast<long>(from.factor_entries);
-  to.factor_flops = from.factor_flops;
-  to.ordering = "MUMPS on " + std::to_string(from.ranks) + (from.ranks == 1 ? " rank" : " ranks");
-  to.analyze_seconds = from.analyze_seconds;
-  to.factorize_seconds = from.factorize_seconds;
-}
-
 }  // namespace
 
 const char* to_string(LinearSolver backend) {
@@ -205,8 +193,7 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& A_in) {
   Impl& d = *impl_;
   if (d.distributed) {
     d.distributed->analyze(A);
-    d.statistics = {};
-    copy_statistics(d.distributed->statistics(), d.statistics);
+    d.statistics = petsc::as_sparse_cholesky_statistics(d.distributed->statistics());
     d.valid = false;
     return;
   }
@@ -256,8 +243,9 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A_in) {
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(std::string("SparseCholesky::factorize: ") + e.what());
     }
-    copy_statistics(d.distributed->statistics(), d.statistics);
-    ++d.statistics.factorizations;
+    const int factorizations = d.statistics.factorizations + 1;
+    d.statistics = petsc::as_sparse_cholesky_statistics(d.distributed->statistics());
+    d.statistics.factorizations = factorizations;
     d.valid = true;
     return;
   }

@@ -213,13 +213,9 @@ ModalResult slepc_modes(const Eigen::SparseMatrix<double>& K, const Eigen::Spars
   o.seed = options.seed;
   const fe::petsc::EigenpairResult e = fe::petsc::distributed_eigenpairs(K, M, o);
   result.iterations = e.iterations;
-  result.factor.rows = e.factor.rows;
-  result.factor.matrix_nonzeros = e.factor.matrix_nonzeros;
-  result.factor.factor_nonzeros = e.factor.factor_entries;
-  result.factor.factor_entries = static_cast<long>(e.factor.factor_entries);
-  result.factor.factor_flops = e.factor.factor_flops;
+  result.factor = fe::petsc::as_sparse_cholesky_statistics(e.factor);
   result.factor.factorizations = 1;
-  result.factor.ordering = "SLEPc/MUMPS on " + std::to_string(e.ranks) + (e.ranks == 1 ? " rank" : " ranks");
+  result.factor.ordering = "SLEPc/" + result.factor.ordering;
   result.factor_seconds = e.factor_seconds;
   result.lanczos_seconds = e.solve_seconds;
   const int m = static_cast<int>(e.eigenvalues.size());

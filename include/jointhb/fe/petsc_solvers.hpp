@@ -26,6 +26,8 @@
 #include <memory>
 #include <string>
 
+#include "jointhb/fe/sparse_cholesky.hpp"
+
 namespace jointhb::fe::petsc {
 
 /// Whether this build has the PETSc/SLEPc path.
@@ -61,6 +63,9 @@ struct DistributedCholeskyStatistics {
   double analyze_seconds = 0.0;
   double factorize_seconds = 0.0;
 };
+
+/// The same in SparseCholesky's terms (ordering "MUMPS on R ranks"; factorizations 0: the caller's).
+[[nodiscard]] SparseCholeskyStatistics as_sparse_cholesky_statistics(const DistributedCholeskyStatistics& s);
 
 /// A = LDLᵀ of a sparse symmetric matrix by MUMPS across the session's ranks, called on rank 0 only.
 /// The contract of fe::SparseCholesky (fe/sparse_cholesky.hpp), whose mumps backend it is: analyze()
