@@ -233,6 +233,10 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
   summary["solvers"] = {{"linear", fe::to_string(run_options.solvers.linear)},
                         {"eigen", run_options.solvers.eigen == modal::ModalOptions::EigenSolver::slepc ? "slepc" : "arpack"},
                         {"ranks", run_options.ranks}};
+  if (run_options.solvers.linear == fe::LinearSolver::cg) {
+    summary["solvers"]["preconditioner"] = fe::to_string(run_options.solvers.iterative.preconditioner);
+    summary["solvers"]["relative_tolerance"] = run_options.solvers.iterative.relative_tolerance;
+  }
   // Progress of the preload: every Newton iteration on a terminal, the heartbeat's line in a log.
   analysis.preload.progress = [tty](int step, int it, double r) {
     if (tty)

@@ -52,10 +52,17 @@ RunCommand::RunCommand(CLI::App& parent) {
   app_->add_flag("--no-cache", no_cache_,
                  "neither read nor write the stage cache: every stage is computed");
   app_->add_option("--linear-algebra", linear_algebra_,
-                   "finite-element cases: 'serial' (CHOLMOD, ARPACK; default) or 'petsc' (MUMPS "
+                   "finite-element cases: 'serial' (CHOLMOD, ARPACK; default), 'petsc' (MUMPS "
                    "factorisations and SLEPc modes across MPI ranks: mpirun -np N jointhb run "
-                   "--linear-algebra petsc ...; docs/distributed.md)")
-      ->check(CLI::IsMember({"serial", "petsc"}));
+                   "--linear-algebra petsc ...), or 'petsc-gamg' / 'petsc-hypre' (no factor: "
+                   "conjugate gradients with PETSc's GAMG or hypre's BoomerAMG, SLEPc modes with "
+                   "the same inner solves; memory O(n); docs/distributed.md)")
+      ->check(CLI::IsMember({"serial", "petsc", "petsc-gamg", "petsc-hypre"}));
+  app_->add_option("--cg-tolerance", cg_tolerance_,
+                   "petsc-gamg, petsc-hypre: relative residual ||b - Ax|| / ||b|| of every CG solve "
+                   "(the modes' inner solves go two orders below their own tolerance)")
+      ->check(CLI::Range(1e-15, 1e-2))
+      ->capture_default_str();
   app_->add_flag("--check", check_only_,
                  "read and check the case file (and the meshes and target files it names), run "
                  "nothing and write nothing: exit 0 when it is valid, 2 with the error otherwise");
@@ -82,6 +89,9 @@ int RunCommand::run() const {
   const bool built_in = case_path_.empty();
   const io::CaseFile c = built_in ? io::parse_case_file(io::default_case_text(), "built-in default case")
                                   : io::read_case_file(case_path_);
+  if (app_->count("--cg-tolerance") > 0 && linear_algebra_ != "petsc-gamg" && linear_algebra_ != "petsc-hypre")
+    require_option("--cg-tolerance", "applies to --linear-algebra petsc-gamg or petsc-hypre only (the other "
+                                     "paths factor, with no tolerance to set)");
   if (wants_petsc() && !std::holds_alternative<io::FeCase>(c))
     require_option("--linear-algebra", "petsc applies to finite-element cases only, not to this case");
   if (check_only_) {
@@ -103,8 +113,12 @@ int RunCommand::run() const {
       options.cache_dir = cache_dir_.empty() ? dir / ".cache" : fs::path(cache_dir_);
       options.use_cache = !no_cache_;
       if (wants_petsc()) {
-        options.solvers.linear = fe::LinearSolver::mumps;
+        options.solvers.linear = linear_algebra_ == "petsc" ? fe::LinearSolver::mumps : fe::LinearSolver::cg;
         options.solvers.eigen = modal::ModalOptions::EigenSolver::slepc;
+        options.solvers.iterative.preconditioner = linear_algebra_ == "petsc-hypre"
+                                                       ? fe::IterativeSettings::Preconditioner::hypre
+                                                       : fe::IterativeSettings::Preconditioner::gamg;
+        options.solvers.iterative.relative_tolerance = cg_tolerance_;
         options.ranks = ranks_;
       }
       const int code = run_fe_case(*fe_case, dir, start, options);

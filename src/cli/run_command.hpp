@@ -26,12 +26,13 @@ class RunCommand {
   std::string cache_dir_;  ///< empty: OUTPUT/.cache
   bool no_cache_ = false;
   bool check_only_ = false;  // --check: read and check the case, run nothing
-  std::string linear_algebra_ = "serial";  // --linear-algebra serial | petsc
+  std::string linear_algebra_ = "serial";  // --linear-algebra serial | petsc | petsc-gamg | petsc-hypre
+  double cg_tolerance_ = 1e-10;            // --cg-tolerance (petsc-gamg, petsc-hypre)
   int ranks_ = 1;                          // of the petsc::Session main() made
 
  public:
-  /// --linear-algebra petsc: main() makes a petsc::Session on every rank before run().
-  [[nodiscard]] bool wants_petsc() const { return linear_algebra_ == "petsc"; }
+  /// --linear-algebra petsc*: main() makes a petsc::Session on every rank before run().
+  [[nodiscard]] bool wants_petsc() const { return linear_algebra_.rfind("petsc", 0) == 0; }
   void set_ranks(int ranks) { ranks_ = ranks; }
 };
 

@@ -1,6 +1,7 @@
 #include "jointhb/fe/sparse_cholesky.hpp"
 
 #include <cholmod.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -61,10 +62,27 @@ std::string status_text(int status) {
 }  // namespace
 
 const char* to_string(LinearSolver backend) {
-  return backend == LinearSolver::mumps ? "mumps" : "cholmod";
+  switch (backend) {
+    case LinearSolver::mumps:
+      return "mumps";
+    case LinearSolver::cg:
+      return "cg";
+    case LinearSolver::cholmod:
+      break;
+  }
+  return "cholmod";
+}
+
+const char* to_string(IterativeSettings::Preconditioner preconditioner) {
+  return preconditioner == IterativeSettings::Preconditioner::hypre ? "hypre" : "gamg";
 }
 
 std::string SparseCholeskyStatistics::brief() const {
+  if (factor_entries == 0 && (iterations > 0 || solved_columns > 0 || ordering.rfind("CG", 0) == 0)) {
+    // The cg backend: no factor; its setup and Krylov iterations instead.
+    return fmt::format("n={}, nnz(A)={}, {}, setup {:.3f} s, {} iterations for {} right-hand sides",
+                       rows, matrix_nonzeros, ordering, factorize_seconds, iterations, solved_columns);
+  }
   const double fill =
       matrix_nonzeros > 0 ? factor_nonzeros / static_cast<double>(matrix_nonzeros) : 0.0;
   char line[256];
@@ -79,7 +97,7 @@ std::string SparseCholeskyStatistics::brief() const {
 struct SparseCholesky::Impl {
   Options options;
   // The mumps backend (fe/petsc_solvers.hpp); null for CHOLMOD.
-  std::unique_ptr<petsc::DistributedCholesky> distributed;
+  std::unique_ptr<petsc::DistributedSolver> distributed;
   cholmod_common common{};
   cholmod_factor* factor = nullptr;
   bool valid = false;  // a numeric factor of the analysed pattern exists
@@ -93,15 +111,29 @@ struct SparseCholesky::Impl {
 
   explicit Impl(Options o) : options(o) {
     if (options.backend == Options::Backend::mumps) {
-      distributed = std::make_unique<petsc::DistributedCholesky>(
+      distributed = std::make_unique<petsc::DistributedSolver>(
           options.method == Options::Method::supernodal_llt,
           options.triangle == Options::Triangle::lower);
+    } else if (options.backend == Options::Backend::cg) {
+      if (options.method != Options::Method::supernodal_llt)
+        throw std::invalid_argument(
+            "SparseCholesky: the cg backend solves positive definite systems only (no inertia): "
+            "use supernodal_llt, or the mumps backend for LDL^T");
+      distributed = std::make_unique<petsc::DistributedSolver>(
+          options.iterative, options.triangle == Options::Triangle::lower);
     }
     cholmod_l_start(&common);
     common.print = 0;  // the library prints nothing; failures are reported by exceptions
     common.supernodal =
         options.method == Options::Method::supernodal_llt ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common.final_ll = options.method == Options::Method::supernodal_llt;
+  }
+  // A⁻¹ B on the PETSc path, with its running Krylov counts copied into the statistics.
+  Eigen::MatrixXd distributed_solve(const Eigen::Ref<const Eigen::MatrixXd>& B) {
+    Eigen::MatrixXd x = distributed->solve(B);
+    statistics.iterations = distributed->statistics().iterations;
+    statistics.solved_columns = distributed->statistics().solved_columns;
+    return x;
   }
   // solution = A⁻¹ B for the column-major block B (rows × cols, leading dimension ld), through
   // the workspace reused across calls (cholmod_l_solve2).
@@ -301,7 +333,7 @@ void SparseCholesky::solve_into(const Eigen::Ref<const Eigen::VectorXd>& b,
                                 std::to_string(x.size()) + ", matrix " +
                                 std::to_string(d.statistics.rows));
   if (d.distributed) {
-    x = d.distributed->solve(b);
+    x = d.distributed_solve(b);
     return;
   }
   d.solve(b.data(), b.size(), 1, b.size());
@@ -316,7 +348,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B
                                 std::to_string(B.rows()) + " rows, matrix " +
                                 std::to_string(d.statistics.rows));
   if (B.cols() == 0) return Eigen::MatrixXd(B.rows(), 0);
-  if (d.distributed) return d.distributed->solve(B);
+  if (d.distributed) return d.distributed_solve(B);
   d.solve(B.data(), B.rows(), B.cols(), B.outerStride());
   const auto ld = static_cast<Eigen::Index>(d.solution->d);
   return Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(

@@ -58,7 +58,7 @@ static_assert(aggregate_field_count<preload::InterfaceResult>() == 9,
               "InterfaceResult gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
 static_assert(aggregate_field_count<fe::DofMap>() == 2,
               "DofMap gained or lost a field: serialise it in stage_cache.cpp and bump stage_cache_format");
-static_assert(aggregate_field_count<fe::SparseCholeskyStatistics>() == 9,
+static_assert(aggregate_field_count<fe::SparseCholeskyStatistics>() == 11,
               "SparseCholeskyStatistics gained or lost a field: serialise it in stage_cache.cpp and bump "
               "stage_cache_format");
 static_assert(aggregate_field_count<preload::PreloadResult>() == 18,
@@ -608,6 +608,8 @@ void put(RecordWriter& w, const fe::SparseCholeskyStatistics& s) {
   w.int32("factorizations", s.factorizations);
   w.float64("analyze_seconds", s.analyze_seconds);
   w.float64("factorize_seconds", s.factorize_seconds);
+  w.int64("iterations", s.iterations);
+  w.int64("solved_columns", s.solved_columns);
 }
 
 // A Termination (contact/termination.hpp) as an enumeration field: its enumerator's value.
@@ -633,6 +635,8 @@ fe::SparseCholeskyStatistics get_factor(RecordReader& r) {
   s.factorizations = r.int32("factorizations");
   s.analyze_seconds = r.float64("analyze_seconds");
   s.factorize_seconds = r.float64("factorize_seconds");
+  s.iterations = r.int64("iterations");
+  s.solved_columns = r.int64("solved_columns");
   return s;
 }
 

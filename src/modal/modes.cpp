@@ -211,6 +211,7 @@ ModalResult slepc_modes(const Eigen::SparseMatrix<double>& K, const Eigen::Spars
   o.max_iterations = options.max_iterations;
   o.ncv = options.ncv;
   o.seed = options.seed;
+  if (options.linear_solver == fe::LinearSolver::cg) o.iterative = options.iterative;
   const fe::petsc::EigenpairResult e = fe::petsc::distributed_eigenpairs(K, M, o);
   result.iterations = e.iterations;
   result.factor = fe::petsc::as_sparse_cholesky_statistics(e.factor);
@@ -266,7 +267,8 @@ ModalResult compute_modes(const Eigen::SparseMatrix<double>& K,
   result.ncv = ncv;
 
   // Factor K − σM (lower triangle).
-  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.linear_solver});
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.linear_solver,
+                                                        .iterative = options.iterative});
   try {
     const Eigen::SparseMatrix<double> shifted =
         Eigen::SparseMatrix<double>(K - options.shift * M).triangularView<Eigen::Lower>();

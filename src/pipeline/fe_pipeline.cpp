@@ -8,6 +8,7 @@
 #include <numbers>
 #include <utility>
 
+#include "jointhb/fe/rigid_body_modes.hpp"
 #include "jointhb/hb/interface_balance.hpp"
 #include "jointhb/pipeline/stage_names.hpp"
 #include "jointhb/reduction/contact_patches.hpp"
@@ -55,6 +56,9 @@ std::optional<modal::ModalOptions> FePipeline::modal_options() const {
   if (o) {
     o->linear_solver = analysis_.solvers.linear;
     o->eigen_solver = analysis_.solvers.eigen;
+    o->iterative = fe::with_rigid_body_modes(
+        analysis_.solvers.iterative, o->linear_solver, model_.mesh,
+        fe::DofMap::from_fixed_nodes(model_.mesh.num_nodes(), model_.constraints));
   }
   return o;
 }
@@ -99,6 +103,7 @@ const preload::PreloadResult& FePipeline::preload() {
   } else {
     preload::PreloadOptions options = analysis_.preload;
     options.linear_solver = analysis_.solvers.linear;
+    options.iterative = analysis_.solvers.iterative;
     preload_ = preload::solve_preload(structure(), options);
     ++counters_.preload_solved;
     if (preload_->status().ok()) {

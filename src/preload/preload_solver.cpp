@@ -13,6 +13,7 @@
 
 #include "../support/contact_tangent.hpp"
 #include "../support/stopwatch.hpp"
+#include "jointhb/fe/rigid_body_modes.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
 namespace jointhb::preload {
@@ -289,7 +290,9 @@ PreloadResult solve_preload(const PreloadModel& model, const PreloadOptions& opt
   for (const Bolt& b : model.bolts) max_preload = std::max(max_preload, b.preload);
   const double reference = load_norm > 0.0 ? load_norm : 1.0;
 
-  fe::SparseCholesky cholesky(fe::SparseCholesky::Options{.backend = options.linear_solver});
+  fe::SparseCholesky cholesky(fe::SparseCholesky::Options{
+      .backend = options.linear_solver,
+      .iterative = fe::with_rigid_body_modes(options.iterative, options.linear_solver, mesh, dofs)});
   Eigen::Index analysed_nonzeros = -1;
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   Evaluation last;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "../support/stopwatch.hpp"
+#include "jointhb/fe/rigid_body_modes.hpp"
 
 namespace jointhb::reduction {
 
@@ -63,7 +64,10 @@ CondensedModel condense(const preload::PreloadModel& model, const preload::Prelo
   const SpMat K = r.dofs.restrict(SpMat(model.structure.stiffness +
                                         preload::bolt_stiffness(model.bolts, model.mesh->num_dofs())));
   const SpMat M = r.dofs.restrict(model.structure.mass);
-  r.cb = craig_bampton(K, M, interface_dofs(model, r.dofs), options);
+  CraigBamptonOptions cb_options = options;
+  cb_options.modal.iterative = fe::with_rigid_body_modes(options.modal.iterative, options.modal.linear_solver,
+                                                         *model.mesh, r.dofs);
+  r.cb = craig_bampton(K, M, interface_dofs(model, r.dofs), cb_options);
 
   r.stuck_stiffness = r.cb.stiffness;
   for (std::size_t i = 0; i < model.interfaces.size(); ++i) {

@@ -83,7 +83,16 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
 
   // K_ii's factor, for the constraint modes below.
   auto t = support::Clock::now();
-  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.modal.linear_solver});
+  // The cg backend's near-null space (given on K's rows) restricted to the interior rows.
+  modal::ModalOptions interior_modal = options.modal;
+  if (interior_modal.iterative.near_null_space.rows() == n) {
+    Eigen::MatrixXd interior_null(ni, interior_modal.iterative.near_null_space.cols());
+    for (int k = 0; k < ni; ++k)
+      interior_null.row(k) = options.modal.iterative.near_null_space.row(r.interior[static_cast<std::size_t>(k)]);
+    interior_modal.iterative.near_null_space = std::move(interior_null);
+  }
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = interior_modal.linear_solver,
+                                                        .iterative = interior_modal.iterative});
   try {
     factor.compute(K_ii);
   } catch (const std::runtime_error& error) {
@@ -95,7 +104,7 @@ CraigBamptonModel craig_bampton(const SpMat& K, const SpMat& M, std::vector<int>
   // Fixed-interface modes up to the cutoff: double the count until the last one lies above it.
   t = support::Clock::now();
   const double cutoff_lambda = std::pow(2.0 * 3.141592653589793 * options.cutoff_hz, 2);
-  modal::ModalOptions mo = options.modal;
+  modal::ModalOptions mo = interior_modal;
   mo.count = std::min({options.initial_count, options.max_modes, ni - 1});
   modal::ModalResult modes;
   for (;;) {

@@ -12,6 +12,7 @@
 #include "../support/blas_gemm.hpp"
 #include "../support/numeric_constants.hpp"
 #include "../support/stopwatch.hpp"
+#include "jointhb/fe/rigid_body_modes.hpp"
 #include "jointhb/fe/sparse_cholesky.hpp"
 
 namespace jointhb::reduction {
@@ -178,6 +179,7 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
   auto t = support::Clock::now();
   const double cutoff_lambda = std::pow(kTwoPi * options.cutoff_hz, 2);
   modal::ModalOptions mo = options.modal;
+  mo.iterative = fe::with_rigid_body_modes(mo.iterative, mo.linear_solver, *model.mesh, dofs);
   mo.count = std::min({options.initial_count, options.max_modes, n - 1});
   for (;;) {
     if (mo.ncv != 0 && mo.ncv <= mo.count) mo.ncv = std::min(n, 2 * mo.count + 1);  // a fixed ncv must exceed count
@@ -232,7 +234,7 @@ ModalInterfaceResult build_modal_interface(const preload::PreloadModel& model, c
 
   // ---- S = K_t − sM, factored once ------------------------------------------------------------
   t = support::Clock::now();
-  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = options.modal.linear_solver});
+  fe::SparseCholesky factor(fe::SparseCholesky::Options{.backend = mo.linear_solver, .iterative = mo.iterative});
   try {
     factor.compute(SpMat(K - s * M));
   } catch (const std::runtime_error& error) {

@@ -2,7 +2,10 @@
 # preload, modes, condensation, harmonic balance) with MUMPS factorisations and SLEPc modes on two
 # MPI ranks and on one, against the CHOLMOD/ARPACK path: contact pressures, elastic frequencies and
 # the curve agree to round-off amplified by the solves (bounds below, measured values ~1e-14, 1e-10,
-# 1e-11). Then the refusals: a discrete case, an unknown value, `mpirun -np 2` without the PETSc path.
+# 1e-11). The same on two ranks with no factor at all (--linear-algebra petsc-gamg: CG with GAMG to
+# 1e-10, SLEPc with the rigid-body modes deflated), to the iterative tolerance (measured ~1e-14 for the
+# pressures, 3e-11 for the frequencies and the curve). Then the refusals: a discrete case, an unknown
+# value, --cg-tolerance without an iterative path, `mpirun -np 2` without the PETSc path.
 source "$(dirname "$0")/common.inc" "$@"
 PYTHON=/usr/bin/python3
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe)
@@ -15,7 +18,11 @@ STATUS=$?
 [ "$STATUS" -eq 0 ] || fail "mpirun -np 2 --linear-algebra petsc exited $STATUS: $(tail -3 "$WORK/two.err")"
 run_capture run "$CASE" -o "$WORK/one" --no-cache --linear-algebra petsc
 [ "$STATUS" -eq 0 ] || fail "--linear-algebra petsc on one process exited $STATUS: $(tail -2 "$ERR")"
-for d in two one; do
+"${MPIRUN[@]}" -np 2 "$JOINTHB" run "$CASE" -o "$WORK/gamg_two" --no-cache --linear-algebra petsc-gamg \
+  >"$WORK/gamg.out" 2>"$WORK/gamg.err"
+STATUS=$?
+[ "$STATUS" -eq 0 ] || fail "mpirun -np 2 --linear-algebra petsc-gamg exited $STATUS: $(tail -3 "$WORK/gamg.err")"
+for d in two one gamg_two; do
   "$PYTHON" - "$WORK/serial" "$WORK/$d" <<'PY' || fail "PETSc path ($d) differs from the serial one"
 import csv, json, sys
 ref, d = sys.argv[1:]
@@ -37,7 +44,12 @@ worst("backbone.csv", "frequency_hz", 1e-8)
 worst("backbone.csv", "damping_ratio", 1e-8)
 s = json.load(open(f"{d}/summary.json"))
 ranks = 2 if d.endswith("two") else 1
-assert s["solvers"] == {"linear": "mumps", "eigen": "slepc", "ranks": ranks}, s["solvers"]
+if d.endswith("gamg_two"):
+    assert s["solvers"] == {"linear": "cg", "eigen": "slepc", "ranks": 2, "preconditioner": "gamg",
+                            "relative_tolerance": 1e-10}, s["solvers"]
+    assert "CG/GAMG on 2 ranks" in s["preload"]["factor"], s["preload"]["factor"]
+else:
+    assert s["solvers"] == {"linear": "mumps", "eigen": "slepc", "ranks": ranks}, s["solvers"]
 assert s["status"] == json.load(open(f"{ref}/summary.json"))["status"] == "ok", s["status"]
 assert all(float(r["backward_error"]) < 1e-12 for r in csv.DictReader(open(f"{d}/modes.csv")))
 PY
@@ -62,6 +74,9 @@ pgrep -f "$WORK/lap20k.yaml" >/dev/null && fail "a rank is still running after t
 expect_bad_input run "$SOURCE_DIR/cases/02-two-dof-frf/case.yaml" -o "$WORK/discrete" --linear-algebra petsc
 grep -q "finite-element cases only" "$ERR" || fail "discrete case: $(cat "$ERR")"
 expect_bad_input run "$CASE" -o "$WORK/bad" --linear-algebra mpi
+expect_bad_input run "$CASE" -o "$WORK/bad" --linear-algebra petsc --cg-tolerance 1e-8
+grep -q "petsc-gamg or petsc-hypre only" "$ERR" || fail "--cg-tolerance with petsc: $(cat "$ERR")"
+expect_bad_input run "$CASE" -o "$WORK/bad" --linear-algebra petsc-gamg --cg-tolerance 0.5
 "${MPIRUN[@]}" -np 2 "$JOINTHB" run "$CASE" -o "$WORK/plain" --no-cache >"$WORK/plain.out" 2>"$WORK/plain.err"
 STATUS=$?
 [ "$STATUS" -ne 0 ] || fail "mpirun -np 2 without --linear-algebra petsc exited 0"

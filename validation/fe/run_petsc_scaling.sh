@@ -4,8 +4,11 @@
 # m, n_z = 4, 2 / 10, 4 / 15, 6), on the serial path
 # (CHOLMOD, ARPACK) and on the PETSc path (MUMPS, SLEPc) under mpirun -np 1 and 2: wall time,
 # stage times and each rank's peak RSS, and the agreement of the two paths (contact pressure,
-# elastic frequencies). docs/distributed.md §5.
+# elastic frequencies). docs/distributed.md §4.
 #   validation/fe/run_petsc_scaling.sh BUILD_DIR OUTPUT_DIR [M ...]     (default 4 10 15)
+# RUNS="serial petsc1 petsc2 gamg1 gamg2 hypre1 hypre2" chooses the runs (default the first three;
+# gamgR / hypreR: --linear-algebra petsc-gamg / petsc-hypre on R ranks, CG to 1e-10). The serial run
+# is the reference of the differences and must come first for a size.
 # One row per run is appended to OUTPUT_DIR/petsc_scaling.csv as soon as the run ends.
 set -euo pipefail
 if (($# < 2)); then
@@ -27,18 +30,19 @@ for m in "${sizes[@]}"; do
   sed -e "s/divisions: \[40, 12, 2\]/divisions: [$((10 * m)), $((3 * m)), $(((2 * m + 2) / 5))]/" \
     "$source_dir/cases/05-bolted-lap/case.yaml" >"$case_file"
   grep -q "divisions: \[$((10 * m)), " "$case_file" || { echo "divisions not replaced" >&2; exit 1; }
-  for run in serial petsc1 petsc2; do
+  for run in ${RUNS:-serial petsc1 petsc2}; do
     dir="$out/m${m}_$run"
-    rm -rf "$dir"
+    rm -rf "$dir" "$out"/rss_${m}_$run.*
     load=$(cut -d' ' -f1 /proc/loadavg)
     echo "== m = $m, $run, load $load" >&2
     start=$(date +%s.%N)
     case $run in
       serial) /usr/bin/time -f "%M" -o "$out/rss_${m}_$run.0" "$jointhb" run "$case_file" -o "$dir" --no-cache ;;
-      petsc1) "${mpirun[@]}" -np 1 /usr/bin/time -f "%M" -o "$out/rss_${m}_$run.0" \
-                "$jointhb" run "$case_file" -o "$dir" --no-cache --linear-algebra petsc ;;
-      petsc2) "${mpirun[@]}" -np 2 bash -c "exec /usr/bin/time -f %M -o $out/rss_${m}_$run.\$OMPI_COMM_WORLD_RANK \
-                $jointhb run $case_file -o $dir --no-cache --linear-algebra petsc" ;;
+      *) ranks=${run: -1}
+         path=petsc
+         [ "${run%?}" = petsc ] || path="petsc-${run%?}"
+         "${mpirun[@]}" -np "$ranks" bash -c "exec /usr/bin/time -f %M -o $out/rss_${m}_$run.\$OMPI_COMM_WORLD_RANK \
+                $jointhb run $case_file -o $dir --no-cache --linear-algebra $path" ;;
     esac
     wall=$(echo "$(date +%s.%N) - $start" | bc)
     rss0=$(($(tail -1 "$out/rss_${m}_$run.0") / 1024))
@@ -58,7 +62,8 @@ pa, pb = column(ref, "contact_lap.csv", "pressure"), column(d, "contact_lap.csv"
 dp = max(abs(x - y) for x, y in zip(pa, pb)) / max(abs(x) for x in pa)
 fa, fb = column(ref, "modes.csv", "frequency_hz"), column(d, "modes.csv", "frequency_hz")
 df = max(abs(x - y) / x for x, y in zip(fa[6:], fb[6:]))
-print(f"{m},{s['model']['dofs']},{'serial' if run == 'serial' else 'petsc'},{ranks},{float(wall):.2f},"
+path = {"serial": "serial", "petsc": "petsc"}.get(run[:-1] if run != "serial" else run, "petsc-" + run[:-1])
+print(f"{m},{s['model']['dofs']},{path},{ranks},{float(wall):.2f},"
       f"{p['seconds']['total']:.2f},{mo['seconds']:.2f},{rss0},{rss1},\"{factor}\",{dp:.2e},{df:.2e},{load}")
 PY
     tail -1 "$table" >&2

@@ -46,16 +46,41 @@ struct SparseCholeskyOptions {
   /// Who factors: CHOLMOD in this process, or MUMPS across the ranks of the petsc::Session
   /// (fe/petsc_solvers.hpp; supernodal_llt → MUMPS's SPD mode, simplicial_ldlt → its symmetric
   /// indefinite mode with the inertia). Same contract, results equal to round-off.
-  enum class Backend { cholmod, mumps };
+  /// Or no factor at all: `cg`, PETSc's conjugate gradients preconditioned by algebraic multigrid
+  /// across the same ranks (`iterative` below): factorize() builds the multigrid hierarchy, solve()
+  /// iterates to a relative residual; results agree with the factorisations to that tolerance,
+  /// memory grows as O(n) instead of the factor's O(n^{4/3}). supernodal_llt only (CG needs A
+  /// positive definite; an indefinite A shows as a failed solve).
+  enum class Backend { cholmod, mumps, cg };
+  /// The cg backend's settings (docs/distributed.md §2).
+  struct Iterative {
+    enum class Preconditioner {
+      gamg,   ///< PETSc's smoothed-aggregation multigrid with the near-null space below
+      hypre,  ///< hypre's BoomerAMG (classical AMG; the near-null space is not used)
+    };
+    Preconditioner preconditioner = Preconditioner::gamg;
+    /// ‖b − A x‖₂ ≤ relative_tolerance · ‖b‖₂ for every right-hand side (the true residual).
+    double relative_tolerance = 1e-10;
+    int max_iterations = 5000;  ///< per right-hand side; more is a failed solve
+    /// The near-null space of A, n × k (for elasticity the six rigid-body modes restricted to A's
+    /// DOFs: fe/rigid_body_modes.hpp): what smoothed aggregation must represent on its coarse
+    /// grids. Empty: the constant vector only, which converges far more slowly on solids.
+    Eigen::MatrixXd near_null_space;
+  };
   Triangle triangle = Triangle::lower;     ///< which triangle of A holds the values
   Method method = Method::supernodal_llt;  ///< factorisation kind
   Backend backend = Backend::cholmod;
+  Iterative iterative;                     ///< Backend::cg only
 };
 
 /// The linear solver a stage factors with (its options' `linear_solver`).
 using LinearSolver = SparseCholeskyOptions::Backend;
-/// "cholmod", "mumps".
+/// The settings of the iterative backend a stage may use (its options' `iterative`).
+using IterativeSettings = SparseCholeskyOptions::Iterative;
+/// "cholmod", "mumps", "cg".
 [[nodiscard]] const char* to_string(LinearSolver backend);
+/// "gamg", "hypre".
+[[nodiscard]] const char* to_string(IterativeSettings::Preconditioner preconditioner);
 
 /// What the factorisation cost, for performance logs.
 struct SparseCholeskyStatistics {
@@ -68,6 +93,8 @@ struct SparseCholeskyStatistics {
   int factorizations = 0;          ///< numeric factorisations done on this analysis
   double analyze_seconds = 0.0;    ///< wall time of analyze()
   double factorize_seconds = 0.0;  ///< wall time of the last factorize()
+  long iterations = 0;             ///< cg backend: Krylov iterations of all solves so far
+  long solved_columns = 0;         ///< cg backend: right-hand sides solved so far
 
   /// One line: "n=…, nnz(A)=…, nnz(L)=… (fill ×…), … Gflop, ordering …".
   [[nodiscard]] std::string brief() const;

@@ -67,8 +67,9 @@ using pipeline::Fingerprint;  // the stage keys (pipeline/fingerprint.hpp)
 /// Layout version of the cache files; bump when a serialised type gains, loses or changes a field
 /// (the field names would tell the difference anyway; the version says it in the warning first).
 /// 1: positional values; 2: self-describing records (above); 3: the preload's and the modes'
-/// status as a Termination ("termination"; were "converged" flags and a ModalStatus "status").
-inline constexpr std::uint32_t stage_cache_format = 3;
+/// status as a Termination ("termination"; were "converged" flags and a ModalStatus "status");
+/// 4: the solver statistics' Krylov counts ("iterations", "solved_columns": the cg backend).
+inline constexpr std::uint32_t stage_cache_format = 4;
 
 /// The on-disk cache of stage results. All load_* return std::nullopt on a miss; store_* never
 /// throw (a failure is a warning). With enabled = false every load misses and store does nothing.

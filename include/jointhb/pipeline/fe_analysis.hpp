@@ -94,11 +94,15 @@ struct FeDynamicsSpec {
 [[nodiscard]] int default_time_samples(int harmonics);
 
 /// Which linear algebra the FE stages use (docs/distributed.md): CHOLMOD and ARPACK in this process
-/// (the default), or MUMPS and SLEPc across the MPI ranks of a petsc::Session. Not part of the
-/// stage keys: both paths give the same results to round-off (tests/cli/petsc.sh).
+/// (the default), or MUMPS (or CG with algebraic multigrid) and SLEPc across the MPI ranks of a
+/// petsc::Session. Not part of the stage keys: the paths give the same results to round-off (MUMPS)
+/// or to the iterative tolerance (CG) (tests/cli/petsc.sh).
 struct FeSolvers {
   fe::LinearSolver linear = fe::LinearSolver::cholmod;  ///< preload Newton, K − σM, condensation
   modal::ModalOptions::EigenSolver eigen = modal::ModalOptions::EigenSolver::arpack;
+  /// linear = cg: preconditioner and tolerance; each stage sets the mesh's rigid-body modes as the
+  /// near-null space on its own DOFs.
+  fe::IterativeSettings iterative;
 };
 
 /// What is computed on a finite-element model and with which settings.

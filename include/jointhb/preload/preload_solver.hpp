@@ -77,6 +77,9 @@ struct PreloadOptions {
   double closed_pressure_fraction = 0.01;
   /// Who factors the Newton matrix: CHOLMOD, or MUMPS across MPI ranks (fe/petsc_solvers.hpp).
   fe::LinearSolver linear_solver = fe::LinearSolver::cholmod;
+  /// linear_solver = cg: its preconditioner and tolerance (the rigid-body modes of the mesh are
+  /// its near-null space unless given).
+  fe::IterativeSettings iterative;
   /// Called after every Newton iteration (load step, iteration, relative residual).
   std::function<void(int, int, double)> progress;
 
