@@ -797,6 +797,16 @@ Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
   check(SlepcInitializeNoArguments(), "SlepcInitialize");
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  // GAMG's Chebyshev smoothers bound the spectrum of each level by a few CG steps times a safety
+  // factor (1.1 by default): on the 93 930-DOF lap on two ranks that bound fell short, the smoother
+  // amplified the top of the spectrum and CG stopped with DIVERGED_INDEFINITE_PC in the first
+  // preload solve (also with 50 estimation steps); with 1.5 it converged (docs/distributed.md §2a).
+  // A default only: PETSC_OPTIONS may set its own. "-st_": the modes' inner solver.
+  for (const char* name : {"-mg_levels_ksp_chebyshev_esteig", "-st_mg_levels_ksp_chebyshev_esteig"}) {
+    PetscBool given = PETSC_FALSE;
+    PetscOptionsHasName(nullptr, nullptr, name, &given);
+    if (given == PETSC_FALSE) PetscOptionsSetValue(nullptr, name, "0,0.05,0,1.5");
+  }
   MPI_Comm_dup(PETSC_COMM_WORLD, &w->comm);
   MPI_Comm_rank(w->comm, &w->rank);
   MPI_Comm_size(w->comm, &w->size);

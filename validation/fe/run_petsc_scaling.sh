@@ -4,7 +4,7 @@
 # m, n_z = 4, 2 / 10, 4 / 15, 6), on the serial path
 # (CHOLMOD, ARPACK) and on the PETSc path (MUMPS, SLEPc) under mpirun -np 1 and 2: wall time,
 # stage times and each rank's peak RSS, and the agreement of the two paths (contact pressure,
-# elastic frequencies). docs/distributed.md §4.
+# elastic frequencies). docs/performance.md, "Finite-element stages on MPI ranks (PETSc)".
 #   validation/fe/run_petsc_scaling.sh BUILD_DIR OUTPUT_DIR [M ...]     (default 4 10 15)
 # RUNS="serial petsc1 petsc2 gamg1 gamg2 hypre1 hypre2" chooses the runs (default the first three;
 # gamgR / hypreR: --linear-algebra petsc-gamg / petsc-hypre on R ranks, CG to 1e-10). The serial run

@@ -12,7 +12,7 @@
 // and all ranks enter PETSc's collective calls together. So the factor — the memory that grows
 // fastest, O(n^{4/3}) entries for 3D meshes against O(n) for the matrix — is split across the ranks,
 // while the assembled matrices stay on rank 0 (distributed assembly is the next step for 10⁷ DOFs,
-// docs/distributed.md §4).
+// docs/distributed.md §5).
 //
 // Without a launcher (no mpirun), a Session is a world of one process: MUMPS and SLEPc run
 // sequentially. In a build without PETSc (cmake -DJOINTHB_WITH_PETSC=OFF) built() is false, making a
