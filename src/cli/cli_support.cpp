@@ -130,6 +130,18 @@ ProgressHeartbeat::~ProgressHeartbeat() {
   heartbeat_running.store(false);
 }
 
+void stop_progress_heartbeat() {
+  if (!heartbeat_running.load()) return;
+  Heartbeat& h = heartbeat();
+  {
+    // beat() holds the mutex while it prints and tests `stop` when it wakes, so no line starts
+    // after this returns.
+    const std::lock_guard lock(h.mutex);
+    h.stop = true;
+  }
+  h.wake.notify_all();
+}
+
 bool progress_heartbeat_active() { return heartbeat_running.load(std::memory_order_relaxed); }
 
 void set_progress_activity(std::string activity) {

@@ -71,6 +71,10 @@ class ProgressHeartbeat {
 /// number > 0; read before any output exists, like the options.
 double progress_interval();
 
+/// Ends the heartbeat's lines now, before the run's last line ("done in …"), so that no progress
+/// line can follow it (its owner still joins the thread). Without a heartbeat: nothing.
+void stop_progress_heartbeat();
+
 /// Whether a heartbeat is running (callers skip formatting their activity otherwise).
 bool progress_heartbeat_active();
 /// What the run is doing now, for the heartbeat's next line.

@@ -317,6 +317,7 @@ int run_fe_case(const io::FeCase& c, const std::filesystem::path& dir, Clock::ti
                  io::printable_one_line(run.message).c_str(), seconds_since(start), dir.string().c_str());
     return exit_failure;
   }
+  stop_progress_heartbeat();  // no progress line after the run's last one (cli.run_progress_log)
   std::fprintf(stderr, "done in %.2f s -> %s\n", seconds_since(start), dir.string().c_str());
   return exit_ok;
 }
