@@ -124,7 +124,7 @@ struct EigenpairOptions {
   std::uint64_t seed = 1;   ///< of the starting vector (as ARPACK's, modal/modes.hpp)
   /// Shift-and-invert by CG with algebraic multigrid instead of MUMPS's Cholesky: each solve with
   /// K − σM to min(relative_tolerance, tolerance / 100), so that the eigenpairs reach `tolerance`.
-  std::optional<SparseCholeskyOptions::Iterative> iterative;
+  std::optional<SparseCholeskyOptions::Iterative> iterative = {};
 };
 
 struct EigenpairResult {

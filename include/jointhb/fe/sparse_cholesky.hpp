@@ -70,7 +70,7 @@ struct SparseCholeskyOptions {
   Triangle triangle = Triangle::lower;     ///< which triangle of A holds the values
   Method method = Method::supernodal_llt;  ///< factorisation kind
   Backend backend = Backend::cholmod;
-  Iterative iterative;                     ///< Backend::cg only
+  Iterative iterative = {};                ///< Backend::cg only
 };
 
 /// The linear solver a stage factors with (its options' `linear_solver`).

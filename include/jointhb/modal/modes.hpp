@@ -46,7 +46,7 @@ struct ModalOptions {
   fe::LinearSolver linear_solver = fe::LinearSolver::cholmod;
   /// linear_solver = cg: preconditioner, tolerance and near-null space (fe/sparse_cholesky.hpp);
   /// with SLEPc the inner solves go two orders below `tolerance` (fe/petsc_solvers.hpp).
-  fe::IterativeSettings iterative;
+  fe::IterativeSettings iterative = {};
   /// Lanczos by ARPACK (in this process; with the linear_solver's factor), or SLEPc's
   /// Krylov–Schur across MPI ranks (its own MUMPS factor of K − σM; ncv and tolerance mean the
   /// same; `iterations` counts its restarts, operator/mass applications are not reported).

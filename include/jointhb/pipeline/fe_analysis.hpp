@@ -102,7 +102,7 @@ struct FeSolvers {
   modal::ModalOptions::EigenSolver eigen = modal::ModalOptions::EigenSolver::arpack;
   /// linear = cg: preconditioner and tolerance; each stage sets the mesh's rigid-body modes as the
   /// near-null space on its own DOFs.
-  fe::IterativeSettings iterative;
+  fe::IterativeSettings iterative = {};
 };
 
 /// What is computed on a finite-element model and with which settings.

@@ -79,7 +79,7 @@ struct PreloadOptions {
   fe::LinearSolver linear_solver = fe::LinearSolver::cholmod;
   /// linear_solver = cg: its preconditioner and tolerance (the rigid-body modes of the mesh are
   /// its near-null space unless given).
-  fe::IterativeSettings iterative;
+  fe::IterativeSettings iterative = {};
   /// Called after every Newton iteration (load step, iteration, relative residual).
   std::function<void(int, int, double)> progress;
 
