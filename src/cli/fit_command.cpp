@@ -70,12 +70,12 @@ void write_model_curves(io::CsvWriter& csv, double label, const std::vector<fit:
 // Says what -j N (or the ranks) cannot spread: a single start, or the global phase of direct/mlsl.
 void note_serial_search(const fit::FitOptions& o, int jobs, int workers, std::size_t parameters) {
   if (workers <= 1) return;
-  const bool global = o.algorithm == "direct" || o.algorithm == "mlsl";
-  if (!global && o.starts > 1) return;
+  const bool global = o.algorithm == "direct" || o.algorithm == "mlsl";  // batches: parallel
+  if (global || o.starts > 1) return;
   std::cerr << fmt::format(
-      "jointhb fit: note: {} workers, but {}: the search runs in one process; {}\n", workers,
-      global ? fmt::format("algorithm {} calls the model in sequence (NLopt's global phase)", o.algorithm)
-             : std::string("a single start (fit.options multistart.starts = 1)"),
+      "jointhb fit: note: {} workers, but a single start (fit.options multistart.starts = 1): the "
+      "search runs in one process; {}\n",
+      workers,
       jobs > 1 ? fmt::format("only the Jacobian's {} evaluations at the optimum are spread over the {} "
                              "local workers", 2 * parameters, jobs)
                : std::string("the other ranks have nothing to do"));
@@ -210,13 +210,19 @@ int FitCommand::run() const {
   if (root && !quiet_) note_serial_search(section.options, parallel.jobs, workers, names.size());
   double best = std::numeric_limits<double>::infinity();
   int shown = 0;
+  const bool global = section.options.algorithm == "direct" || section.options.algorithm == "mlsl";
+  const auto search_of = [global](int index) {
+    if (index < 0) return std::string("jacobian");
+    if (global) return index == 0 ? std::string("global phase") : fmt::format("local search {}", index);
+    return fmt::format("start {}", index);
+  };
   const auto sink = [&](const fit::HistoryRow& row) {
     history->write(row);
     if (!row.failed) best = std::min(best, row.objective);
     if (progress) {
       std::cerr << fmt::format(
                        "\rjointhb fit: evaluation {} ({})  S = {:.6g}  best {:.6g}  {:.1f} s   ",
-                       row.eval, row.start < 0 ? "jacobian" : fmt::format("start {}", row.start),
+                       row.eval, search_of(row.start),
                        row.objective, best, seconds_since(start))
                 << std::flush;
       ++shown;

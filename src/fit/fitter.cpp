@@ -14,7 +14,10 @@
 #include <set>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "../study/task_farm.hpp"
+#include "global_search.hpp"
 #include "jointhb/study/distributed.hpp"
 #include "start_search.hpp"
 
@@ -274,8 +277,8 @@ struct Problem {
   std::vector<std::vector<double>> starts;  ///< unit box; start 0 is the user's
 };
 
-// Start k's whole search: the local algorithm from its point, or (start 0 of direct/mlsl) the
-// global phase and the local polish from its best point. `stream` sees each new row.
+// Start k's whole search: the local algorithm from its point (direct and mlsl: run_global).
+// `stream` sees each new row.
 StartOutcome run_start(const Problem& pb, std::size_t k,
                        std::function<void(const HistoryRow&)> stream = {}) {
   const FitOptions& o = pb.options;
@@ -284,28 +287,9 @@ StartOutcome run_start(const Problem& pb, std::size_t k,
   StartSearch search(pb.model, pb.parameters, o, start,
                      detail::replay_rows(pb.replay, start, pb.parameters.size()), 0.0, 0,
                      std::move(stream));
-  if (o.algorithm == "direct" || o.algorithm == "mlsl") {
-    {
-      Optimizer global(o.algorithm == "direct" ? NLOPT_GN_DIRECT_L : NLOPT_G_MLSL_LDS, n);
-      configure(global.opt, n, o, o.max_evaluations);
-      Optimizer local(local_id(o.local_algorithm), n);
-      if (o.algorithm == "mlsl") {
-        nlopt_srand(o.seed);
-        configure(local.opt, n, o, o.max_evaluations);
-        nlopt_set_local_optimizer(global.opt, local.opt);
-      }
-      search.run(global.opt, pb.starts[0], pb.starts[0]);
-    }
-    if (search.outcome().ok) {  // polish the global phase's best point with the local search
-      Optimizer local(local_id(o.local_algorithm), n);
-      configure(local.opt, n, o, o.max_evaluations);
-      search.run(local.opt, search.best_unit(), pb.starts[0]);
-    }
-  } else {
-    Optimizer local(local_id(o.algorithm), n);
-    configure(local.opt, n, o, o.max_evaluations);
-    search.run(local.opt, pb.starts[k], pb.starts[k]);
-  }
+  Optimizer local(local_id(o.algorithm), n);
+  configure(local.opt, n, o, o.max_evaluations);
+  search.run(local.opt, pb.starts[k], pb.starts[k]);
   return search.outcome();
 }
 
@@ -369,6 +353,201 @@ StartOutcome failed_start(const Problem& pb, std::size_t k, const std::string& w
   o.runs.push_back(s);
   r.warnings.push_back(fmt::format("start {}: {}; the start was not searched", k, why));
   return o;
+}
+
+// ---- The global searches (direct, mlsl; global_search.hpp) -------------------------------------
+// Every rank follows the same search: rank 0 evaluates each batch on the workers (its children and
+// the other ranks, study::farm_tasks) and sends what it found to every rank (Communicator::
+// broadcast), so that every rank knows the next batch and serves it. Rank 0 alone keeps start 0's
+// StartSearch (its replayed rows, penalty and history) and the local searches' outcomes.
+
+using Points = std::vector<std::vector<double>>;
+using Json = nlohmann::json;
+
+class GlobalRun {
+ public:
+  GlobalRun(const Problem& pb, const ParallelOptions& parallel, const HistorySink& sink)
+      : pb_(pb),
+        jobs_(parallel.jobs),
+        communicator_(parallel.communicator && parallel.communicator->size() > 1
+                          ? parallel.communicator
+                          : nullptr),
+        root_(!parallel.communicator || parallel.communicator->rank() == 0),
+        search_(pb.model, pb.parameters, pb.options, 0,
+                detail::replay_rows(pb.replay, 0, pb.parameters.size()), 0.0, 0,
+                root_ ? std::function<void(const HistoryRow&)>(sink) : nullptr),
+        sink_(sink) {
+    search_.number_rows_by([this] { return ++rows_; });
+  }
+
+  [[nodiscard]] bool root() const { return root_; }
+  [[nodiscard]] StartSearch& start_search() { return search_; }
+  [[nodiscard]] const std::vector<StartOutcome>& local_outcomes() const { return locals_; }
+
+  /// S at each point: start 0's evaluations, the new ones on the workers.
+  std::vector<double> objective(const Points& points) {
+    std::vector<double> s;
+    if (root_) {
+      s = search_.evaluate_batch(points, [this](const Points& values) {
+        Json list_json = Json::array();
+        for (const auto& v : values) list_json.push_back(detail::exact_json(v));
+        std::string list = list_json.dump();
+        broadcast(list);
+        return evaluations(values);
+      });
+    } else {
+      std::string list;
+      broadcast(list);
+      Points values;
+      for (const auto& v : Json::parse(list)) values.push_back(detail::exact_values(v));
+      (void)evaluations(values);
+    }
+    std::string text = root_ ? detail::exact_json(s).dump() : "";
+    broadcast(text);
+    return root_ ? s : detail::exact_values(Json::parse(text));
+  }
+
+  /// Local searches (starts 1, 2, … in the order made) from `starts`, on the workers.
+  std::vector<detail::LocalMinimum> local(const Points& starts, int budget) {
+    const int first = next_start_;
+    next_start_ += static_cast<int>(starts.size());
+    const auto records = run_tasks(starts.size(), [&](std::size_t k) {
+      return detail::outcome_to_json(local_search(first + static_cast<int>(k), starts[k], budget));
+    });
+    std::vector<detail::LocalMinimum> minima;
+    if (root_) {
+      for (std::size_t k = 0; k < starts.size(); ++k) {
+        StartOutcome o;
+        if (records[k].failure.empty()) {
+          o = detail::outcome_from_json(records[k].record);
+        } else {
+          o.start = first + static_cast<int>(k);
+          o.runs.push_back({o.start, from_unit(pb_.parameters, starts[k]),
+                            std::numeric_limits<double>::infinity(), 0,
+                            "worker failed: " + records[k].failure});
+          o.last_failure = records[k].failure;
+        }
+        for (HistoryRow row : o.rows) {  // numbered after every row before this search's
+          row.eval += rows_;
+          if (sink_) sink_(row);
+        }
+        rows_ += o.evaluations;
+        minima.push_back({o.ok ? to_unit(pb_.parameters, o.best_values) : starts[k],
+                          o.ok ? o.best_objective : std::numeric_limits<double>::infinity(),
+                          o.evaluations});
+        locals_.push_back(std::move(o));
+      }
+    }
+    Json all = Json::array();
+    for (const auto& m : minima) {
+      all.push_back({detail::exact_json(m.u), detail::exact_json({m.objective}), m.evaluations});
+    }
+    std::string text = root_ ? all.dump() : "";
+    broadcast(text);
+    if (!root_) {
+      for (const auto& m : Json::parse(text)) {
+        minima.push_back({detail::exact_values(m.at(0)), detail::exact_values(m.at(1)).at(0),
+                          m.at(2).get<int>()});
+      }
+    }
+    return minima;
+  }
+
+ private:
+  struct Record {
+    std::string record, failure;
+  };
+
+  void broadcast(std::string& text) const {
+    if (communicator_) communicator_->broadcast(text);
+  }
+
+  // Tasks 0 … count−1 on the workers (in this process when it is alone), records in task order.
+  std::vector<Record> run_tasks(std::size_t count, const study::TaskRun& run) const {
+    std::vector<Record> records(count);
+    if (count == 0) return records;
+    if (jobs_ <= 1 && !communicator_) {
+      for (std::size_t k = 0; k < count; ++k) records[k].record = run(k);
+      return records;
+    }
+    study::farm_tasks(
+        count, run,
+        [&](study::TaskDone d) {
+          if (d.task < count) records[d.task] = {d.record, d.failure};
+        },
+        {std::min<int>(jobs_, static_cast<int>(count)), communicator_});
+    return records;
+  }
+
+  std::vector<Evaluation> evaluations(const Points& values) const {
+    const auto records = run_tasks(values.size(), [&](std::size_t k) {
+      return detail::evaluation_to_json(detail::evaluate_model(pb_.model, values[k]));
+    });
+    std::vector<Evaluation> e;
+    for (const auto& r : records) {
+      if (!r.failure.empty() || r.record.empty()) {
+        e.push_back({false, "worker failed: " + (r.failure.empty() ? std::string("no record") : r.failure), {}});
+      } else {
+        e.push_back(detail::evaluation_from_json(r.record));
+      }
+    }
+    return e;
+  }
+
+  StartOutcome local_search(int start, const std::vector<double>& u, int budget) const {
+    const FitOptions& o = pb_.options;
+    const auto n = static_cast<unsigned>(pb_.parameters.size());
+    StartSearch search(pb_.model, pb_.parameters, o, start,
+                       detail::replay_rows(pb_.replay, start, pb_.parameters.size()));
+    Optimizer opt(local_id(o.local_algorithm), n);
+    configure(opt.opt, n, o, budget);
+    search.run(opt.opt, u, u);
+    return search.outcome();
+  }
+
+  const Problem& pb_;
+  int jobs_;
+  const study::Communicator* communicator_;
+  bool root_;
+  StartSearch search_;
+  HistorySink sink_;
+  int rows_ = 0;         ///< rows numbered so far (replayed ones included)
+  int next_start_ = 1;   ///< the next local search's start index
+  std::vector<StartOutcome> locals_;
+};
+
+// direct or mlsl from start 0 (docs/identification.md §2): the global phase, then (direct) the
+// local polish from its best point on rank 0; outcomes gathered in the order start 0, then the
+// local searches. False on ranks > 0.
+bool run_global(const Problem& pb, const ParallelOptions& parallel, const HistorySink& sink,
+                Gather& gather) {
+  const FitOptions& o = pb.options;
+  const int n = static_cast<int>(pb.parameters.size());
+  GlobalRun run(pb, parallel, sink);
+  const detail::BatchObjective objective = [&](const Points& p) { return run.objective(p); };
+  StartSearch& search = run.start_search();
+  search.begin_run();
+  detail::GlobalOutcome g;
+  if (o.algorithm == "direct") {
+    g = detail::direct_l(n, objective, o.max_evaluations, o.xtol);
+  } else {
+    detail::MlslOptions m;
+    m.max_evaluations = o.max_evaluations;
+    m.seed = o.seed;
+    g = detail::mlsl(n, objective,
+                     [&](const Points& starts, int budget) { return run.local(starts, budget); }, m);
+  }
+  if (!run.root()) return false;
+  search.end_run(pb.starts[0], g.stop_reason);
+  if (o.algorithm == "direct" && search.outcome().ok) {  // the polish
+    const auto un = static_cast<unsigned>(n);
+    Optimizer local(local_id(o.local_algorithm), un);
+    configure(local.opt, un, o, o.max_evaluations);
+    search.run(local.opt, search.best_unit(), pb.starts[0]);
+  }
+  gather.add(search.outcome(), true);
+  for (const auto& l : run.local_outcomes()) gather.add(l, true);
+  return true;
 }
 
 // The starts on the workers of `parallel`; their outcomes gathered in start order as they come
@@ -454,21 +633,26 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
   for (auto& u : latin_hypercube(options.starts, static_cast<int>(parameters.size()), options.seed)) {
     pb.starts.push_back(u);
   }
-  // direct and mlsl search from start 0 only; their global phase calls the objective in sequence.
-  // A single search runs in this process (of rank 0): its model's counters stay this process's.
+  // direct and mlsl search from start 0 only, their batches on the workers (GlobalRun); a single
+  // local start runs in this process (of rank 0): its model's counters stay this process's.
   const bool global = options.algorithm == "direct" || options.algorithm == "mlsl";
   if (global) pb.starts.resize(1);
   const bool ranks = parallel.communicator && parallel.communicator->size() > 1;
   FitResult r;
   Gather gather(r, sink);
-  if (pb.starts.size() > 1 && (parallel.jobs > 1 || ranks)) {
+  if (global) {
+    if (!run_global(pb, parallel, sink, gather)) {
+      r.root = false;
+      return r;
+    }
+  } else if (pb.starts.size() > 1 && (parallel.jobs > 1 || ranks)) {
     if (!farm_starts(pb, parallel, gather, r)) {
       r.root = false;
       return r;
     }
   } else {
     if (parallel.communicator && parallel.communicator->rank() != 0) {
-      r.root = false;  // one start (or direct/mlsl): rank 0 searches alone, its children spread the Jacobian
+      r.root = false;  // one start: rank 0 searches alone, its children spread the Jacobian
       return r;
     }
     for (std::size_t k = 0; k < pb.starts.size(); ++k) {

@@ -62,6 +62,9 @@ double objective(unsigned n, const double* x, double* gradient, void* data) {
 
 }  // namespace
 
+nlohmann::json exact_json(const std::vector<double>& values) { return exact_array(values); }
+std::vector<double> exact_values(const nlohmann::json& array) { return exact_array_of(array); }
+
 ReplayRows replay_rows(const std::vector<HistoryRow>& replay, int start, std::size_t parameters) {
   ReplayRows rows;
   for (const auto& row : replay) {
@@ -90,18 +93,22 @@ double StartSearch::penalty() const {
   return 10.0 * std::max(static_cast<double>(m_), largest_);
 }
 
-// A new evaluation: the model, its residuals checked (count, finiteness), S or the penalty.
-HistoryRow StartSearch::call_model(const std::vector<double>& values) {
+Evaluation evaluate_model(const Model& model, const std::vector<double>& values) {
+  try {
+    return model(values);
+  } catch (const std::exception& ex) {
+    Evaluation e;
+    e.ok = false;
+    e.message = ex.what();
+    return e;
+  }
+}
+
+// A new evaluation's row: its residuals checked (count, finiteness), S or the penalty.
+HistoryRow StartSearch::row_of(const std::vector<double>& values, Evaluation e) {
   HistoryRow row;
   row.start = outcome_.start;
   row.values = values;
-  Evaluation e;
-  try {
-    e = model_(values);
-  } catch (const std::exception& ex) {
-    e.ok = false;
-    e.message = ex.what();
-  }
   if (e.ok && m_ > 0 && e.residuals.size() != m_) {
     e.ok = false;
     e.message = fmt::format("the model returned {} residuals, earlier {}", e.residuals.size(), m_);
@@ -128,30 +135,64 @@ HistoryRow StartSearch::call_model(const std::vector<double>& values) {
   return row;
 }
 
+// Numbers, accounts, streams (when new) and caches one evaluation's row.
+void StartSearch::add_row(std::vector<double> values, HistoryRow row, bool replayed) {
+  ++outcome_.evaluations;
+  row.eval = number_ ? number_() : outcome_.evaluations;
+  if (replayed) {
+    ++outcome_.replayed;
+    account(row);
+  } else {
+    ++outcome_.model_evaluations;
+    account(row);
+    outcome_.rows.push_back(row);
+    if (stream_) stream_(row);
+  }
+  known_.emplace(std::move(values), std::move(row));
+}
+
 double StartSearch::evaluate(const std::vector<double>& u, std::vector<double>* residuals,
                              bool* ok) {
-  std::vector<double> values = from_unit(parameters_, u);
-  auto it = known_.find(values);
-  if (it == known_.end()) {
-    HistoryRow row;
-    if (auto r = replay_.find(values); r != replay_.end()) {
-      row = r->second;
-      ++outcome_.replayed;
-      row.eval = ++outcome_.evaluations;
-      account(row);
-    } else {
-      row = call_model(values);
-      ++outcome_.model_evaluations;
-      row.eval = ++outcome_.evaluations;
-      account(row);
-      outcome_.rows.push_back(row);
-      if (stream_) stream_(row);
+  const double s = evaluate_batch({u}, [this](const std::vector<std::vector<double>>& values) {
+    std::vector<Evaluation> e;
+    for (const auto& v : values) e.push_back(evaluate_model(model_, v));
+    return e;
+  })[0];
+  const HistoryRow& row = known_.at(from_unit(parameters_, u));
+  if (residuals) *residuals = row.residuals;
+  if (ok) *ok = !row.failed;
+  return s;
+}
+
+std::vector<double> StartSearch::evaluate_batch(const std::vector<std::vector<double>>& points,
+                                                const BatchModel& batch) {
+  std::vector<std::vector<double>> values, fresh;
+  for (const auto& u : points) {
+    values.push_back(from_unit(parameters_, u));
+    const auto& v = values.back();
+    if (!known_.count(v) && !replay_.count(v) &&
+        std::find(fresh.begin(), fresh.end(), v) == fresh.end()) {
+      fresh.push_back(v);
     }
-    it = known_.emplace(std::move(values), std::move(row)).first;
   }
-  if (residuals) *residuals = it->second.residuals;
-  if (ok) *ok = !it->second.failed;
-  return it->second.objective;
+  std::vector<Evaluation> evaluations = batch(fresh);
+  if (evaluations.size() != fresh.size()) {
+    throw std::logic_error("the batch model returned a different number of evaluations");
+  }
+  std::vector<double> objectives;
+  for (auto& v : values) {
+    if (!known_.count(v)) {
+      if (auto r = replay_.find(v); r != replay_.end()) {
+        add_row(v, r->second, true);
+      } else {
+        const auto k =
+            static_cast<std::size_t>(std::find(fresh.begin(), fresh.end(), v) - fresh.begin());
+        add_row(v, row_of(v, std::move(evaluations[k])), false);
+      }
+    }
+    objectives.push_back(known_.at(v).objective);
+  }
+  return objectives;
 }
 
 void StartSearch::account(const HistoryRow& row) {
@@ -175,21 +216,47 @@ std::vector<double> StartSearch::best_unit() const {
   return to_unit(parameters_, outcome_.best_values);
 }
 
-void StartSearch::run(nlopt_opt opt, std::vector<double> x, const std::vector<double>& from) {
-  Callback cb{this, opt, nullptr};
-  nlopt_set_min_objective(opt, objective, &cb);
+void StartSearch::begin_run() {
   run_best_ = std::numeric_limits<double>::infinity();
   run_evaluations_ = 0;
-  double f = 0.0;
-  const nlopt_result res = nlopt_optimize(opt, x.data(), &f);
-  if (cb.error) std::rethrow_exception(cb.error);
+}
+
+void StartSearch::end_run(const std::vector<double>& from, const std::string& stop_reason) {
   StartSummary s;
   s.start = outcome_.start;
   s.from = from_unit(parameters_, from);
   s.objective = run_best_;
   s.evaluations = run_evaluations_;
-  s.stop_reason = nlopt_result_to_string(res);
+  s.stop_reason = stop_reason;
   outcome_.runs.push_back(s);
+}
+
+void StartSearch::run(nlopt_opt opt, std::vector<double> x, const std::vector<double>& from) {
+  Callback cb{this, opt, nullptr};
+  nlopt_set_min_objective(opt, objective, &cb);
+  begin_run();
+  double f = 0.0;
+  const nlopt_result res = nlopt_optimize(opt, x.data(), &f);
+  if (cb.error) std::rethrow_exception(cb.error);
+  end_run(from, nlopt_result_to_string(res));
+}
+
+std::string evaluation_to_json(const Evaluation& e) {
+  const Json j = {{"ok", e.ok}, {"message", e.message}, {"residuals", exact_array(e.residuals)}};
+  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+Evaluation evaluation_from_json(const std::string& text) {
+  try {
+    const Json j = Json::parse(text);
+    Evaluation e;
+    e.ok = j.at("ok").get<bool>();
+    e.message = j.at("message").get<std::string>();
+    e.residuals = exact_array_of(j.at("residuals"));
+    return e;
+  } catch (const nlohmann::json::exception& ex) {
+    throw std::runtime_error(std::string("an evaluation's record does not parse: ") + ex.what());
+  }
 }
 
 std::string outcome_to_json(const StartOutcome& o) {

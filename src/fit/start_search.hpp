@@ -14,6 +14,8 @@
 
 #include <nlopt.h>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <functional>
 #include <limits>
 #include <map>
@@ -46,6 +48,11 @@ using ReplayRows = std::map<std::vector<double>, HistoryRow>;
 [[nodiscard]] ReplayRows replay_rows(const std::vector<HistoryRow>& replay, int start,
                                      std::size_t parameters);
 
+/// The model at each of a batch of parameter vectors (physical values), in order; exceptions
+/// already turned into !ok evaluations.
+using BatchModel =
+    std::function<std::vector<Evaluation>(const std::vector<std::vector<double>>& values)>;
+
 class StartSearch {
  public:
   /// `penalty` > 0: the S of every failed evaluation (the Jacobian's); 0: options.penalty or the
@@ -58,6 +65,19 @@ class StartSearch {
   /// S at u (unit box); `residuals` and `ok` when given. Rethrows what `stream` threw.
   double evaluate(const std::vector<double>& u, std::vector<double>* residuals = nullptr,
                   bool* ok = nullptr);
+  /// S at each of `points` (unit box), in order. The points that are neither known nor replayed
+  /// go to `batch` in one call (duplicates once; the call is made even when none is new, so that
+  /// a collective batch model runs on every rank alike); their rows are then made in the order of
+  /// `points`, as evaluate() would make them one by one.
+  std::vector<double> evaluate_batch(const std::vector<std::vector<double>>& points,
+                                     const BatchModel& batch);
+  /// Rows numbered by `next` (called once per evaluation, replayed ones included) instead of
+  /// 1, 2, … within the start: for a search whose rows interleave with other searches'.
+  void number_rows_by(std::function<int()> next) { number_ = std::move(next); }
+  /// A run not made by NLopt (the global phase): begin_run(), evaluations, end_run() appends its
+  /// StartSummary.
+  void begin_run();
+  void end_run(const std::vector<double>& from, const std::string& stop_reason);
   /// Runs `opt` (configured, without objective) from u = `x`; appends its StartSummary (from:
   /// the physical values of `from`). Rethrows what `stream` threw.
   void run(nlopt_opt opt, std::vector<double> x, const std::vector<double>& from);
@@ -67,7 +87,8 @@ class StartSearch {
 
  private:
   double penalty() const;
-  HistoryRow call_model(const std::vector<double>& values);
+  HistoryRow row_of(const std::vector<double>& values, Evaluation e);
+  void add_row(std::vector<double> values, HistoryRow row, bool replayed);
   void account(const HistoryRow& row);
 
   const Model& model_;
@@ -79,10 +100,22 @@ class StartSearch {
   std::size_t m_ = 0;
   double largest_ = 0.0;
   std::function<void(const HistoryRow&)> stream_;
+  std::function<int()> number_;
   StartOutcome outcome_;
   double run_best_ = std::numeric_limits<double>::infinity();
   int run_evaluations_ = 0;
 };
+
+/// Doubles in JSON that read back bit-identical, ±∞ and NaN included (as the strings "inf",
+/// "-inf", "nan": they are not JSON numbers).
+[[nodiscard]] nlohmann::json exact_json(const std::vector<double>& values);
+[[nodiscard]] std::vector<double> exact_values(const nlohmann::json& array);
+
+/// The model at `values`, an exception turned into !ok with its message.
+[[nodiscard]] Evaluation evaluate_model(const Model& model, const std::vector<double>& values);
+/// An evaluation as one line of JSON, and back (doubles bit-identical; throws std::runtime_error).
+[[nodiscard]] std::string evaluation_to_json(const Evaluation& e);
+[[nodiscard]] Evaluation evaluation_from_json(const std::string& text);
 
 /// The outcome as one line of JSON, and back (throws std::runtime_error when it does not parse).
 [[nodiscard]] std::string outcome_to_json(const StartOutcome& outcome);

@@ -1,6 +1,7 @@
 // The MPI world of a study (study/distributed.hpp).
 #include "jointhb/study/distributed.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -88,6 +89,21 @@ long long Communicator::request([[maybe_unused]] const std::string& payload) con
   return sample;
 #else
   return -1;
+#endif
+}
+
+void Communicator::broadcast([[maybe_unused]] std::string& text) const {
+#ifdef JOINTHB_WITH_MPI
+  if (!initialised_ || size_ < 2) return;
+  unsigned long long bytes = text.size();
+  MPI_Bcast(&bytes, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  text.resize(bytes);
+  // In pieces of at most 2^30 bytes (MPI counts are int).
+  constexpr unsigned long long piece = 1ull << 30;
+  for (unsigned long long at = 0; at < bytes; at += piece) {
+    MPI_Bcast(text.data() + at, static_cast<int>(std::min(piece, bytes - at)), MPI_CHAR, 0,
+              MPI_COMM_WORLD);
+  }
 #endif
 }
 

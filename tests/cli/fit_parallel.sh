@@ -1,6 +1,6 @@
 # jointhb fit with parallel starts: a four-start fit of case 10's synthetic backbone gives the same
 # fit.json (but for its times and the parallel section) and the same fit_history.csv on one and two
-# local worker processes and on two MPI ranks; a history cut short resumes on two workers to the
+# local worker processes and on two MPI ranks, and so do direct and mlsl (their batches spread); a history cut short resumes on two workers to the
 # same result; -j with a single start says that the search itself runs in one process.
 source "$(dirname "$0")/common.inc" "$@"
 PYTHON=/usr/bin/python3
@@ -74,6 +74,25 @@ s = json.load(open(sys.argv[1]))
 assert s["replayed_evaluations"] == 30, s["replayed_evaluations"]
 assert s["model_evaluations"] == s["evaluations"] - 30
 PY
+
+# The global searches spread their batches (docs/identification.md §2): direct and mlsl give the
+# same fit on one and two workers and on two MPI ranks, without a note.
+for algorithm in direct mlsl; do
+  write_case "$WORK/$algorithm.yaml" "$PARAMETERS" "  algorithm: $algorithm
+  max_evaluations: 60"
+  run_capture fit "$WORK/$algorithm.yaml" -o "$WORK/$algorithm-one" -j 1
+  [ "$STATUS" -eq 0 ] || fail "$algorithm -j 1 exited $STATUS: $(cat "$ERR")"
+  run_capture fit "$WORK/$algorithm.yaml" -o "$WORK/$algorithm-two" -j 2
+  [ "$STATUS" -eq 0 ] || fail "$algorithm -j 2 exited $STATUS: $(cat "$ERR")"
+  grep -q "note:" "$ERR" && fail "$algorithm -j 2 printed a note: $(cat "$ERR")"
+  same_fit "$WORK/$algorithm-one" "$WORK/$algorithm-two"
+  if command -v mpirun >/dev/null; then
+    mpirun --allow-run-as-root --oversubscribe -np 2 "$JOINTHB" fit "$WORK/$algorithm.yaml" \
+      -o "$WORK/$algorithm-mpi" >"$WORK/mpi.out" 2>"$WORK/mpi.err"
+    [ $? -eq 0 ] || fail "$algorithm: mpirun -np 2 fit failed: $(tail -3 "$WORK/mpi.err")"
+    same_fit "$WORK/$algorithm-one" "$WORK/$algorithm-mpi"
+  fi
+done
 
 # One start: -j 2 cannot spread the search, and says so.
 write_case "$WORK/single.yaml" "$PARAMETERS"

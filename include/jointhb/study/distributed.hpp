@@ -42,6 +42,9 @@ class Communicator {
   void assign(int rank, long long sample) const;
   /// Other ranks: sends `payload` to rank 0 and waits for the next sample index (−1: done).
   [[nodiscard]] long long request(const std::string& payload) const;
+  /// Every rank: `text` becomes rank 0's (a collective call: every rank must make it, in the
+  /// same order). Used by the fit's global searches, which every rank follows (fit/fitter.hpp).
+  void broadcast(std::string& text) const;
   /// Aborts every rank (an error on one rank that the others would wait for forever).
   [[noreturn]] void abort(int code) const;
 
