@@ -80,8 +80,11 @@ const char* to_string(IterativeSettings::Preconditioner preconditioner) {
 std::string SparseCholeskyStatistics::brief() const {
   if (factor_entries == 0 && (iterations > 0 || solved_columns > 0 || ordering.rfind("CG", 0) == 0)) {
     // The cg backend: no factor; its setup and Krylov iterations instead.
-    return fmt::format("n={}, nnz(A)={}, {}, setup {:.3f} s, {} iterations for {} right-hand sides",
-                       rows, matrix_nonzeros, ordering, factorize_seconds, iterations, solved_columns);
+    // (SLEPc's inner solves count their iterations but are no right-hand sides of ours.)
+    const std::string over = solved_columns > 0 ? fmt::format(" for {} right-hand sides", solved_columns)
+                                                : std::string(" (eigensolver inner solves)");
+    return fmt::format("n={}, nnz(A)={}, {}, setup {:.3f} s, {} iterations{}", rows, matrix_nonzeros,
+                       ordering, factorize_seconds, iterations, over);
   }
   const double fill =
       matrix_nonzeros > 0 ? factor_nonzeros / static_cast<double>(matrix_nonzeros) : 0.0;

@@ -407,6 +407,13 @@ class GlobalRun {
     return root_ ? s : detail::exact_values(Json::parse(text));
   }
 
+  /// Rank 0's `value` on every rank.
+  bool agree(bool value) const {
+    std::string text = value ? "1" : "0";
+    broadcast(text);
+    return text == "1";
+  }
+
   /// Local searches (starts 1, 2, … in the order made) from `starts`, on the workers.
   std::vector<detail::LocalMinimum> local(const Points& starts, int budget) {
     const int first = next_start_;
@@ -537,14 +544,14 @@ bool run_global(const Problem& pb, const ParallelOptions& parallel, const Histor
     g = detail::mlsl(n, objective,
                      [&](const Points& starts, int budget) { return run.local(starts, budget); }, m);
   }
-  if (!run.root()) return false;
-  search.end_run(pb.starts[0], g.stop_reason);
-  if (o.algorithm == "direct" && search.outcome().ok) {  // the polish
-    const auto un = static_cast<unsigned>(n);
-    Optimizer local(local_id(o.local_algorithm), un);
-    configure(local.opt, un, o, o.max_evaluations);
-    search.run(local.opt, search.best_unit(), pb.starts[0]);
+  if (run.root()) search.end_run(pb.starts[0], g.stop_reason);
+  // DIRECT's polish: a local search from the best point (start 1), on a worker like MLSL's, so
+  // that rank 0's process never computes while it has children (a process that ran OpenMP
+  // regions and then forks leaves libgomp deadlocked in the child: CHOLMOD hung so).
+  if (o.algorithm == "direct" && run.agree(search.outcome().ok)) {
+    (void)run.local({g.best}, o.max_evaluations);
   }
+  if (!run.root()) return false;
   gather.add(search.outcome(), true);
   for (const auto& l : run.local_outcomes()) gather.add(l, true);
   return true;
@@ -645,16 +652,13 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
       r.root = false;
       return r;
     }
-  } else if (pb.starts.size() > 1 && (parallel.jobs > 1 || ranks)) {
+  } else if (parallel.jobs > 1 || ranks) {  // even one start: rank 0's process computes nothing
+    // while it has children (see run_global)
     if (!farm_starts(pb, parallel, gather, r)) {
       r.root = false;
       return r;
     }
   } else {
-    if (parallel.communicator && parallel.communicator->rank() != 0) {
-      r.root = false;  // one start: rank 0 searches alone, its children spread the Jacobian
-      return r;
-    }
     for (std::size_t k = 0; k < pb.starts.size(); ++k) {
       gather.add(run_start(pb, k, numbered(sink, gather.offset())), true);
     }

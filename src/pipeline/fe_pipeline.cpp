@@ -56,9 +56,16 @@ std::optional<modal::ModalOptions> FePipeline::modal_options() const {
   if (o) {
     o->linear_solver = analysis_.solvers.linear;
     o->eigen_solver = analysis_.solvers.eigen;
-    o->iterative = fe::with_rigid_body_modes(
-        analysis_.solvers.iterative, o->linear_solver, model_.mesh,
-        fe::DofMap::from_fixed_nodes(model_.mesh.num_nodes(), model_.constraints));
+    o->iterative = analysis_.solvers.iterative;
+    if (o->linear_solver == fe::LinearSolver::cg && o->iterative.near_null_space.size() == 0) {
+      // GAMG's near-null space, the rigid-body motions on the free DOFs: made once (the mesh and
+      // the constraints never change; parameters set later touch laws, bolts and damping).
+      if (!rigid_body_modes_) {
+        rigid_body_modes_ = fe::rigid_body_modes(
+            model_.mesh, fe::DofMap::from_fixed_nodes(model_.mesh.num_nodes(), model_.constraints));
+      }
+      o->iterative.near_null_space = *rigid_body_modes_;
+    }
   }
   return o;
 }

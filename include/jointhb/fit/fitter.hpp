@@ -18,8 +18,9 @@
 // they are counted. Everything is deterministic: the starts come from a seeded Latin hypercube, and
 // each start's search sees only its own evaluations (its own cache, penalty and replayed rows), so
 // the starts can run in any order, in parallel on worker processes and MPI ranks
-// (ParallelOptions), and give the same result bit for bit. The global phase of direct/mlsl calls
-// the objective in sequence (NLopt) and runs in one process.
+// (ParallelOptions), and give the same result bit for bit. The global searches direct and mlsl
+// evaluate their candidates in batches (src/fit/global_search.hpp) on the same workers, every rank
+// following the search: the same result bit for bit too.
 //
 // Resume: every evaluation is a HistoryRow (fit/history.hpp writes and reads them as CSV). Given
 // the rows of an interrupted run, fit() answers evaluations of a start at parameters found in that
@@ -49,16 +50,17 @@ struct Evaluation {
 using Model = std::function<Evaluation(const std::vector<double>& values)>;
 
 struct FitOptions {
-  /// bobyqa (local, default), neldermead, cobyla (local); direct (global DIRECT-L, then a local
-  /// polish by local_algorithm), mlsl (global multi-level single linkage with Sobol points and
-  /// local_algorithm).
+  /// bobyqa (local, default), neldermead, cobyla (local); direct (global DIRECT-L in batches, then
+  /// a local polish by local_algorithm), mlsl (global multi-level single linkage with shifted
+  /// Sobol points and local_algorithm searches, in batches). The local ones are NLopt's.
   std::string algorithm = "bobyqa";
   std::string local_algorithm = "bobyqa";  ///< bobyqa or neldermead (direct, mlsl)
   double xtol = 1e-6;         ///< (0, 0.1]: stop when a step moves every u by less (unit box)
   double ftol_rel = 1e-10;    ///< [0, 0.1]: stop when S changes by less, relatively
-  int max_evaluations = 400;  ///< ≥ 1: per start (the global phase of direct/mlsl has its own)
+  int max_evaluations = 400;  ///< ≥ 1: per start (direct: global phase, again the polish; mlsl:
+                              ///< samples and local searches together)
   int starts = 1;             ///< ≥ 1: the given start, then Latin-hypercube points
-  unsigned seed = 1;          ///< Latin hypercube and MLSL
+  unsigned seed = 1;          ///< Latin hypercube and MLSL's shift of the Sobol points
   double penalty = 0.0;  ///< ≥ 0: S of a failed evaluation; 0: 10 max(m, largest S of the same
                          ///< start so far), 1e12 before that start's first successful evaluation
   double initial_step = 0.1;    ///< (0, 0.5]: first step of the local searches (unit box)
@@ -69,7 +71,7 @@ struct FitOptions {
 /// One evaluation, as recorded in the history.
 struct HistoryRow {
   int eval = 0;                ///< 1-based sequence number
-  int start = 0;               ///< index of the start; -1 for the Jacobian at the optimum
+  int start = 0;  ///< index of the start (mlsl: 0 the sample, 1, 2, … its local searches); -1 the Jacobian
   double objective = 0.0;      ///< S, or the penalty when failed
   std::vector<double> values;  ///< physical parameter values
   bool failed = false;

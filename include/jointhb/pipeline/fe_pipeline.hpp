@@ -228,6 +228,7 @@ class FePipeline {
   std::optional<FeStageKeys> keys_;                   ///< reset by every change of the model
   std::optional<preload::PreloadModel> structure_;
   std::optional<fe::DofMap> dofs_;
+  mutable std::optional<Eigen::MatrixXd> rigid_body_modes_;  ///< modal_options(), CG path only
   std::optional<preload::PreloadResult> preload_;
   std::optional<modal::ModalResult> modes_;
   std::optional<InterfaceStage> interface_;
