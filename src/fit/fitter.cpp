@@ -14,10 +14,8 @@
 #include <set>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
 #include "../study/task_farm.hpp"
-#include "global_search.hpp"
+#include "global_fit.hpp"
 #include "jointhb/study/distributed.hpp"
 #include "start_search.hpp"
 
@@ -89,32 +87,6 @@ std::vector<std::vector<double>> latin_hypercube(int count, int dimensions, unsi
 namespace {
 
 using Clock = std::chrono::steady_clock;
-nlopt_algorithm local_id(const std::string& name) {
-  if (name == "neldermead") return NLOPT_LN_NELDERMEAD;
-  if (name == "cobyla") return NLOPT_LN_COBYLA;
-  return NLOPT_LN_BOBYQA;
-}
-
-struct Optimizer {
-  nlopt_opt opt;
-  explicit Optimizer(nlopt_algorithm a, unsigned n) : opt(nlopt_create(a, n)) {
-    if (!opt) throw std::runtime_error("NLopt could not create the optimizer");
-  }
-  ~Optimizer() { nlopt_destroy(opt); }
-  Optimizer(const Optimizer&) = delete;
-  Optimizer& operator=(const Optimizer&) = delete;
-};
-
-void configure(nlopt_opt opt, unsigned n, const FitOptions& o, int max_evaluations) {
-  const std::vector<double> lo(n, 0.0), hi(n, 1.0), step(n, o.initial_step);
-  nlopt_set_lower_bounds(opt, lo.data());
-  nlopt_set_upper_bounds(opt, hi.data());
-  nlopt_set_xtol_abs1(opt, o.xtol);
-  nlopt_set_ftol_rel(opt, o.ftol_rel);
-  nlopt_set_maxeval(opt, max_evaluations);
-  nlopt_set_initial_step(opt, step.data());
-}
-
 std::string describe(const std::vector<FitParameter>& parameters, const Eigen::VectorXd& v) {
   std::string s;
   for (Eigen::Index i = 0; i < v.size(); ++i) {
@@ -287,8 +259,8 @@ StartOutcome run_start(const Problem& pb, std::size_t k,
   StartSearch search(pb.model, pb.parameters, o, start,
                      detail::replay_rows(pb.replay, start, pb.parameters.size()), 0.0, 0,
                      std::move(stream));
-  Optimizer local(local_id(o.algorithm), n);
-  configure(local.opt, n, o, o.max_evaluations);
+  detail::Optimizer local(detail::local_algorithm_id(o.algorithm), n);
+  detail::configure(local.opt, n, o, o.max_evaluations);
   search.run(local.opt, pb.starts[k], pb.starts[k]);
   return search.outcome();
 }
@@ -353,208 +325,6 @@ StartOutcome failed_start(const Problem& pb, std::size_t k, const std::string& w
   o.runs.push_back(s);
   r.warnings.push_back(fmt::format("start {}: {}; the start was not searched", k, why));
   return o;
-}
-
-// ---- The global searches (direct, mlsl; global_search.hpp) -------------------------------------
-// Every rank follows the same search: rank 0 evaluates each batch on the workers (its children and
-// the other ranks, study::farm_tasks) and sends what it found to every rank (Communicator::
-// broadcast), so that every rank knows the next batch and serves it. Rank 0 alone keeps start 0's
-// StartSearch (its replayed rows, penalty and history) and the local searches' outcomes.
-
-using Points = std::vector<std::vector<double>>;
-using Json = nlohmann::json;
-
-class GlobalRun {
- public:
-  GlobalRun(const Problem& pb, const ParallelOptions& parallel, const HistorySink& sink)
-      : pb_(pb),
-        jobs_(parallel.jobs),
-        communicator_(parallel.communicator && parallel.communicator->size() > 1
-                          ? parallel.communicator
-                          : nullptr),
-        root_(!parallel.communicator || parallel.communicator->rank() == 0),
-        search_(pb.model, pb.parameters, pb.options, 0,
-                detail::replay_rows(pb.replay, 0, pb.parameters.size()), 0.0, 0,
-                root_ ? std::function<void(const HistoryRow&)>(sink) : nullptr),
-        sink_(sink) {
-    search_.number_rows_by([this] { return ++rows_; });
-  }
-
-  [[nodiscard]] bool root() const { return root_; }
-  [[nodiscard]] StartSearch& start_search() { return search_; }
-  [[nodiscard]] const std::vector<StartOutcome>& local_outcomes() const { return locals_; }
-
-  /// S at each point: start 0's evaluations, the new ones on the workers.
-  std::vector<double> objective(const Points& points) {
-    std::vector<double> s;
-    if (root_) {
-      s = search_.evaluate_batch(points, [this](const Points& values) {
-        Json list_json = Json::array();
-        for (const auto& v : values) list_json.push_back(detail::exact_json(v));
-        std::string list = list_json.dump();
-        broadcast(list);
-        return evaluations(values);
-      });
-    } else {
-      std::string list;
-      broadcast(list);
-      Points values;
-      for (const auto& v : Json::parse(list)) values.push_back(detail::exact_values(v));
-      (void)evaluations(values);
-    }
-    std::string text = root_ ? detail::exact_json(s).dump() : "";
-    broadcast(text);
-    return root_ ? s : detail::exact_values(Json::parse(text));
-  }
-
-  /// Rank 0's `value` on every rank.
-  bool agree(bool value) const {
-    std::string text = value ? "1" : "0";
-    broadcast(text);
-    return text == "1";
-  }
-
-  /// Local searches (starts 1, 2, … in the order made) from `starts`, on the workers.
-  std::vector<detail::LocalMinimum> local(const Points& starts, int budget) {
-    const int first = next_start_;
-    next_start_ += static_cast<int>(starts.size());
-    const auto records = run_tasks(starts.size(), [&](std::size_t k) {
-      return detail::outcome_to_json(local_search(first + static_cast<int>(k), starts[k], budget));
-    });
-    std::vector<detail::LocalMinimum> minima;
-    if (root_) {
-      for (std::size_t k = 0; k < starts.size(); ++k) {
-        StartOutcome o;
-        if (records[k].failure.empty()) {
-          o = detail::outcome_from_json(records[k].record);
-        } else {
-          o.start = first + static_cast<int>(k);
-          o.runs.push_back({o.start, from_unit(pb_.parameters, starts[k]),
-                            std::numeric_limits<double>::infinity(), 0,
-                            "worker failed: " + records[k].failure});
-          o.last_failure = records[k].failure;
-        }
-        for (HistoryRow row : o.rows) {  // numbered after every row before this search's
-          row.eval += rows_;
-          if (sink_) sink_(row);
-        }
-        rows_ += o.evaluations;
-        minima.push_back({o.ok ? to_unit(pb_.parameters, o.best_values) : starts[k],
-                          o.ok ? o.best_objective : std::numeric_limits<double>::infinity(),
-                          o.evaluations});
-        locals_.push_back(std::move(o));
-      }
-    }
-    Json all = Json::array();
-    for (const auto& m : minima) {
-      all.push_back({detail::exact_json(m.u), detail::exact_json({m.objective}), m.evaluations});
-    }
-    std::string text = root_ ? all.dump() : "";
-    broadcast(text);
-    if (!root_) {
-      for (const auto& m : Json::parse(text)) {
-        minima.push_back({detail::exact_values(m.at(0)), detail::exact_values(m.at(1)).at(0),
-                          m.at(2).get<int>()});
-      }
-    }
-    return minima;
-  }
-
- private:
-  struct Record {
-    std::string record, failure;
-  };
-
-  void broadcast(std::string& text) const {
-    if (communicator_) communicator_->broadcast(text);
-  }
-
-  // Tasks 0 … count−1 on the workers (in this process when it is alone), records in task order.
-  std::vector<Record> run_tasks(std::size_t count, const study::TaskRun& run) const {
-    std::vector<Record> records(count);
-    if (count == 0) return records;
-    if (jobs_ <= 1 && !communicator_) {
-      for (std::size_t k = 0; k < count; ++k) records[k].record = run(k);
-      return records;
-    }
-    study::farm_tasks(
-        count, run,
-        [&](study::TaskDone d) {
-          if (d.task < count) records[d.task] = {d.record, d.failure};
-        },
-        {std::min<int>(jobs_, static_cast<int>(count)), communicator_});
-    return records;
-  }
-
-  std::vector<Evaluation> evaluations(const Points& values) const {
-    const auto records = run_tasks(values.size(), [&](std::size_t k) {
-      return detail::evaluation_to_json(detail::evaluate_model(pb_.model, values[k]));
-    });
-    std::vector<Evaluation> e;
-    for (const auto& r : records) {
-      if (!r.failure.empty() || r.record.empty()) {
-        e.push_back({false, "worker failed: " + (r.failure.empty() ? std::string("no record") : r.failure), {}});
-      } else {
-        e.push_back(detail::evaluation_from_json(r.record));
-      }
-    }
-    return e;
-  }
-
-  StartOutcome local_search(int start, const std::vector<double>& u, int budget) const {
-    const FitOptions& o = pb_.options;
-    const auto n = static_cast<unsigned>(pb_.parameters.size());
-    StartSearch search(pb_.model, pb_.parameters, o, start,
-                       detail::replay_rows(pb_.replay, start, pb_.parameters.size()));
-    Optimizer opt(local_id(o.local_algorithm), n);
-    configure(opt.opt, n, o, budget);
-    search.run(opt.opt, u, u);
-    return search.outcome();
-  }
-
-  const Problem& pb_;
-  int jobs_;
-  const study::Communicator* communicator_;
-  bool root_;
-  StartSearch search_;
-  HistorySink sink_;
-  int rows_ = 0;         ///< rows numbered so far (replayed ones included)
-  int next_start_ = 1;   ///< the next local search's start index
-  std::vector<StartOutcome> locals_;
-};
-
-// direct or mlsl from start 0 (docs/identification.md §2): the global phase, then (direct) the
-// local polish from its best point on rank 0; outcomes gathered in the order start 0, then the
-// local searches. False on ranks > 0.
-bool run_global(const Problem& pb, const ParallelOptions& parallel, const HistorySink& sink,
-                Gather& gather) {
-  const FitOptions& o = pb.options;
-  const int n = static_cast<int>(pb.parameters.size());
-  GlobalRun run(pb, parallel, sink);
-  const detail::BatchObjective objective = [&](const Points& p) { return run.objective(p); };
-  StartSearch& search = run.start_search();
-  search.begin_run();
-  detail::GlobalOutcome g;
-  if (o.algorithm == "direct") {
-    g = detail::direct_l(n, objective, o.max_evaluations, o.xtol);
-  } else {
-    detail::MlslOptions m;
-    m.max_evaluations = o.max_evaluations;
-    m.seed = o.seed;
-    g = detail::mlsl(n, objective,
-                     [&](const Points& starts, int budget) { return run.local(starts, budget); }, m);
-  }
-  if (run.root()) search.end_run(pb.starts[0], g.stop_reason);
-  // DIRECT's polish: a local search from the best point (start 1), on a worker like MLSL's, so
-  // that rank 0's process never computes while it has children (a process that ran OpenMP
-  // regions and then forks leaves libgomp deadlocked in the child: CHOLMOD hung so).
-  if (o.algorithm == "direct" && run.agree(search.outcome().ok)) {
-    (void)run.local({g.best}, o.max_evaluations);
-  }
-  if (!run.root()) return false;
-  gather.add(search.outcome(), true);
-  for (const auto& l : run.local_outcomes()) gather.add(l, true);
-  return true;
 }
 
 // The starts on the workers of `parallel`; their outcomes gathered in start order as they come
@@ -648,10 +418,13 @@ FitResult fit(const Model& model, const std::vector<FitParameter>& parameters,
   FitResult r;
   Gather gather(r, sink);
   if (global) {
-    if (!run_global(pb, parallel, sink, gather)) {
+    const auto outcomes = detail::run_global(
+        {model, parameters, options, replay, pb.starts[0]}, parallel, sink);
+    if (!outcomes) {
       r.root = false;
       return r;
     }
+    for (const auto& o : *outcomes) gather.add(o, true);
   } else if (parallel.jobs > 1 || ranks) {  // even one start: rank 0's process computes nothing
     // while it has children (see run_global)
     if (!farm_starts(pb, parallel, gather, r)) {

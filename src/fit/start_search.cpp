@@ -65,6 +65,26 @@ double objective(unsigned n, const double* x, double* gradient, void* data) {
 nlohmann::json exact_json(const std::vector<double>& values) { return exact_array(values); }
 std::vector<double> exact_values(const nlohmann::json& array) { return exact_array_of(array); }
 
+nlopt_algorithm local_algorithm_id(const std::string& name) {
+  if (name == "neldermead") return NLOPT_LN_NELDERMEAD;
+  if (name == "cobyla") return NLOPT_LN_COBYLA;
+  return NLOPT_LN_BOBYQA;
+}
+
+Optimizer::Optimizer(nlopt_algorithm a, unsigned n) : opt(nlopt_create(a, n)) {
+  if (!opt) throw std::runtime_error("NLopt could not create the optimizer");
+}
+
+void configure(nlopt_opt opt, unsigned n, const FitOptions& o, int max_evaluations) {
+  const std::vector<double> lo(n, 0.0), hi(n, 1.0), step(n, o.initial_step);
+  nlopt_set_lower_bounds(opt, lo.data());
+  nlopt_set_upper_bounds(opt, hi.data());
+  nlopt_set_xtol_abs1(opt, o.xtol);
+  nlopt_set_ftol_rel(opt, o.ftol_rel);
+  nlopt_set_maxeval(opt, max_evaluations);
+  nlopt_set_initial_step(opt, step.data());
+}
+
 ReplayRows replay_rows(const std::vector<HistoryRow>& replay, int start, std::size_t parameters) {
   ReplayRows rows;
   for (const auto& row : replay) {

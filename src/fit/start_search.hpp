@@ -43,6 +43,21 @@ struct StartOutcome {
   std::string worker_failure;  ///< the worker died during this start (set by the coordinator)
 };
 
+/// NLopt's local algorithm of that name (bobyqa, neldermead, cobyla; bobyqa otherwise).
+[[nodiscard]] nlopt_algorithm local_algorithm_id(const std::string& name);
+
+/// An NLopt optimizer, destroyed with its scope.
+struct Optimizer {
+  nlopt_opt opt;
+  explicit Optimizer(nlopt_algorithm a, unsigned n);
+  ~Optimizer() { nlopt_destroy(opt); }
+  Optimizer(const Optimizer&) = delete;
+  Optimizer& operator=(const Optimizer&) = delete;
+};
+
+/// The unit box, xtol, ftol_rel, initial step of `o`, and the evaluation budget.
+void configure(nlopt_opt opt, unsigned n, const FitOptions& o, int max_evaluations);
+
 /// The rows of an earlier run that a start may replay: those of start `start`, by values.
 using ReplayRows = std::map<std::vector<double>, HistoryRow>;
 [[nodiscard]] ReplayRows replay_rows(const std::vector<HistoryRow>& replay, int start,

@@ -41,10 +41,10 @@ bool read_all(int fd, void* data, std::size_t size) {
 }
 
 // The child: samples from `in` until −1 or EOF, records to `out`. Never returns.
-[[noreturn]] void child_main(int in, int out, const WorkerProcesses::Setup& setup) {
+[[noreturn]] void child_main(int in, int out, const WorkerProcesses::Setup& setup, int threads) {
   int code = 0;
   try {
-    omp_set_num_threads(1);
+    omp_set_num_threads(threads);
     const WorkerProcesses::Evaluate evaluate = setup();
     long long sample = -1;
     while (read_all(in, &sample, sizeof sample) && sample >= 0) {
@@ -62,6 +62,9 @@ bool read_all(int fd, void* data, std::size_t size) {
 
 WorkerProcesses::WorkerProcesses(int count, const Setup& setup) {
   ::signal(SIGPIPE, SIG_IGN);  // a write to a dead child returns EPIPE instead of killing us
+  // Several children share the cores: one thread each. A lone child (one task, e.g. a fit's
+  // polish) takes this process's threads (results do not depend on the thread count).
+  const int threads = count > 1 ? 1 : omp_get_max_threads();
   for (int k = 0; k < count; ++k) {
     int down[2], up[2];
     if (::pipe(down) != 0 || ::pipe(up) != 0) throw std::runtime_error(std::string("study: pipe: ") + std::strerror(errno));
@@ -74,7 +77,7 @@ WorkerProcesses::WorkerProcesses(int count, const Setup& setup) {
         ::close(other.to_child);
         ::close(other.from_child);
       }
-      child_main(down[0], up[1], setup);
+      child_main(down[0], up[1], setup, threads);
     }
     ::close(down[0]);
     ::close(up[1]);

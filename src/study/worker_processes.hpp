@@ -25,7 +25,8 @@ class WorkerProcesses {
   /// Made in the child before its first sample (e.g. the model); may be empty.
   using Setup = std::function<Evaluate()>;
 
-  /// Forks `count` children. Throws std::runtime_error when fork or pipe fail.
+  /// Forks `count` children (OpenMP: one thread each, or this process's thread count when
+  /// count is 1). Throws std::runtime_error when fork or pipe fail.
   WorkerProcesses(int count, const Setup& setup);
   ~WorkerProcesses();  ///< tells the children to exit and reaps them
   WorkerProcesses(const WorkerProcesses&) = delete;
