@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 
 namespace jointhb::study {
 namespace {
@@ -41,20 +42,31 @@ bool read_all(int fd, void* data, std::size_t size) {
 }
 
 // The child: samples from `in` until −1 or EOF, records to `out`. Never returns.
+//
+// The work runs on a new thread of the child, not on the thread that forked: libgomp keeps its
+// thread pool per master thread, and after fork() the forking thread's pool names threads that
+// do not exist in the child — its next parallel region of more than one thread waits for them
+// forever (CHOLMOD's supernodal factorisation asks for CHOLMOD_OMP_NUM_THREADS = 4 threads, so
+// omp_set_num_threads cannot prevent it). A new thread starts with no pool and gets a fresh one.
+// Python's run_study(jobs=2) after a preload in the same interpreter hung so (fit and study from
+// the program never compute in the parent before forking).
 [[noreturn]] void child_main(int in, int out, const WorkerProcesses::Setup& setup, int threads) {
   int code = 0;
-  try {
-    omp_set_num_threads(threads);
-    const WorkerProcesses::Evaluate evaluate = setup();
-    long long sample = -1;
-    while (read_all(in, &sample, sizeof sample) && sample >= 0) {
-      const std::string record = evaluate(static_cast<std::size_t>(sample));
-      const std::uint64_t size = record.size();
-      if (!write_all(out, &size, sizeof size) || !write_all(out, record.data(), record.size())) break;
+  std::thread worker([&] {
+    try {
+      omp_set_num_threads(threads);
+      const WorkerProcesses::Evaluate evaluate = setup();
+      long long sample = -1;
+      while (read_all(in, &sample, sizeof sample) && sample >= 0) {
+        const std::string record = evaluate(static_cast<std::size_t>(sample));
+        const std::uint64_t size = record.size();
+        if (!write_all(out, &size, sizeof size) || !write_all(out, record.data(), record.size())) break;
+      }
+    } catch (...) {
+      code = 1;  // the parent sees the pipe close and fails the sample
     }
-  } catch (...) {
-    code = 1;  // the parent sees the pipe close and fails the sample
-  }
+  });
+  worker.join();
   ::_exit(code);  // no atexit handlers, no destructors of the parent's objects
 }
 

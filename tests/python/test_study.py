@@ -71,3 +71,28 @@ def test_bad_input_raises(tmp_path):
         jointhb.run_study(plain, tmp_path / "plain")
     with pytest.raises(ValueError, match="jobs"):
         jointhb.run_study(bad, tmp_path / "bad", jobs=0)
+
+
+def test_workers_forked_after_a_computation_in_the_interpreter_finish(tmp_path):
+    # A preload in the interpreter (CHOLMOD's OpenMP regions) and then run_study(jobs=2): the
+    # workers' own factorisations once waited forever in libgomp (src/study/worker_processes.cpp).
+    # In a subprocess, so that a regression fails on the timeout instead of hanging the suite.
+    text = (SOURCE / "cases" / "16-study-lap" / "case.yaml").read_text()
+    text = text[: text.index("study:")] + (
+        "study:\n  sampling: list\n  parameters:\n"
+        "    - {name: interfaces.lap.mu, values: [0.2, 0.3]}\n  amplitudes: [1.0e-7, 1.0e-6]\n")
+    case = tmp_path / "small.yaml"
+    case.write_text(text)
+    script = (
+        "import jointhb, sys\n"
+        f"p = jointhb.Pipeline(jointhb.load_case({str(case)!r}))\n"
+        "assert p.preload()['ok']\n"
+        f"s = jointhb.run_study({str(case)!r}, {str(tmp_path / 'out')!r}, jobs=2)\n"
+        "print(s['counts'])\n")
+    try:
+        done = subprocess.run(["/usr/bin/python3", "-c", script], capture_output=True, text=True,
+                              timeout=180, env=dict(os.environ))
+    except subprocess.TimeoutExpired:
+        pytest.fail("run_study(jobs=2) after a preload in the interpreter did not finish in 180 s")
+    assert done.returncode == 0, done.stderr
+    assert "'computed': 2" in done.stdout, done.stdout
