@@ -232,10 +232,6 @@ void StartSearch::account(const HistoryRow& row) {
   }
 }
 
-std::vector<double> StartSearch::best_unit() const {
-  return to_unit(parameters_, outcome_.best_values);
-}
-
 void StartSearch::begin_run() {
   run_best_ = std::numeric_limits<double>::infinity();
   run_evaluations_ = 0;

@@ -98,7 +98,6 @@ class StartSearch {
   void run(nlopt_opt opt, std::vector<double> x, const std::vector<double>& from);
 
   [[nodiscard]] const StartOutcome& outcome() const { return outcome_; }
-  [[nodiscard]] std::vector<double> best_unit() const;
 
  private:
   double penalty() const;
