@@ -78,6 +78,11 @@ constexpr double kCornerMinAlignment = 0.1;
 // |y_f − y_k| from the point before y_k.
 constexpr double kRetraceFraction = 0.5;
 constexpr std::size_t kRetraceWindow = 64;
+// Crossing a corner: the step from y_k along the tangent at a point past the corner (trace()) is
+// tried at steps at or below kCornerStepFactor · max_step; its landing is accepted within this many
+// steps of its predictor (the branch is smooth past the corner) and when it does not go back along
+// the branch: (y − y_k)·τ_k ≥ −kCornerMinAlignment |y − y_k| (at most 96° from the old direction).
+constexpr double kCrossingMoveFactor = 1.0;
 // Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
 constexpr double kNaturalStepFactor = 1e-3;
@@ -207,6 +212,7 @@ class Tracer {
         out.failure =
             fmt::format("no convergence in {} iterations (residual {:.3g}, smallest {:.3g})",
                         max_iterations, sample.norm, best);
+        out.sample = std::move(sample);  // the last iterate (a point past a corner: trace())
         return out;
       }
       if (safeguard == Safeguard::growth_test && it > 0) {
@@ -747,6 +753,40 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     }
     return worst;
   };
+  // Crossing a corner of the branch (docs/continuation.md, "Crossing a corner"). Where the branch
+  // turns by ~90° (the stuck response of an undamped friction FRF reaching the slip amplitude:
+  // the amplitude stops at X_s and the phase turns), the hyperplane τ_kᵀ(y − y_k) = s is nearly
+  // parallel to the branch beyond the corner and cuts it far from the predictor or not at all,
+  // however short the step. The tangent τ_f at a point f past the corner — a landing the checks
+  // refused, or the last iterate of a corrector that did not converge — oriented along f − y_k,
+  // gives the hyperplane τ_fᵀ(y − y_k) = s that cuts the branch beyond the corner about s from y_k.
+  struct Crossing {
+    Correction correction;
+    VectorXd tangent;
+  };
+  const auto cross_corner = [&](const Sample& far, double step) -> std::optional<Crossing> {
+    if (far.y.size() != n + 1 || (far.jacobian.size() == 0 && !far.product)) return std::nullopt;
+    const VectorXd jump = far.y - y;
+    if (!(jump.norm() > 0.0) || !jump.allFinite()) return std::nullopt;
+    std::string ignored;
+    const std::optional<VectorXd> t_far = tracer.tangent(far, jump / jump.norm(), ignored);
+    if (!t_far || t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
+    Constraint plane;
+    plane.c = *t_far;
+    plane.d = t_far->dot(y) + step;
+    const VectorXd predicted = y + step * *t_far;
+    Correction k = tracer.correct(predicted, plane, options.max_corrector_iterations,
+                                  Tracer::Safeguard::line_search);
+    if (!k.converged) return std::nullopt;
+    const VectorXd moved = k.sample.y - y;
+    if ((k.sample.y - predicted).norm() > kCrossingMoveFactor * step ||
+        moved.dot(tau) < -kCornerMinAlignment * moved.norm() || retraces(k.sample.y) ||
+        beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
+      return std::nullopt;
+    std::optional<VectorXd> t = tracer.tangent(k.sample, *t_far, ignored);
+    if (!t || t->dot(*t_far) < kMaxTurnCosine) return std::nullopt;
+    return Crossing{std::move(k), std::move(*t)};
+  };
   double observed_change = 0.0;
   bool rejected_since_accept = false;
   std::string last_failure;
@@ -835,6 +875,17 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       failure = fmt::format(
           "the tangent turned by {:.0f}° in one step",
           std::acos(std::clamp(tau.dot(*next_tau), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+    }
+
+    // A short step that failed at a corner: cross it along the tangent beyond it.
+    if (!failure.empty() && corner_step && c.sample.y.size() == n + 1) {
+      if (std::optional<Crossing> crossed = cross_corner(c.sample, s)) {
+        c = std::move(crossed->correction);
+        next_tau = std::move(crossed->tangent);
+        failure.clear();
+        on_bound = false;
+        ++result.corner_crossings;
+      }
     }
 
     // Natural-parameter fallback at a corner of the branch (e.g. the onset of slip of a Jenkins

@@ -106,81 +106,70 @@ constexpr double kReferenceBound = 3e-3;    // time integration's own error esti
 // friction, struct Sample) is at least this.
 constexpr double kMinEquivalentDamping = 3e-3;
 
-// Scenarios that physics says should complete but that stop with the library at this commit
-// (620b781): kept in the corpus with expect_complete = false, name → stop reason, each with the
+// Scenarios that physics says should complete but that stop with the library (messages of the
+// full run at stop 45): kept in the corpus with expect_complete = false, name → stop reason, each with the
 // stop message of the full run (README_light_damping.md, "Curves that do not complete").
 const std::map<std::string, std::string>& known_stops() {
   static const std::map<std::string, std::string> stops = {
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004475128 (point 1000)
+      // KNOWN STOP: max_points = 1000 reached at λ = 1.004987537 (point 1000)
       {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=1e-06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.004475128 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=0.01 F=0.001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.414191141 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=1 F=1e-06", "max_points"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1.413859965 (point
-      // 81): the corrector moved 6.37e-06 from the predictor, more than 10 times the step
-      {"frf 1dof jenkins zeta=0 kt0/k=1 F=0.001", "min_step"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 10.04983167 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=100 F=1e-06", "max_points"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 10.0448992 (point
-      // 36): the corrector moved 6.9e-06 from the predictor, more than 10 times the step
-      {"frf 1dof jenkins zeta=0 kt0/k=100 F=0.001", "min_step"},
-      // KNOWN STOP: step 5.42e-09 below min_step 1e-08 after the point at λ = 2.009975124 (point
-      // 39): no convergence in 12 iterations (residual 3.19e-08, smallest 2e-08)
+      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1.414213209 (point
+      // 149): the corrector moved 0.0127 from the predictor, more than 10 times the step
+      {"frf 1dof jenkins zeta=0 kt0/k=1 F=1e-06", "min_step"},
+      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 10.04987065 (point
+      // 48): the corrector moved 0.00723 from the predictor, more than 10 times the step
+      {"frf 1dof jenkins zeta=0 kt0/k=100 F=1e-06", "min_step"},
+      // KNOWN STOP: step 7.62e-09 below min_step 1e-08 after the point at λ = 2.009974993 (point
+      // 31): residual grew in two consecutive iterations (to 9.45e-07 at iteration 4)
       {"frf 1dof jenkins zeta=0 kt0/k=100 F=1", "min_step"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 999.7533823 (point 1000)
-      {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1e-06", "max_points"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 999.5003752 (point
-      // 509): the corrector moved 1.36e-05 from the predictor, more than 10 times the step
-      {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=0.001", "min_step"},
-      // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.5 (point 31)
-      {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "left_range"},
-      // KNOWN STOP: step 9.54e-09 below min_step 1e-08 after the point at λ = 0.7081365223 (point
-      // 232): no convergence in 12 iterations (residual 2.93e-09, smallest 2.89e-09)
-      {"frf 10dof jenkins zeta=0 F=0.1", "min_step"},
+      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1000 (point 39): no
+      // convergence in 12 iterations (residual 0.00451, smallest 0.00451)
+      {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1e-06", "min_step"},
+      // KNOWN STOP: step 7.26e-09 below min_step 1e-08 after the point at λ = 142.8572143 (point
+      // 45): no convergence in 12 iterations (residual 2.16e-07, smallest 2.83e-08)
+      {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "min_step"},
       // KNOWN STOP: step 9.54e-09 below min_step 1e-08 after the point at λ = 0.1 (point 1):
       // singular bordered matrix (reciprocal condition 1.9e-16) (residual 4.23e-10)
+      {"frf 10dof jenkins zeta=0 F=0.1", "min_step"},
+      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.6995348044 (point
+      // 138): no convergence in 12 iterations (residual 1.73e-07, smallest 3.79e-09)
       {"frf 10dof jenkins zeta=0 F=0.5", "min_step"},
-      // KNOWN STOP: step 7.23e-09 below min_step 1e-08 after the point at λ = 0.3794980548 (point
-      // 29): the corrector moved 3.57e-07 from the predictor, more than 10 times the step
+      // KNOWN STOP: step 6.85e-09 below min_step 1e-08 after the point at λ = 0.3794980548 (point
+      // 41): no convergence in 12 iterations (residual 4.88e-08, smallest 2.43e-08)
       {"frf 10dof jenkins zeta=0 F=1", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.6995489991 (point
-      // 144): no convergence in 12 iterations (residual 1.54e-08, smallest 4.63e-09)
+      // KNOWN STOP: step 5.3e-09 below min_step 1e-08 after the point at λ = 0.6995489991 (point
+      // 179): no convergence in 12 iterations (residual 2.38e-09, smallest 2.11e-09)
       {"frf 10dof jenkins zeta=0.0001 F=0.5", "min_step"},
-      // KNOWN STOP: step 5.74e-09 below min_step 1e-08 after the point at λ = 0.4151314138 (point
-      // 130): no convergence in 12 iterations (residual 1.54e-09, smallest 1.54e-09)
+      // KNOWN STOP: step 7.23e-09 below min_step 1e-08 after the point at λ = 0.3795156477 (point
+      // 54): the corrector jumped 1.45e-08 back onto the branch already traced
       {"frf 10dof jenkins zeta=0.0001 F=1", "min_step"},
-      // KNOWN STOP: the branch turned back across λ_start: last point on it, λ = 0.1 (point 27)
-      {"frf 10dof jenkins zeta=0.001 F=1", "left_range"},
-      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
-      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12). Stop 39:
-      // the curve passes ζ = 1 at λ ≈ -5.16, turns back in λ at -5.0220 (ζ = 1.338, point 88) and
-      // creeps back on a sheet within 0.05 rad/s of the first one (the retrace guard halves most
-      // steps); with max_damping_ratio: 1 it ends at λ = -5.102 (80 points, reached_end)
+      // KNOWN STOP: step 6.8e-09 below min_step 1e-08 after the point at λ = 0.3544182997 (point
+      // 49): the corrector jumped 1.36e-08 back onto the branch already traced
+      {"frf 10dof jenkins zeta=0.001 F=1", "min_step"},
+      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000) in gross slip at ζ >
+      // 1 (stop 39: the curve passes ζ = 1 at λ ≈ -5.16, turns back in λ at -5.0220 (ζ = 1.338,
+      // point 88) and creeps back on a sheet within 0.05 rad/s of the first one; with
+      // max_damping_ratio: 1 it ends at λ = -5.102 after 80 points, reached_end)
       {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
-      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000)
       {"damping 1dof jenkins zeta=0.0001 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP (stop 38): max_points = 1000 reached at λ = -5.025621972 (point 1000), in
-      // gross slip at ζ > 1 (until stop 37: min_step at the slip onset λ = -6, point 12)
+      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000)
       {"damping 1dof jenkins zeta=0.01 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.7262184555 (point 1000)
+      // KNOWN STOP: max_points = 1000 reached at λ = 0.7204389242 (point 1000)
       {"damping 10dof jenkins zeta=0", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.7273693541 (point 1000)
+      // KNOWN STOP: max_points = 1000 reached at λ = 0.7240638975 (point 1000)
       {"damping 10dof jenkins zeta=0.0001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.7031401015 (point 1000)
+      // KNOWN STOP: max_points = 1000 reached at λ = 0.6969869922 (point 1000)
       {"damping 10dof jenkins zeta=0.01", "max_points"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1.958150464 (point
-      // 377): no convergence in 12 iterations (residual 3.93e-11, smallest 3.92e-11)
+      // KNOWN STOP: step 9.19e-09 below min_step 1e-08 after the point at λ = 2.490598434 (point
+      // 425): no convergence in 12 iterations (residual 1.28e-09, smallest 2.99e-10)
       {"damping 10dof gaul-mayer zeta=0", "min_step"},
-      // KNOWN STOP (stop 38): step 8.71e-09 below min_step 1e-08 after the point at
-      // λ = 1.058545285 (point 974): the corrector jumped 1.74e-08 back onto the branch already
-      // traced (7:1 internal resonance with mode 8 of the stuck system; before the retrace guard:
-      // no convergence at λ = 2.489, point 444)
+      // KNOWN STOP: step 6.19e-09 below min_step 1e-08 after the point at λ = 2.327368732 (point
+      // 557): no convergence in 12 iterations (residual 1.12e-09, smallest 2.94e-10)
       {"damping 10dof gaul-mayer zeta=0.0001", "min_step"},
-      // KNOWN STOP (stop 38): step 7.95e-09 below min_step 1e-08 after the point at
-      // λ = 1.065373487 (point 229): the corrector jumped 1.59e-08 back onto the branch already
-      // traced (the same 7:1 resonance; before the retrace guard: max_points at λ = 1.0627)
+      // KNOWN STOP: step 7.95e-09 below min_step 1e-08 after the point at λ = 1.065373487 (point
+      // 229): the corrector jumped 1.59e-08 back onto the branch already traced (7:1 internal
+      // resonance with mode 8 of the stuck system)
       {"damping 10dof gaul-mayer zeta=0.01", "min_step"},
   };
   return stops;

@@ -148,6 +148,32 @@ TEST(FrfContinuation, LightlyDampedStuckResonanceIsCrossedAtTheSlipLimit) {
   }
 }
 
+// Undamped, forced far below the friction limit (F = 1e-3 μF_N, k_T0/k = 1 and 100): the stuck
+// response climbs to the slip amplitude X_s = μF_N/k_T0 just below ω_stuck, where the branch turns
+// by ~90° — the amplitude is held at X_s by slip while the phase turns by π over a band of Ω
+// ~10⁻⁷ wide — and comes down the far stuck leg. Every arclength hyperplane normal to the rising
+// leg cuts that cap far from its predictor or not at all: the curves stopped at min_step ("the
+// corrector moved … more than 10 times the step", light-damping known stops). The step along the
+// tangent beyond the corner crosses it (docs/continuation.md, "Crossing a corner").
+// Bounds (closed form, as above): X_s ≤ peak ≤ X_s / (1 − F/μF_N); at Ω_end the response is the
+// stuck linear one, F / (Ω² − k − k_T0).
+TEST(FrfContinuation, UndampedStuckResonanceCornerIsCrossed) {
+  const double f = 1e-3;
+  for (const double kt0 : {1.0, 100.0}) {
+    const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, 0.0), force(f), light_damping_options(kt0));
+    ASSERT_TRUE(curve.completed()) << "k_T0 " << kt0 << ": " << curve.message;
+    double peak = 0.0;
+    for (const auto& p : curve.points) peak = std::max(peak, p.amplitude_max);
+    const double x_s = 1.0 / kt0;
+    EXPECT_GT(peak, x_s * (1.0 - 1e-9)) << kt0;
+    EXPECT_LT(peak, x_s / (1.0 - f)) << kt0;
+    const FrfPoint& end = curve.points.back();
+    EXPECT_NEAR(end.amplitude_h1, f / (end.omega * end.omega - 1.0 - kt0),
+                1e-9 * f / (end.omega * end.omega - 1.0 - kt0))
+        << kt0;
+  }
+}
+
 // Started exactly at the undamped stuck resonance √11, where the stuck response is infinite (it
 // used to end with "x0 entry 0 must be finite, got inf" and no point): the first point is the
 // slip-limited response, between X_s and the energy bound, and the curve reaches its end.
