@@ -50,11 +50,20 @@ ResidualFunction residual_of(const hb::HarmonicBalance& b) {
   };
 }
 
+// A sampled linear response more than this many times the median of the sweep has met an
+// undamped resonance to within round-off (a detuning ~1e-6 of ω² or less), not a peak: a 10-DOF
+// chain of unit springs and masses has its contact-free mode at exactly 1 rad/s, a sweep point of
+// [0.1, 2.5], where the response came out 1e15 times the others; that scale made the bordered
+// matrices singular (reciprocal condition 1.9e-16) right after the first point, at every force.
+// A lightly damped peak is 1/(2ζ) times the off-resonance level: 5e3 at ζ = 1e-4.
+constexpr double kMaxSweepOverMedian = 1e6;
+
 // The largest |coefficient| of a linear response over the range (65 frequencies): all contacts
 // stuck (k_T0 springs), or with `free`, all contacts removed (what gross slip tends to when the
-// force exceeds the friction limit by far). Infinite values (an undamped resonance met exactly)
-// are skipped; 0 when nothing finite remains. A lightly damped peak lies between the frequencies
-// (it is a scale for the probe below, which resolves the peak).
+// force exceeds the friction limit by far). Infinite values and those above kMaxSweepOverMedian
+// times the median (an undamped resonance met exactly) are skipped; 0 when nothing finite
+// remains. A lightly damped peak lies between the frequencies (it is a scale for the probe below,
+// which resolves the peak).
 double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
                    const FrfOptions& options, bool free) {
   DiscreteSystem linear = system;
@@ -62,7 +71,7 @@ double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
   hb::HarmonicBalanceOptions ho;
   ho.harmonics = 1;
   ho.time_samples = 8;
-  double peak = 0.0;
+  std::vector<double> sampled;
   try {
     const hb::HarmonicBalance balance(linear, excitation, ho);
     constexpr int kSweep = 64;
@@ -70,11 +79,18 @@ double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
       const double omega =
           options.omega_start + (options.omega_end - options.omega_start) * i / kSweep;
       const double a = balance.stuck_solution(omega).lpNorm<Eigen::Infinity>();
-      if (std::isfinite(a)) peak = std::max(peak, a);
+      if (std::isfinite(a)) sampled.push_back(a);
     }
   } catch (const std::exception&) {
     return 0.0;  // e.g. a system that needs its contacts to be well posed
   }
+  if (sampled.empty()) return 0.0;
+  std::vector<double> sorted = sampled;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double cap = kMaxSweepOverMedian * sorted[sorted.size() / 2];
+  double peak = 0.0;
+  for (const double a : sampled)
+    if (a <= cap || !(cap > 0.0)) peak = std::max(peak, a);
   return peak;
 }
 

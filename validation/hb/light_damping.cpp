@@ -128,9 +128,6 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: step 7.26e-09 below min_step 1e-08 after the point at λ = 142.8572143 (point
       // 45): no convergence in 12 iterations (residual 2.16e-07, smallest 2.83e-08)
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "min_step"},
-      // KNOWN STOP: step 9.54e-09 below min_step 1e-08 after the point at λ = 0.1 (point 1):
-      // singular bordered matrix (reciprocal condition 1.9e-16) (residual 4.23e-10)
-      {"frf 10dof jenkins zeta=0 F=0.1", "min_step"},
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.6995348044 (point
       // 138): no convergence in 12 iterations (residual 1.73e-07, smallest 3.79e-09)
       {"frf 10dof jenkins zeta=0 F=0.5", "min_step"},

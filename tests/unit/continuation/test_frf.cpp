@@ -8,6 +8,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 namespace jointhb::continuation {
 namespace {
@@ -172,6 +174,64 @@ TEST(FrfContinuation, UndampedStuckResonanceCornerIsCrossed) {
                 1e-9 * f / (end.omega * end.omega - 1.0 - kt0))
         << kt0;
   }
+}
+
+// An undamped 10-DOF chain (unit masses and springs, x_0 tied to ground, Jenkins contacts k_T0 = 2,
+// μF_N = 1 at (1, ground), (3, 2), (5, ground), (7, 6), (9, ground); F = 0.1 at DOF 9) over
+// Ω ∈ [0.1, 2.5]. Its contact-free mode at exactly 1 rad/s is a point of the 65-frequency sweep
+// that sizes the arclength scale: the sampled response came out ~1e15 times the others, and with
+// that scale every step after the first point met a singular bordered matrix (reciprocal
+// condition 1.9e-16, at every force and H: a light-damping known stop). Such samples are skipped
+// now; the curve completes and its first point is the stuck linear response (all contacts stuck at
+// Ω = 0.1: (K + K_T − Ω² M) X = F, closed form by a dense solve).
+TEST(FrfContinuation, UndampedChainWithAResonanceOnTheScaleSweepCompletes) {
+  const int n = 10;
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    k(i, i) += 1.0;
+    if (i > 0) {
+      k(i - 1, i - 1) += 1.0;
+      k(i, i - 1) -= 1.0;
+      k(i - 1, i) -= 1.0;
+    }
+  }
+  hb::DiscreteSystem s;
+  s.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
+  s.stiffness = k.sparseView();
+  s.damping = Eigen::MatrixXd::Zero(n, n).sparseView();
+  Eigen::MatrixXd stuck = k;
+  for (const auto& [a, b] : std::vector<std::pair<int, int>>{{1, -1}, {3, 2}, {5, -1}, {7, 6}, {9, -1}}) {
+    hb::ContactElement c;
+    c.law = "jenkins";
+    c.dof_a = a;
+    c.dof_b = b;
+    c.stiffness = 2.0;
+    c.friction_coefficient = 1.0;
+    c.normal_force = 1.0;
+    s.contacts.push_back(c);
+    stuck(a, a) += 2.0;
+    if (b >= 0) {
+      stuck(b, b) += 2.0;
+      stuck(a, b) -= 2.0;
+      stuck(b, a) -= 2.0;
+    }
+  }
+  hb::Excitation e;
+  e.forces.push_back({9, 0.1, 1});
+  FrfOptions o;
+  o.omega_start = 0.1;
+  o.omega_end = 2.5;
+  o.harmonics = 3;
+  o.time_samples = 256;  // at 64 the curve stops at Ω = 0.7087 (stick–slip near stuck mode 2)
+  o.output_dof = 9;
+  o.stability = Stability::never;
+  o.error_estimate = false;
+  const FrfCurve curve = trace_frf(s, e, o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+  f(9) = 0.1;
+  const Eigen::VectorXd x = (stuck - 0.01 * Eigen::MatrixXd::Identity(n, n)).lu().solve(f);
+  EXPECT_NEAR(curve.points.front().amplitude_h1, std::abs(x(9)), 1e-10 * std::abs(x(9)));
 }
 
 // Started exactly at the undamped stuck resonance √11, where the stuck response is infinite (it
