@@ -86,8 +86,9 @@ double linear_peak(const DiscreteSystem& system, const Excitation& excitation,
   }
   if (sampled.empty()) return 0.0;
   std::vector<double> sorted = sampled;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  const double cap = kMaxSweepOverMedian * sorted[sorted.size() / 2];
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  const double cap = kMaxSweepOverMedian * *middle;
   double peak = 0.0;
   for (const double a : sampled)
     if (a <= cap || !(cap > 0.0)) peak = std::max(peak, a);

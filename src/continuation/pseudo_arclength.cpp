@@ -884,7 +884,6 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
         next_tau = std::move(crossed->tangent);
         failure.clear();
         on_bound = false;
-        ++result.corner_crossings;
       }
     }
 

@@ -170,7 +170,6 @@ struct Result {
   StopReason reason = StopReason::start_failed;
   std::string message;              ///< one line: why the run ended (always set)
   int rejected_steps = 0;           ///< corrector failures (each halved the step)
-  int corner_crossings = 0;         ///< steps accepted along the tangent beyond a corner
   int corrector_iterations = 0;     ///< total over the run (accepted and rejected)
   int evaluations = 0;              ///< calls of the residual function
   double evaluation_seconds = 0.0;  ///< wall time inside the residual function
