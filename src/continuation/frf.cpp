@@ -52,9 +52,10 @@ ResidualFunction residual_of(const hb::HarmonicBalance& b) {
 
 // A sampled linear response more than this many times the median of the sweep has met an
 // undamped resonance to within round-off (a detuning ~1e-6 of ω² or less), not a peak: a 10-DOF
-// chain of unit springs and masses has its contact-free mode at exactly 1 rad/s, a sweep point of
-// [0.1, 2.5], where the response came out 1e15 times the others; that scale made the bordered
-// matrices singular (reciprocal condition 1.9e-16) right after the first point, at every force.
+// chain of unit springs and masses has its contact-free mode at exactly 1 rad/s, a sweep point
+// of [0.1, 2.5], where the response came out 5e14 times the sweep's median; that scale made the
+// bordered matrices singular (reciprocal condition 1.9e-16) right after the first point, at every
+// force.
 // A lightly damped peak is 1/(2ζ) times the off-resonance level: 5e3 at ζ = 1e-4.
 constexpr double kMaxSweepOverMedian = 1e6;
 
