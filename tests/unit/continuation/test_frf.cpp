@@ -153,8 +153,9 @@ TEST(FrfContinuation, LightlyDampedStuckResonanceIsCrossedAtTheSlipLimit) {
 // Undamped, forced far below the friction limit (F = 1e-3 μF_N, k_T0/k = 1 and 100): the stuck
 // response climbs to the slip amplitude X_s = μF_N/k_T0 just below ω_stuck, where the branch turns
 // by ~90° — the amplitude is held at X_s by slip while the phase turns by π over a band of Ω
-// ~10⁻⁷ wide — and comes down the far stuck leg. Every arclength hyperplane normal to the rising
-// leg cuts that cap far from its predictor or not at all: the curves stopped at min_step ("the
+// from √(k_s − F/X_s) to √(k_s + F/X_s) — and comes down the far stuck leg. Every arclength
+// hyperplane normal to the rising leg cuts that cap far from its predictor or not at all: the
+// curves stopped at min_step ("the
 // corrector moved … more than 10 times the step", light-damping known stops). The step along the
 // tangent beyond the corner crosses it (docs/continuation.md, "Crossing a corner").
 // Bounds (closed form, as above): X_s ≤ peak ≤ X_s / (1 − F/μF_N); at Ω_end the response is the
