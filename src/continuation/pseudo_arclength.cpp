@@ -68,16 +68,18 @@ constexpr double kCornerMoveFactor = 10.0;
 // largest turn kCornerMoveFactor admits).
 constexpr double kCornerMinAlignment = 0.1;
 // A landing must be new branch: one nearer than this fraction of its jump |y_f − y_k| to the part
-// of the branch traced just before (the polyline of the last kRetraceWindow accepted points but
-// y_k) has landed back on it, and the run would then trace that part again — around and around a
+// of the branch traced before (the polyline of all accepted points but y_k) has landed back on it, and the run would then trace that part again — around and around a
 // sharp superharmonic loop, or back to λ_start (seen on a 10-DOF Gaul–Mayer chain at ζ = 1e-4:
 // steps as long as the loop landed near its beginning; a corner landing at Ω = 0.183 landed back
 // on the branch at 0.158). Rejected like a failed corrector: the halved step lands on the local
 // branch, while a genuine close approach of two parts of the branch passes once the step is
 // shorter than twice their distance. A forward step that turns by less than 90° lands farther than
-// |y_f − y_k| from the point before y_k.
+// |y_f − y_k| from the point before y_k. The whole branch, not a window of the last points: on
+// the 30-DOF chain's damping curve a returning crossing (cross_corner) was followed by 64 points
+// that crept up to a point traced 64 points before, outside the window of 64 the test had then,
+// and the run went on back along the whole branch and ended at λ_start, 398 points, as if it were
+// a curve that turned back (the polyline costs one scaled copy of each point, (n + 1) doubles).
 constexpr double kRetraceFraction = 0.5;
-constexpr std::size_t kRetraceWindow = 64;
 // Crossing a corner: the step from y_k along the tangent at a point past the corner (trace()) is
 // tried at steps at or below kCornerStepFactor · max_step; its landing is accepted within this many
 // steps of its predictor (the branch is smooth past the corner) and when it does not go back along
@@ -284,8 +286,11 @@ class Tracer {
     VectorXd t;
     std::string failure = solve_bordered(sample, reference, rhs, t);
     if (failure.empty() && t.norm() > 0.0 && std::isfinite(t.norm())) {
+      // τ·τ_ref > 0 and det [J ; wᵀ] = wᵀ c(J) with c(J) ∥ τ: sign det [J ; τᵀ] = sign det [J ; τ_refᵀ]
+      tangent_sign_ = last_sign_;
       return VectorXd(t / t.norm());
     }
+    tangent_sign_ = 0;
     if (sample.jacobian.size() == 0) {  // matrix-free: no kernel to fall back on
       why = "tangent: " + (failure.empty() ? std::string("zero or non-finite solution") : failure);
       return std::nullopt;
@@ -308,6 +313,12 @@ class Tracer {
     }
     return VectorXd(projected / projected.norm());
   }
+
+  // sign det [J_y ; τᵀ] of the tangent last returned by tangent(), 0 when unknown (matrix-free,
+  // a GMRES solve, or the kernel fallback): the orientation of Allgower & Georg (2003, §2.1),
+  // constant along a smooth branch traversed one way and kept across a kink crossed
+  // transversally (docs/continuation.md, "Crossing a corner").
+  [[nodiscard]] int tangent_orientation() const { return tangent_sign_; }
 
  private:
   // Evaluates R and its Jacobian at y (λ = fixed_lambda when given); empty string when usable.
@@ -371,6 +382,7 @@ class Tracer {
   // [J_y; cᵀ] out = b, from the dense J_y (solve) or matrix-free (solve_matrix_free).
   std::string solve_bordered(const Sample& sample, const VectorXd& c, const VectorXd& b,
                              VectorXd& out) {
+    last_sign_ = 0;
     if (sample.jacobian.size() == 0 && sample.product) return solve_matrix_free(sample, c, b, out);
     MatrixXd bordered(n_ + 1, n_ + 1);
     bordered.topRows(n_) = sample.jacobian;
@@ -478,6 +490,7 @@ class Tracer {
   std::string solve(const MatrixXd& a, const VectorXd& b, VectorXd& out) {
     const auto start = Clock::now();
     std::string why;
+    last_sign_ = 0;
     if (options_.linear_solver == LinearSolver::newton_krylov && preconditioner_ &&
         preconditioner_size_ == a.rows()) {
       VectorXd z;
@@ -501,6 +514,7 @@ class Tracer {
       preconditioner_.reset();
     } else {
       out = lu->solve(b);
+      last_sign_ = lu->determinant_sign();
       if (!out.allFinite()) why = "non-finite solution of the bordered system";
       if (options_.linear_solver == LinearSolver::newton_krylov) {
         preconditioner_ = std::move(lu);
@@ -510,6 +524,9 @@ class Tracer {
     result_.linear_solve_seconds += seconds_since(start);
     return why;
   }
+
+  int last_sign_ = 0;     // sign det of the last bordered matrix factorised by solve() (0: none)
+  int tangent_sign_ = 0;  // sign det [J ; τᵀ] of the last tangent() (0: unknown)
 
   const ResidualFunction& residual_;
   const Options& options_;
@@ -688,6 +705,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
 
   VectorXd y = start.sample.y;  // y_k, the last accepted point (scaled)
   VectorXd tau = *start_tangent;
+  int orientation = tracer.tangent_orientation();  // sign det [J ; τᵀ] at y_k (0: unknown)
   // Accepts a point; returns false when the run ends here (reason and message set).
   auto accept = [&](Point point, bool on_bound, StopReason bound_reason) {
     result.points.push_back(std::move(point));
@@ -734,7 +752,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     return step;
   };
   double s = capped(options.initial_step, tau);
-  // The scaled accepted points before y_k (at most kRetraceWindow), and the test of a landing y_f
+  // The scaled accepted points before y_k, and the test of a landing y_f
   // against their polyline (kRetraceFraction).
   std::deque<VectorXd> traced;
   const auto retraces = [&](const VectorXd& y_f) {
@@ -763,14 +781,24 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   struct Crossing {
     Correction correction;
     VectorXd tangent;
+    int orientation = 0;  // sign det [J ; τᵀ] there
   };
   const auto cross_corner = [&](const Sample& far, double step) -> std::optional<Crossing> {
     if (far.y.size() != n + 1 || (far.jacobian.size() == 0 && !far.product)) return std::nullopt;
     const VectorXd jump = far.y - y;
     if (!(jump.norm() > 0.0) || !jump.allFinite()) return std::nullopt;
     std::string ignored;
-    const std::optional<VectorXd> t_far = tracer.tangent(far, jump / jump.norm(), ignored);
-    if (!t_far || t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
+    std::optional<VectorXd> t_far = tracer.tangent(far, jump / jump.norm(), ignored);
+    if (!t_far) return std::nullopt;
+    // Orientation beyond the corner: the sign of det [J ; τᵀ] is kept across a kink of the
+    // residual (docs/continuation.md, "Crossing a corner"); where it says the other way than the
+    // jump, the branch comes back on the far sheet (a fold at a kink: the 7:1 internal resonance
+    // of the 30-DOF chain's damping curve), and the step goes back along −τ_f, however small
+    // the angle between τ_f and τ_k.
+    const int after = tracer.tangent_orientation();
+    const bool returning = orientation != 0 && after != 0 && orientation != after;
+    if (!returning && t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
+    if (returning) *t_far = -*t_far;
     Constraint plane;
     plane.c = *t_far;
     plane.d = t_far->dot(y) + step;
@@ -780,12 +808,12 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (!k.converged) return std::nullopt;
     const VectorXd moved = k.sample.y - y;
     if ((k.sample.y - predicted).norm() > kCrossingMoveFactor * step ||
-        moved.dot(tau) < -kCornerMinAlignment * moved.norm() || retraces(k.sample.y) ||
+        (!returning && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) || retraces(k.sample.y) ||
         beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
       return std::nullopt;
     std::optional<VectorXd> t = tracer.tangent(k.sample, *t_far, ignored);
     if (!t || t->dot(*t_far) < kMaxTurnCosine) return std::nullopt;
-    return Crossing{std::move(k), std::move(*t)};
+    return Crossing{std::move(k), std::move(*t), tracer.tangent_orientation()};
   };
   double observed_change = 0.0;
   bool rejected_since_accept = false;
@@ -841,8 +869,10 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     }
 
     std::optional<VectorXd> next_tau;
+    int next_orientation = 0;  // sign det [J ; τᵀ] with τ = next_tau (0: unknown)
     if (failure.empty()) {
       next_tau = tracer.tangent(c.sample, tau, why);
+      next_orientation = tracer.tangent_orientation();
       if (!next_tau) failure = why;
     }
     // After a landing longer than the step, the direction of travel is the secant y_f − y_k, not
@@ -850,8 +880,10 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // chain: the old tangent's orientation sent the run back down the loop and along the whole
     // branch to λ_start). At the slip-onset corners of the unit tests' friction FRFs both agree.
     if (failure.empty() && (c.sample.y - predicted).norm() > s &&
-        next_tau->dot(c.sample.y - y) < 0.0)
+        next_tau->dot(c.sample.y - y) < 0.0) {
       *next_tau = -*next_tau;
+      next_orientation = -next_orientation;
+    }
     // A corner landing (farther than the step from the predictor) must continue along the jump:
     // past a corner that turns the branch by θ ≤ 84° (kCornerMoveFactor) the tangent there makes
     // less than θ with the secant y_f − y_k. A landing whose tangent is nearly normal to the jump
@@ -876,12 +908,27 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
           "the tangent turned by {:.0f}° in one step",
           std::acos(std::clamp(tau.dot(*next_tau), -1.0, 1.0)) * 180.0 / std::numbers::pi);
     }
+    // The orientation sign det [J ; τᵀ] is kept along a smooth branch and across a kink crossed
+    // transversally (docs/continuation.md, "Crossing a corner"). A step over which it changed
+    // passed a fold at a kink, where the branch comes back on another sheet and the tangent
+    // oriented by τ_k points the wrong way along it, or a point where sheets meet, or a simple
+    // bifurcation point: retried shorter until the corner crossing or the natural-parameter
+    // fallback below decides (on the 30-DOF chain's damping curve, a step of 5e-3 over a kink at
+    // log10 q ≈ −0.8445 landed where the sign had changed, and the next corner crossing took
+    // the run back along the sheet it had come on).
+    if (failure.empty() && orientation != 0 && next_orientation != 0 &&
+        next_orientation != orientation) {
+      failure = fmt::format(
+          "the orientation sign det [J; τ] changed over the step (tangent turned by {:.0f}°)",
+          std::acos(std::clamp(tau.dot(*next_tau), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+    }
 
     // A short step that failed at a corner: cross it along the tangent beyond it.
     if (!failure.empty() && corner_step && c.sample.y.size() == n + 1) {
       if (std::optional<Crossing> crossed = cross_corner(c.sample, s)) {
         c = std::move(crossed->correction);
         next_tau = std::move(crossed->tangent);
+        next_orientation = crossed->orientation;
         failure.clear();
         on_bound = false;
       }
@@ -909,6 +956,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
           !retraces(b.sample.y)) {
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);
+        next_orientation = tracer.tangent_orientation();
         if (next_tau) {
           c = std::move(b);
           failure.clear();
@@ -969,9 +1017,9 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     p.residual = c.sample.norm;
     p.fold = tau(n) * (*next_tau)(n) < 0.0;
     traced.push_back(y);
-    if (traced.size() > kRetraceWindow) traced.pop_front();
     y = c.sample.y;
     tau = *next_tau;
+    orientation = next_orientation;
     if (limit_outputs) last_outputs = next_outputs;
     if (!accept(std::move(p), on_bound, bound_reason)) return result;
 

@@ -27,6 +27,7 @@ class LapackLu {
     const double anorm = a.cwiseAbs().colwise().sum().maxCoeff();
     int info = 0;
     dgetrf_(&n_, &n_, lu_.data(), &n_, pivots_.data(), &info);
+    factored_ = info == 0;
     if (info != 0 || !std::isfinite(anorm)) return;  // exactly singular (info > 0) or bad input
     std::vector<double> work(4 * static_cast<std::size_t>(n_));
     std::vector<int> iwork(static_cast<std::size_t>(n_));
@@ -37,6 +38,21 @@ class LapackLu {
 
   /// Estimate of 1 / (‖A‖₁ ‖A⁻¹‖₁); 0 when A is exactly singular.
   [[nodiscard]] double rcond() const { return rcond_; }
+
+  /// Sign of det A (±1) from sign(det P) Π sign(U_ii), without forming the product (which
+  /// overflows or underflows at a few hundred unknowns); 0 when A is exactly singular.
+  [[nodiscard]] int determinant_sign() const {
+    if (!factored_) return 0;
+    int sign = 1;
+    for (int i = 0; i < n_; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      if (pivots_[k] != i + 1) sign = -sign;  // row i swapped with row pivots_[i] (1-based)
+      const double u = lu_(i, i);
+      if (!(u != 0.0) || !std::isfinite(u)) return 0;
+      if (u < 0.0) sign = -sign;
+    }
+    return sign;
+  }
 
   /// A⁻¹ b (valid only when rcond() > 0).
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
@@ -53,6 +69,7 @@ class LapackLu {
   std::vector<int> pivots_;
   int n_ = 0;
   double rcond_ = 0.0;
+  bool factored_ = false;  // dgetrf succeeded (info = 0)
 };
 
 }  // namespace jointhb::support

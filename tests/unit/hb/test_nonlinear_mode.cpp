@@ -239,6 +239,39 @@ TEST(NonlinearMode, ChainDampingCurveNamesTheInternalResonanceWhereItStops) {
     const bool above = root_near(t.unknowns, t.log10_amplitude + 1e-6);
     EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
   }
+  // The fold at a kink near log10 q = −0.8058, where the curve used to stop ("step below
+  // min_step"): the branch reaches λ* and comes back on another sheet, which only the orientation
+  // rule sign det [J; τᵀ] of the corner crossing takes (docs/continuation.md). Checked by Newton's
+  // method at fixed λ, independent of the continuation: below the accepted local maximum of λ
+  // there are two distinct roots, one near the point before it and one near the point after it,
+  // and above it none near it.
+  std::size_t top = 0;
+  for (std::size_t k = 1; k + 1 < h7.points.size() && top == 0; ++k) {
+    const auto lq = [&](std::size_t j) { return std::log10(h7.points[j].state.amplitude); };
+    if (lq(k) > -0.81 && lq(k) < -0.80 && lq(k - 1) < lq(k) && lq(k + 1) < lq(k)) top = k;
+  }
+  ASSERT_NE(top, 0U) << "no local maximum of log10 q in (-0.81, -0.80): " << h7.message;
+  EXPECT_GT(h7.points.size(), top + 5) << "the curve stops at the fold: " << h7.message;
+  const auto root_at = [&](Eigen::VectorXd y, double lambda, bool& converged) {
+    NonlinearModeResidual::Evaluation e;
+    converged = false;
+    for (int it = 0; it < 12 && !converged; ++it) {
+      epmc.evaluate(y, lambda, true, e);
+      converged = e.residual.lpNorm<Eigen::Infinity>() < 1e-10;
+      if (!converged) y -= e.d_state.partialPivLu().solve(e.residual);
+    }
+    return y;
+  };
+  const double lambda_top = std::log10(h7.points[top].state.amplitude);
+  const double below_top = std::max(std::log10(h7.points[top - 1].state.amplitude),
+                                    std::log10(h7.points[top + 1].state.amplitude));
+  bool in_ok = false, back_ok = false, above_ok = true;
+  const Eigen::VectorXd incoming = root_at(h7.points[top - 1].unknowns, below_top, in_ok);
+  const Eigen::VectorXd returning = root_at(h7.points[top + 1].unknowns, below_top, back_ok);
+  ASSERT_TRUE(in_ok && back_ok);
+  EXPECT_GT((incoming - returning).norm(), 1e-4 * incoming.norm());
+  const Eigen::VectorXd above = root_at(h7.points[top].unknowns, lambda_top + 1.5e-3, above_ok);
+  EXPECT_FALSE(above_ok && (above - h7.points[top].unknowns).norm() < 1e-2 * incoming.norm());
 }
 
 // A 1-DOF Jenkins oscillator (m = k = 1, k_T0 = 100, μF_N = 1, ζ = 0.01) traced from log10 q = −8
