@@ -68,8 +68,9 @@ constexpr double kCornerMoveFactor = 10.0;
 // largest turn kCornerMoveFactor admits).
 constexpr double kCornerMinAlignment = 0.1;
 // A landing must be new branch: one nearer than this fraction of its jump |y_f − y_k| to the part
-// of the branch traced before (the polyline of all accepted points but y_k) has landed back on it, and the run would then trace that part again — around and around a
-// sharp superharmonic loop, or back to λ_start (seen on a 10-DOF Gaul–Mayer chain at ζ = 1e-4:
+// of the branch traced before (the polyline of all accepted points but y_k) has landed back on
+// it, and the run would then trace that part again — around and around a sharp superharmonic
+// loop, or back to λ_start (seen on a 10-DOF Gaul–Mayer chain at ζ = 1e-4:
 // steps as long as the loop landed near its beginning; a corner landing at Ω = 0.183 landed back
 // on the branch at 0.158). Rejected like a failed corrector: the halved step lands on the local
 // branch, while a genuine close approach of two parts of the branch passes once the step is
@@ -83,7 +84,8 @@ constexpr double kRetraceFraction = 0.5;
 // Crossing a corner: the step from y_k along the tangent at a point past the corner (trace()) is
 // tried at steps at or below kCornerStepFactor · max_step; its landing is accepted within this many
 // steps of its predictor (the branch is smooth past the corner) and when it does not go back along
-// the branch: (y − y_k)·τ_k ≥ −kCornerMinAlignment |y − y_k| (at most 96° from the old direction).
+// the branch: (y − y_k)·τ_k ≥ −kCornerMinAlignment |y − y_k| (at most 96° from the old direction),
+// unless the orientation sign sent it back along −τ_f (a fold at a kink, trace()).
 constexpr double kCrossingMoveFactor = 1.0;
 // Natural-parameter fallback: tried once the arclength step has shrunk below this fraction of
 // max_step, where the branch advances in λ (|dλ/ds| of the unit tangent above the second value).
@@ -286,7 +288,8 @@ class Tracer {
     VectorXd t;
     std::string failure = solve_bordered(sample, reference, rhs, t);
     if (failure.empty() && t.norm() > 0.0 && std::isfinite(t.norm())) {
-      // τ·τ_ref > 0 and det [J ; wᵀ] = wᵀ c(J) with c(J) ∥ τ: sign det [J ; τᵀ] = sign det [J ; τ_refᵀ]
+      // τ·τ_ref > 0, and det [J ; wᵀ] = wᵀ c(J) with c(J) ∥ τ (docs/continuation.md):
+      // sign det [J ; τᵀ] = sign det [J ; τ_refᵀ], the matrix just factorised.
       tangent_sign_ = last_sign_;
       return VectorXd(t / t.norm());
     }
@@ -752,8 +755,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     return step;
   };
   double s = capped(options.initial_step, tau);
-  // The scaled accepted points before y_k, and the test of a landing y_f
-  // against their polyline (kRetraceFraction).
+  // The scaled accepted points before y_k, and the test of a landing y_f against their polyline
+  // (kRetraceFraction).
   std::deque<VectorXd> traced;
   const auto retraces = [&](const VectorXd& y_f) {
     return distance_to_polyline(traced, y_f) < kRetraceFraction * (y_f - y).norm();
@@ -808,8 +811,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (!k.converged) return std::nullopt;
     const VectorXd moved = k.sample.y - y;
     if ((k.sample.y - predicted).norm() > kCrossingMoveFactor * step ||
-        (!returning && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) || retraces(k.sample.y) ||
-        beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
+        (!returning && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) ||
+        retraces(k.sample.y) || beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
       return std::nullopt;
     std::optional<VectorXd> t = tracer.tangent(k.sample, *t_far, ignored);
     if (!t || t->dot(*t_far) < kMaxTurnCosine) return std::nullopt;

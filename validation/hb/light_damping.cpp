@@ -119,55 +119,38 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 10.04987065 (point
       // 48): the corrector moved 0.00723 from the predictor, more than 10 times the step
       {"frf 1dof jenkins zeta=0 kt0/k=100 F=1e-06", "min_step"},
-      // KNOWN STOP: step 7.62e-09 below min_step 1e-08 after the point at λ = 2.009974993 (point
-      // 31): residual grew in two consecutive iterations (to 9.45e-07 at iteration 4)
+      // KNOWN STOP: step 8.13e-09 below min_step 1e-08 after the point at λ = 2.009975124 (point
+      // 73): the corrector moved 0.00749 from the predictor, more than 10 times the step
       {"frf 1dof jenkins zeta=0 kt0/k=100 F=1", "min_step"},
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 1000 (point 39): no
       // convergence in 12 iterations (residual 0.00451, smallest 0.00451)
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1e-06", "min_step"},
-      // KNOWN STOP: step 7.26e-09 below min_step 1e-08 after the point at λ = 142.8572143 (point
-      // 45): no convergence in 12 iterations (residual 2.16e-07, smallest 2.83e-08)
+      // KNOWN STOP: step 6.45e-09 below min_step 1e-08 after the point at λ = 142.8572143 (point
+      // 430): the corrector jumped 1.29e-08 back onto the branch already traced
       {"frf 1dof jenkins zeta=0 kt0/k=1e+06 F=1", "min_step"},
-      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.6995348044 (point
-      // 138): no convergence in 12 iterations (residual 1.73e-07, smallest 3.79e-09)
-      {"frf 10dof jenkins zeta=0 F=0.5", "min_step"},
-      // KNOWN STOP: step 6.85e-09 below min_step 1e-08 after the point at λ = 0.3794980548 (point
-      // 41): no convergence in 12 iterations (residual 4.88e-08, smallest 2.43e-08)
+      // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.4085107889 (point
+      // 109): the corrector moved 1.22e-06 from the predictor, more than 10 times the step
       {"frf 10dof jenkins zeta=0 F=1", "min_step"},
-      // KNOWN STOP: step 5.3e-09 below min_step 1e-08 after the point at λ = 0.6995489991 (point
-      // 179): no convergence in 12 iterations (residual 2.38e-09, smallest 2.11e-09)
+      // KNOWN STOP: step 5.3e-09 below min_step 1e-08 after the point at λ = 0.6995488849 (point
+      // 187): the corrector jumped 1.06e-08 back onto the branch already traced
       {"frf 10dof jenkins zeta=0.0001 F=0.5", "min_step"},
-      // KNOWN STOP: step 7.23e-09 below min_step 1e-08 after the point at λ = 0.3795156477 (point
-      // 54): the corrector jumped 1.45e-08 back onto the branch already traced
-      {"frf 10dof jenkins zeta=0.0001 F=1", "min_step"},
-      // KNOWN STOP: step 6.8e-09 below min_step 1e-08 after the point at λ = 0.3544182997 (point
-      // 49): the corrector jumped 1.36e-08 back onto the branch already traced
-      {"frf 10dof jenkins zeta=0.001 F=1", "min_step"},
-      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000) in gross slip at ζ >
-      // 1 (stop 39: the curve passes ζ = 1 at λ ≈ -5.16, turns back in λ at -5.0220 (ζ = 1.338,
-      // point 88) and creeps back on a sheet within 0.05 rad/s of the first one; with
-      // max_damping_ratio: 1 it ends at λ = -5.102 after 80 points, reached_end)
-      {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000)
-      {"damping 1dof jenkins zeta=0.0001 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = -5.022146575 (point 1000)
-      {"damping 1dof jenkins zeta=0.01 kt0/k=1e+06", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.7204389242 (point 1000)
-      {"damping 10dof jenkins zeta=0", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.7240638975 (point 1000)
+      // KNOWN STOP: step 6.96e-09 below min_step 1e-08 after the point at λ = 2.121651157 (point
+      // 779): the corrector jumped 1.39e-08 back onto the branch already traced (3:1 internal
+      // resonance with mode 2 of the contact-free system)
+      {"damping 10dof jenkins zeta=0", "min_step"},
+      // KNOWN STOP: max_points = 1000 reached at λ = 2.018505775 (point 1000)
       {"damping 10dof jenkins zeta=0.0001", "max_points"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 0.6969869922 (point 1000)
-      {"damping 10dof jenkins zeta=0.01", "max_points"},
-      // KNOWN STOP: step 9.19e-09 below min_step 1e-08 after the point at λ = 2.490598434 (point
-      // 425): no convergence in 12 iterations (residual 1.28e-09, smallest 2.99e-10)
-      {"damping 10dof gaul-mayer zeta=0", "min_step"},
-      // KNOWN STOP: step 6.19e-09 below min_step 1e-08 after the point at λ = 2.327368732 (point
-      // 557): no convergence in 12 iterations (residual 1.12e-09, smallest 2.94e-10)
-      {"damping 10dof gaul-mayer zeta=0.0001", "min_step"},
-      // KNOWN STOP: step 7.95e-09 below min_step 1e-08 after the point at λ = 1.065373487 (point
-      // 229): the corrector jumped 1.59e-08 back onto the branch already traced (7:1 internal
-      // resonance with mode 8 of the stuck system)
-      {"damping 10dof gaul-mayer zeta=0.01", "min_step"},
+      // KNOWN STOP: step 9.29e-09 below min_step 1e-08 after the point at λ = 1.93034574 (point
+      // 719): the corrector jumped 1.86e-08 back onto the branch already traced
+      {"damping 10dof jenkins zeta=0.01", "min_step"},
+      // KNOWN STOP: max_points = 1000 reached at λ = 2.647398342 (point 1000) (3:1 internal
+      // resonance with mode 2 of the contact-free system)
+      {"damping 10dof gaul-mayer zeta=0", "max_points"},
+      // KNOWN STOP: max_points = 1000 reached at λ = 3.023253628 (point 1000)
+      {"damping 10dof gaul-mayer zeta=0.0001", "max_points"},
+      // KNOWN STOP: max_points = 1000 reached at λ = 1.353514768 (point 1000) (7:1 internal
+      // resonance with mode 4 of the stuck system)
+      {"damping 10dof gaul-mayer zeta=0.01", "max_points"},
   };
   return stops;
 }
