@@ -166,8 +166,9 @@ TEST(NonlinearMode, ExtremeAmplitudesEndOnFinitePoints) {
 // at DOF 29, C = 0.02 I, ten Jenkins links k_T0 = 225, slip force 0.557): its stuck natural
 // frequencies are nearly 1 : 3 : 5 : 7 (ratios 2.995, 4.983, 6.943), so the damping curve of mode 1
 // meets internal resonances with modes 2–4 through the harmonics 3, 5, 7. With H = 5 it reaches
-// its end; with H = 7 it turns back in amplitude and stops at a non-smooth point near the 7:1
-// resonance with mode 4 (0.12 % detuned), and the message must say so.
+// its end; with H = 7 it turns back in amplitude at log10 q ≈ −0.376, passes folds at kinks of
+// the friction laws (the first at −0.806, where it stopped until stop 46) and stops at −1.19, by
+// the 7:1 resonance with mode 4 (0.85 % detuned), and the message must say so.
 DiscreteSystem chain30() {
   const int n = 30;
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
