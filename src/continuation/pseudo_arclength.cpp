@@ -786,37 +786,47 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     VectorXd tangent;
     int orientation = 0;  // sign det [J ; τᵀ] there
   };
-  const auto cross_corner = [&](const Sample& far, double step) -> std::optional<Crossing> {
-    if (far.y.size() != n + 1 || (far.jacobian.size() == 0 && !far.product)) return std::nullopt;
-    const VectorXd jump = far.y - y;
-    if (!(jump.norm() > 0.0) || !jump.allFinite()) return std::nullopt;
-    std::string ignored;
-    std::optional<VectorXd> t_far = tracer.tangent(far, jump / jump.norm(), ignored);
-    if (!t_far) return std::nullopt;
-    // Orientation beyond the corner: the sign of det [J ; τᵀ] is kept across a kink of the
-    // residual (docs/continuation.md, "Crossing a corner"); where it says the other way than the
-    // jump, the branch comes back on the far sheet (a fold at a kink: the 7:1 internal resonance
-    // of the 30-DOF chain's damping curve), and the step goes back along −τ_f, however small
-    // the angle between τ_f and τ_k.
-    const int after = tracer.tangent_orientation();
-    const bool returning = orientation != 0 && after != 0 && orientation != after;
-    if (!returning && t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
-    if (returning) *t_far = -*t_far;
+  // The step along the unit direction t_f from y_k, its corrector on τ_fᵀ(y − y_k) = s, and the
+  // checks of its landing; `back`: a step the orientation sign sent back along the branch.
+  const auto cross_along = [&](const VectorXd& t_f, double step, bool back) -> std::optional<Crossing> {
     Constraint plane;
-    plane.c = *t_far;
-    plane.d = t_far->dot(y) + step;
-    const VectorXd predicted = y + step * *t_far;
+    plane.c = t_f;
+    plane.d = t_f.dot(y) + step;
+    const VectorXd predicted = y + step * t_f;
     Correction k = tracer.correct(predicted, plane, options.max_corrector_iterations,
                                   Tracer::Safeguard::line_search);
     if (!k.converged) return std::nullopt;
     const VectorXd moved = k.sample.y - y;
     if ((k.sample.y - predicted).norm() > kCrossingMoveFactor * step ||
-        (!returning && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) ||
+        (!back && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) ||
         retraces(k.sample.y) || beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
       return std::nullopt;
-    std::optional<VectorXd> t = tracer.tangent(k.sample, *t_far, ignored);
-    if (!t || t->dot(*t_far) < kMaxTurnCosine) return std::nullopt;
+    std::string ignored;
+    std::optional<VectorXd> t = tracer.tangent(k.sample, t_f, ignored);
+    if (!t || t->dot(t_f) < kMaxTurnCosine) return std::nullopt;
     return Crossing{std::move(k), std::move(*t), tracer.tangent_orientation()};
+  };
+  const auto cross_corner = [&](const Sample& far, double step) -> std::optional<Crossing> {
+    if (far.y.size() != n + 1 || (far.jacobian.size() == 0 && !far.product)) return std::nullopt;
+    const VectorXd jump = far.y - y;
+    if (!(jump.norm() > 0.0) || !jump.allFinite()) return std::nullopt;
+    std::string ignored;
+    const std::optional<VectorXd> t_far = tracer.tangent(far, jump / jump.norm(), ignored);
+    if (!t_far) return std::nullopt;
+    // Along the jump first, where τ_f turned by more than 60° from τ_k (a corner). Then, where
+    // that found nothing and the orientation sign det [J ; τᵀ] (kept across a kink of the
+    // residual, docs/continuation.md, "Crossing a corner") says the other way than the jump, back
+    // along −τ_f, however small the angle between τ_f and τ_k: the branch comes back on the far
+    // sheet (a fold at a kink: the 7:1 internal resonance of the 30-DOF chain's damping curve).
+    // Not the other way round: at the slip onsets of a 2-DOF fit model (DiscreteFit.TwoDof…) the
+    // sign said back where the crossing along the jump lands on the branch, and going back there
+    // changed the curve (many time samples switch at once, not one transversal surface).
+    const bool returning = orientation != 0 && tracer.tangent_orientation() != 0 &&
+                           orientation != tracer.tangent_orientation();
+    if (t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
+    if (std::optional<Crossing> ahead = cross_along(*t_far, step, false)) return ahead;
+    if (!returning) return std::nullopt;
+    return cross_along(-*t_far, step, true);
   };
   double observed_change = 0.0;
   bool rejected_since_accept = false;

@@ -134,6 +134,12 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: step 5.3e-09 below min_step 1e-08 after the point at λ = 0.6995488849 (point
       // 187): the corrector jumped 1.06e-08 back onto the branch already traced
       {"frf 10dof jenkins zeta=0.0001 F=0.5", "min_step"},
+      // KNOWN STOP (stop 39, again since stop 46 turned the returning crossing within 60° off):
+      // the overdamped creep past ζ = 1 at λ ≈ -4.97; ζ = 1e-4: step 6.85e-09 below min_step
+      // after the point at λ = -4.970132294 (point 665), jumped back onto the branch traced
+      {"damping 1dof jenkins zeta=0 kt0/k=1e+06", "min_step"},
+      {"damping 1dof jenkins zeta=0.0001 kt0/k=1e+06", "min_step"},
+      {"damping 1dof jenkins zeta=0.01 kt0/k=1e+06", "min_step"},
       // KNOWN STOP: step 6.96e-09 below min_step 1e-08 after the point at λ = 2.121651157 (point
       // 779): the corrector jumped 1.39e-08 back onto the branch already traced (3:1 internal
       // resonance with mode 2 of the contact-free system)
