@@ -788,7 +788,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   };
   // The step along the unit direction t_f from y_k, its corrector on τ_fᵀ(y − y_k) = s, and the
   // checks of its landing; `back`: a step the orientation sign sent back along the branch.
-  const auto cross_along = [&](const VectorXd& t_f, double step, bool back) -> std::optional<Crossing> {
+  const auto cross_along = [&](const VectorXd& t_f, double step,
+                                bool back) -> std::optional<Crossing> {
     Constraint plane;
     plane.c = t_f;
     plane.d = t_f.dot(y) + step;
@@ -816,11 +817,11 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // Along the jump first, where τ_f turned by more than 60° from τ_k (a corner). Then, where
     // that found nothing and the orientation sign det [J ; τᵀ] (kept across a kink of the
     // residual, docs/continuation.md, "Crossing a corner") says the other way than the jump, back
-    // along −τ_f, however small the angle between τ_f and τ_k: the branch comes back on the far
+    // along −τ_f (at corners only, like the step along the jump): the branch comes back on the far
     // sheet (a fold at a kink: the 7:1 internal resonance of the 30-DOF chain's damping curve).
-    // Not the other way round: at the slip onsets of a 2-DOF fit model (DiscreteFit.TwoDof…) the
-    // sign said back where the crossing along the jump lands on the branch, and going back there
-    // changed the curve (many time samples switch at once, not one transversal surface).
+    // Not back first, nor within 60°: either way the damping curves of a 2-DOF fit model changed
+    // and DiscreteFit.TwoDofRecoversBothJointsFromTwoModes failed (measured; why was not
+    // analysed: slip onsets where many time samples switch at once break the one-surface proof).
     const bool returning = orientation != 0 && tracer.tangent_orientation() != 0 &&
                            orientation != tracer.tangent_orientation();
     if (t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
