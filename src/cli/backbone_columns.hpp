@@ -2,16 +2,19 @@
 // The columns of backbone.csv, one schema for discrete and finite-element damping curves
 // (docs/cli.md "Damping-curve outputs"): a script reads both with the same names.
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "jointhb/continuation/accuracy.hpp"
+#include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/hb/contact_state.hpp"
 
@@ -80,6 +83,33 @@ inline std::vector<std::optional<double>> frf_error_fields(const continuation::F
   if (!e.known) return {std::nullopt, std::nullopt, std::nullopt, std::nullopt};
   return {truncation_field(e, e.amplitude_h1.truncation), e.amplitude_h1.aliasing,
           truncation_field(e, e.amplitude_max.truncation), e.amplitude_max.aliasing};
+}
+
+/// summary.json's `turn_points` of a damping curve (BackboneCurve::turns, InterfaceBackbone::turns),
+/// as fold_points of FRFs.
+inline nlohmann::ordered_json turns_json(const std::vector<continuation::BackboneTurn>& turns) {
+  nlohmann::ordered_json located = nlohmann::ordered_json::array();
+  for (const auto& t : turns) {
+    nlohmann::ordered_json turn = {{"log10_amplitude", t.log10_amplitude},
+                                   {"amplitude", std::pow(10.0, t.log10_amplitude)},
+                                   {"omega", t.omega},
+                                   {"frequency_hz", t.omega / (2.0 * std::numbers::pi)},
+                                   {"damping_ratio", t.damping_ratio},
+                                   {"log10_amplitude_error_bound", t.log10_amplitude_bound},
+                                   {"refined", t.refined}};
+    if (!t.message.empty()) turn["note"] = t.message;
+    located.push_back(turn);
+  }
+  return located;
+}
+
+/// "the curve turns back in amplitude N time(s): log10 q = … (f = … Hz), …" (the stderr line).
+inline std::string turns_line(const std::vector<continuation::BackboneTurn>& turns) {
+  std::string where;
+  for (const auto& t : turns)
+    where += fmt::format("{}log10 q = {:.6f} (f = {:.6g} Hz)", where.empty() ? "" : ", ", t.log10_amplitude,
+                         t.omega / (2.0 * std::numbers::pi));
+  return fmt::format("the curve turns back in amplitude {} time(s): {}", turns.size(), where);
 }
 
 /// summary.json's `accuracy` of a damping curve or FRF: the request (its tolerances > 0), the range of H and N_t its points

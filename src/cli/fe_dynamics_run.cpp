@@ -227,6 +227,8 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       entry["error_estimate"] = worst.json("omega", "damping");
       entry["error_estimate"]["seconds"] = bb.timings.error_estimate;
       entry["accuracy"] = accuracy_json(nm.accuracy, b.points, bb.level_changes, bb.short_of_accuracy);
+      entry["turn_points"] = turns_json(bb.turns);
+      if (!bb.turns.empty()) std::fprintf(stderr, "damping curve of mode %d: %s\n", mode, turns_line(bb.turns).c_str());
       summary["backbones"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }

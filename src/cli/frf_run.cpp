@@ -254,23 +254,6 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
   return j;
 }
 
-// The located turns of a damping curve in amplitude (BackboneCurve::turns), as fold_points of FRFs.
-Json turns_json(const std::vector<continuation::BackboneTurn>& turns) {
-  Json located = Json::array();
-  for (const auto& t : turns) {
-    Json turn = {{"log10_amplitude", t.log10_amplitude},
-                 {"amplitude", std::pow(10.0, t.log10_amplitude)},
-                 {"omega", t.omega},
-                 {"frequency_hz", t.omega / (2.0 * std::numbers::pi)},
-                 {"damping_ratio", t.damping_ratio},
-                 {"log10_amplitude_error_bound", t.log10_amplitude_bound},
-                 {"refined", t.refined}};
-    if (!t.message.empty()) turn["note"] = t.message;
-    located.push_back(turn);
-  }
-  return located;
-}
-
 // Set-up errors (e.g. a forcing harmonic outside the basis) are input errors: reported before any
 // output exists.
 void check_setup(const io::DiscreteCase& c) {
@@ -483,14 +466,7 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     entry["accuracy"] = accuracy_json(options.accuracy, curve.points, curve.level_changes, curve.short_of_accuracy);
     entry["turn_points"] = turns_json(curve.turns);
     summary["backbones"].push_back(std::move(entry));
-    if (!curve.turns.empty()) {
-      std::string where;
-      for (const auto& t : curve.turns)
-        where += fmt::format("{}log10 q = {:.6f} (f = {:.6g} Hz)", where.empty() ? "" : ", ", t.log10_amplitude,
-                             t.omega / (2.0 * std::numbers::pi));
-      std::cerr << fmt::format("jointhb run: nonlinear mode {}: the curve turns back in amplitude {} time(s): {}\n",
-                               mode, curve.turns.size(), where);
-    }
+    if (!curve.turns.empty()) std::cerr << "jointhb run: nonlinear mode " << mode << ": " << turns_line(curve.turns) << "\n";
     if (!curve.completed()) {
       std::cerr << fmt::format("jointhb run: nonlinear mode {}: curve stopped at {} points: {}\n",
                                mode, points.size(), curve.message);

@@ -2,7 +2,7 @@
 #include "jointhb/continuation/backbone.hpp"
 
 #include "../support/stopwatch.hpp"
-#include "curve_refinement.hpp"
+#include "curve_turns.hpp"
 #include "linear_limits.hpp"
 #include "mode_outputs.hpp"
 #include "segmented_curve.hpp"
@@ -164,40 +164,16 @@ class DiscreteBackboneSegment {
       return judge(b, p);
     };
     Result r = trace(residual, y0, c, accept);
-    locate_turns(residual, c, r);
+    const std::vector<BackboneTurn> turns =
+        detail::locate_turns(residual, c, r, [&](const Eigen::VectorXd& x, double lambda) {
+          const hb::NonlinearModeState s = epmc_.state(x, lambda);
+          return std::pair{s.omega, s.damping_ratio};
+        });
+    turns_.insert(turns_.end(), turns.begin(), turns.end());
     return r;
   }
 
  private:
-  // log10 q of a turn to 1e-8 of its value (|λ| ~ 1: q to ~2e-8 relative) in at most 40 corrected
-  // points: the ten turns of the 30-DOF chain of issue 18 took 9–40 points each at 1e-10, 7–40 at
-  // 1e-8 (docs/stability.md §7 for the time).
-  static constexpr detail::RefinementOptions kTurnRefinement{1e-8, 40};
-
-  // Every turn of λ between accepted points of the run (Point::fold: the tangent's λ component
-  // changed sign), located as the extremum of λ along the branch (curve_refinement.hpp); a turn
-  // that cannot be refined is reported at the point after it, bounded by the λ between the two.
-  void locate_turns(const ResidualFunction& residual, const Options& c, const Result& r) {
-    for (std::size_t k = 1; k < r.points.size(); ++k) {
-      const Point& b = r.points[k];
-      if (!b.fold) continue;
-      const Point& a = r.points[k - 1];
-      const detail::CurveExtremum e =
-          detail::refine_extremum(residual, c, a, b, detail::parameter_quantity(), kTurnRefinement);
-      BackboneTurn t;
-      t.refined = e.ok;
-      t.message = e.message;
-      t.points = e.points;
-      const hb::NonlinearModeState at = e.ok ? epmc_.state(e.x, e.lambda) : epmc_.state(b.x, b.lambda);
-      t.log10_amplitude = e.ok ? e.lambda : b.lambda;
-      t.unknowns = e.ok ? e.x : b.x;
-      t.log10_amplitude_bound = e.ok ? e.value_bound : std::abs(b.lambda - a.lambda);
-      t.omega = at.omega;
-      t.damping_ratio = at.damping_ratio;
-      turns_.push_back(std::move(t));
-    }
-  }
-
   static hb::NonlinearModeOptions mode_at(hb::NonlinearModeOptions mode, Level level) {
     mode.harmonics = level.harmonics;
     mode.time_samples = level.time_samples;

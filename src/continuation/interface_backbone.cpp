@@ -17,6 +17,7 @@
 #include "jointhb/continuation/interface_response.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "curve_turns.hpp"
 #include "interface_curve_support.hpp"
 #include "mode_outputs.hpp"
 #include "segmented_curve.hpp"
@@ -24,12 +25,20 @@
 namespace jointhb::continuation {
 namespace {
 
+// Whether the curve at `level` is dense (InterfaceBackboneOptions::dense_below): EPMC unknowns
+// (n_s + 3P)(2H + 1) + 2, every harmonic 0..H kept.
+bool dense_at(const hb::InterfaceModel& model, const InterfaceBackboneOptions& options, Level level) {
+  const Eigen::Index unknowns =
+      static_cast<Eigen::Index>(model.num_modes() + 3 * model.num_points()) * (2 * level.harmonics + 1) + 2;
+  return unknowns <= options.dense_below;
+}
+
 // The options of the curve's EPMC residual at `level`.
 hb::InterfaceModeOptions interface_mode_at(const InterfaceBackboneOptions& options, Level level, bool matrix_free) {
   hb::InterfaceModeOptions mode = options.mode;
   mode.balance.harmonics = level.harmonics;
   mode.balance.time_samples = level.time_samples;
-  if (matrix_free) mode.balance.dense_jacobian = false;
+  mode.balance.dense_jacobian = !matrix_free;
   return mode;
 }
 
@@ -42,7 +51,8 @@ class InterfaceBackboneSegment {
 
   InterfaceBackboneSegment(const hb::InterfaceModel& model, const InterfaceBackboneOptions& options, Level level)
       : options_(options),
-        matrix_free_(options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov),
+        dense_(dense_at(model, options, level)),
+        matrix_free_(!dense_ && options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov),
         mode_(interface_mode_at(options, level, matrix_free_)),
         epmc_(model, mode_),
         level_(level) {
@@ -62,6 +72,7 @@ class InterfaceBackboneSegment {
   // The options of the run from λ0 (range and scales of this level; steps and budget the caller's).
   [[nodiscard]] Options continuation(double lambda0, double end) const {
     Options c = options_.continuation;
+    if (dense_) c.linear_solver = LinearSolver::dense_lu;
     c.parameter_start = lambda0;
     c.parameter_end = end;
     c.direction = end > lambda0 ? 1 : -1;
@@ -100,10 +111,26 @@ class InterfaceBackboneSegment {
       }
       return judge(b, p);
     };
-    return trace(residual, y0, c, accept);
+    Result r = trace(residual, y0, c, accept);
+    add_turns(residual, c, r);
+    return r;
   }
 
+  [[nodiscard]] const std::vector<BackboneTurn>& turns() const { return turns_; }
+
  private:
+  // The turns of run r (curve_turns.hpp), refined with the dense Jacobian; matrix-free there is
+  // none to refine them with.
+  void add_turns(const ResidualFunction& residual, const Options& c, const Result& r) {
+    const auto at = [U = epmc_.balance().unknowns()](const Eigen::VectorXd& x, double) {
+      return std::pair{x[U], x[U + 1] / (2.0 * x[U])};  // Ω, ζ = ξ / 2Ω
+    };
+    const std::vector<BackboneTurn> turns =
+        matrix_free_ ? detail::locate_turns({}, c, r, at, "not refined: the curve was traced matrix-free")
+                     : detail::locate_turns(residual, c, r, at);
+    turns_.insert(turns_.end(), turns.begin(), turns.end());
+  }
+
   Evaluation evaluate(const Eigen::VectorXd& y, double lambda, bool jacobian) {
     last_y_.resize(0);
     epmc_.evaluate(y, lambda, jacobian, last_);
@@ -136,6 +163,7 @@ class InterfaceBackboneSegment {
   }
 
   const InterfaceBackboneOptions& options_;
+  bool dense_;  // dense Jacobian and dense LU whatever the options say (dense_below)
   bool matrix_free_;
   hb::InterfaceModeOptions mode_;
   hb::InterfaceModeResidual epmc_;
@@ -145,6 +173,7 @@ class InterfaceBackboneSegment {
   hb::InterfaceModeResidual::Evaluation last_;
   Eigen::VectorXd last_y_;
   double last_lambda_ = std::numeric_limits<double>::quiet_NaN();
+  std::vector<BackboneTurn> turns_;
 };
 
 }  // namespace
@@ -154,6 +183,7 @@ std::string InterfaceBackboneOptions::validate(const hb::InterfaceModel& model) 
   if (!std::isfinite(log10_amplitude_start) || !std::isfinite(log10_amplitude_end))
     return "log10_amplitude: must be finite";
   if (log10_amplitude_start == log10_amplitude_end) return "log10_amplitude: end must differ from start";
+  if (dense_below < 0) return fmt::format("dense_below: must be >= 0 (0: never dense), got {}", dense_below);
   if (std::string msg = accuracy.validate({mode.balance.harmonics, mode.balance.time_samples}); !msg.empty()) return msg;
   return {};
 }
@@ -178,6 +208,7 @@ InterfaceBackbone trace_interface_backbone(const hb::InterfaceModel& model, cons
     curve.rejected_steps += r.rejected_steps;
     interface_detail::add_curve_timings(curve.timings, run.epmc().balance().timings(), r);
     curve.timings.error_estimate += run.error_seconds();
+    curve.turns.insert(curve.turns.end(), run.turns().begin(), run.turns().end());
   };
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.mode.balance.harmonics, options.mode.balance.time_samples},

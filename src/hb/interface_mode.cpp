@@ -109,10 +109,20 @@ std::function<Eigen::VectorXd(const Eigen::VectorXd&)> InterfaceModeResidual::pr
   const double omega = y_hat[U], xi = y_hat[U + 1];
   const int a1 = balance_.basis().cosine_index(1);
   const Eigen::Index ia = balance_.modal_index(mode_, a1), ib = ia + 1;
-  const std::function<Eigen::VectorXd(const Eigen::VectorXd&)> pc = balance_.preconditioner(at.balance, omega, xi, kind);
+  // At the linear start (Ω = ω_f, ξ = c_f) the followed mode's fundamental block of the balance
+  // Jacobian is singular (the free vibration solves it); the bordering below removes that
+  // direction, but an approximate inverse that is exact there (one contact point, every mode kept:
+  // J_loc or J̃ is then the Jacobian itself) divides by zero. Then the balance's block is taken at
+  // ξ + 1e-6 ω_f instead: nonsingular, and still an approximate inverse.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd&)> pc = balance_.preconditioner(at.balance, omega, xi, kind);
   Eigen::MatrixXd w(U, 2);
   w.col(0) = pc(at.balance.d_omega / q);
   w.col(1) = pc(at.balance.d_xi / q);
+  if (!w.allFinite()) {
+    pc = balance_.preconditioner(at.balance, omega, xi + 1e-6 * linear_omega(), kind);
+    w.col(0) = pc(at.balance.d_omega / q);
+    w.col(1) = pc(at.balance.d_xi / q);
+  }
   Eigen::Matrix2d s;
   s << w(ia, 0), w(ia, 1), w(ib, 0), w(ib, 1);
   const Eigen::Matrix2d s_inverse = s.inverse();

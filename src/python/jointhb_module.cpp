@@ -249,6 +249,21 @@ double output_change_from(double value) {
   return value;
 }
 
+// The located turns of a damping curve in amplitude (BackboneTurn), a dict each.
+py::list turns_list(const std::vector<continuation::BackboneTurn>& turns) {
+  py::list out;
+  for (const auto& t : turns) {
+    py::dict turn;
+    turn["log10_amplitude"] = t.log10_amplitude;
+    turn["omega"] = t.omega;
+    turn["damping_ratio"] = t.damping_ratio;
+    turn["log10_amplitude_error_bound"] = t.log10_amplitude_bound;
+    turn["refined"] = t.refined;
+    out.append(turn);
+  }
+  return out;
+}
+
 py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   using P = pipeline::BackbonePoint;
   py::dict d;
@@ -266,6 +281,7 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   d["newton_iterations"] = column(b.points, [](const P& p) { return double(p.newton_iterations); });
   put_backbone_error_columns(d, b.points, [](const P& p) -> const continuation::BackboneError& { return p.error; });
   put_curve_status(d, b.status(), interrupted);  // Ctrl-C: stopped_by_user
+  d["turns"] = turns_list(b.curve.turns);
   d["energy_gap"] = b.energy_gap;
   d["energy_warning"] = b.energy_warning;
   d["linear_frequency_hz"] = b.curve.linear_omega / kTwoPi;
@@ -797,17 +813,7 @@ class DiscreteModel {
     d["time_samples_of_points"] = column(b.points, [](const P& p) { return double(p.time_samples); });
     d["level_changes"] = b.level_changes;
     d["points_short_of_accuracy"] = b.short_of_accuracy;
-    py::list turns;  // the located turns in amplitude (BackboneCurve::turns)
-    for (const auto& t : b.turns) {
-      py::dict turn;
-      turn["log10_amplitude"] = t.log10_amplitude;
-      turn["omega"] = t.omega;
-      turn["damping_ratio"] = t.damping_ratio;
-      turn["log10_amplitude_error_bound"] = t.log10_amplitude_bound;
-      turn["refined"] = t.refined;
-      turns.append(turn);
-    }
-    d["turns"] = turns;
+    d["turns"] = turns_list(b.turns);
     put_curve_status(d, b.status(), on_point.interrupted());
     d["linear_omega"] = b.linear_omega;
     d["linear_damping_ratio"] = b.linear_damping_ratio;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "jointhb/continuation/accuracy.hpp"
+#include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/nonlinear_mode.hpp"
@@ -50,20 +51,6 @@ struct BackbonePoint {
   BackboneError error;       ///< estimated relative errors of Ω and ζ (with error_estimate)
   Eigen::VectorXd unknowns;  ///< (X̂, Ω, ξ) in the basis of (harmonics, time_samples)
   int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
-};
-
-/// A turn of the curve in amplitude (an extremum of λ = log10 q between two accepted points, e.g.
-/// at an internal resonance), located by continuation/curve_refinement.hpp (docs/stability.md §7).
-struct BackboneTurn {
-  double log10_amplitude = 0.0;  ///< λ* at the turn
-  double omega = 0.0;            ///< Ω there [rad/s]
-  double damping_ratio = 0.0;    ///< ζ there
-  /// Bound on |λ* − log10_amplitude| (refined), else |Δλ| between the two accepted points
-  double log10_amplitude_bound = 0.0;
-  bool refined = false;          ///< false: reported at the accepted point after the turn
-  std::string message;           ///< why it is not refined
-  int points = 0;                ///< points corrected to locate it
-  Eigen::VectorXd unknowns;      ///< (X̂, Ω, ξ) at the turn (BackbonePoint::unknowns' basis)
 };
 
 struct BackboneCurve {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "jointhb/continuation/accuracy.hpp"
+#include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/interface_mode.hpp"
@@ -51,6 +52,15 @@ struct InterfaceBackboneOptions {
   /// memory traffic); every cycle ends on the double-precision true residual, so the accepted
   /// Newton steps, hence the curve, are unchanged (mixed-precision iterative refinement).
   bool mixed_precision = true;
+  /// Curves with at most this many unknowns ((n_s + 3P)(2H + 1) + 2) use the dense Jacobian and
+  /// the dense LU whatever matrix_free and continuation.linear_solver say (0: never). There a
+  /// dense LU costs little (~0.05 s at 1000), and it carries the orientation sign det [J; τᵀ]
+  /// that takes the curve through folds at kinks (docs/continuation.md, "Crossing a corner"),
+  /// which GMRES does not: a 2-DOF joint at a 3:1 internal resonance (test
+  /// InterfaceBackbone.TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) loops at such a fold
+  /// at log10 q = −0.82 with GMRES and passes it with the dense LU. Its turns are refined only
+  /// with a dense Jacobian (matrix-free: reported at the point after them).
+  Eigen::Index dense_below = 1000;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;
@@ -89,6 +99,10 @@ struct InterfaceBackbonePoint {
 
 struct InterfaceBackbone {
   std::vector<InterfaceBackbonePoint> points;
+  /// Every turn of λ along the kept runs, in order (docs/stability.md §7): refined where the
+  /// Jacobian is dense (InterfaceBackboneOptions::dense_below), matrix-free reported at the
+  /// accepted point after the turn, bounded by |Δλ|.
+  std::vector<BackboneTurn> turns;
   StopReason reason = StopReason::start_failed;
   std::string message;
   int newton_iterations = 0, rejected_steps = 0;

@@ -27,6 +27,7 @@ InterfaceBackbonePoint interface_mode_point(const hb::InterfaceModel& model, dou
   o.log10_amplitude_start = lambda;
   o.log10_amplitude_end = lambda + 1.0;
   o.matrix_free = matrix_free;
+  o.dense_below = 0;  // the solver asked for, not the small-curve policy
   o.error_estimate = true;
   o.continuation.max_points = 1;
   o.continuation.max_start_iterations = 100;

@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <Eigen/Dense>
 #include <cstdio>
+#include <memory>
 
 #include "../hb/interface_test_model.hpp"
+#include "jointhb/contact/jenkins_law.hpp"
 
 namespace jointhb::continuation {
 namespace {
@@ -115,6 +118,113 @@ TEST(InterfaceFrf, PeaksLieOnTheBackbone) {
     ASSERT_GT(w_bb, 0.0);
     EXPECT_LT(std::abs(w_peak - w_bb) / w_bb, 2e-3);
   }
+}
+
+// A joint of one contact point grounding DOF x0 of a 2-DOF chain in x (k_1 = 1 to ground, k_2 = 3
+// between x0 and x1, unit masses, C = 0.002 M), the point's transverse (y0) and normal (z0) DOFs
+// held by springs of 50: Jenkins, k_T = 3, μ p A = 0.1. Every mode kept (no residual modes). Its
+// damping curve of mode 1 (stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips, where 3Ω
+// meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward again.
+hb::InterfaceModel two_dof_joint() {
+  const double k2 = 3.0, kt = 3.0;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);  // (x0, x1, y0, z0), contact stuck
+  K(0, 0) = 1.0 + k2 + kt;
+  K(0, 1) = K(1, 0) = -k2;
+  K(1, 1) = k2;
+  K(2, 2) = 50.0 + kt;
+  K(3, 3) = 50.0 + 1.0;  // + λ p_N of the normal law below
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(K);
+  hb::InterfaceModel m;
+  m.omega2 = es.eigenvalues();
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, 4);
+  G(0, 0) = G(1, 2) = G(2, 3) = 1.0;
+  m.gap_shapes = G * es.eigenvectors();
+  m.rayleigh_mass = 0.002;
+  m.residual_flexibility = Eigen::MatrixXd::Zero(3, 3);
+  m.residual_inertia = Eigen::MatrixXd::Zero(3, 3);
+  jc::ContactPointOptions o;
+  o.normal = {1.0, 1.0, 0.0};  // p_N0 = 1 at g_N = 0, λ = 1
+  o.friction_coefficient = 0.1;
+  o.stiffness_model = jc::TangentialStiffnessModel::constant;
+  o.tangential_stiffness = kt;
+  o.gap_pressure_ratio = 1e-9;
+  m.groups.push_back({"joint", jc::ContactPoint(o, std::make_shared<jc::JenkinsLaw>()), 0, 1});
+  hb::ContactPointReference r;
+  r.traction << 0.0, 0.0, -1.0;
+  m.references.push_back(r);
+  m.areas = Eigen::VectorXd::Ones(1);
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c(0, 0) = c(1, 1) = kt;
+  c(2, 2) = 1.0;
+  m.stuck_tangents.push_back(c);
+  m.load_name = "f";
+  m.load_modal = es.eigenvectors().transpose() * Eigen::Vector4d(0.0, 1.0, 0.0, 0.0);
+  m.load_residual0 = m.load_residual1 = Eigen::VectorXd::Zero(3);
+  hb::InterfaceOutput out;
+  out.name = "x1";
+  out.modal = es.eigenvectors().row(1).transpose();
+  out.residual0 = out.residual1 = Eigen::VectorXd::Zero(3);
+  m.outputs.push_back(out);
+  return m;
+}
+
+// The turns of a finite-element damping curve (docs/stability.md §7), checked as the discrete ones
+// are (NonlinearMode.ChainDampingCurveNamesTheInternalResonanceWhereItStops), by Newton's method at
+// fixed λ, independent of the continuation: at a turn λ* the residual vanishes, and roots near
+// the turn's state exist on one side of λ* only.
+TEST(InterfaceBackbone, TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) {
+  const hb::InterfaceModel model = two_dof_joint();
+  ASSERT_EQ(model.validate(), "");
+  InterfaceBackboneOptions o;
+  o.mode.balance = {.harmonics = 3, .time_samples = 64};
+  o.log10_amplitude_start = -3.0;
+  o.log10_amplitude_end = 1.0;
+  const InterfaceBackbone b = trace_interface_backbone(model, o);  // 51 unknowns: dense (dense_below)
+  ASSERT_TRUE(b.completed()) << b.message;
+  std::printf("2-DOF joint: %zu points, %zu turns\n", b.points.size(), b.turns.size());
+  ASSERT_GE(b.turns.size(), 2u);
+  hb::InterfaceModeOptions mode = o.mode;
+  mode.balance.dense_jacobian = true;
+  const hb::InterfaceModeResidual epmc(model, mode);
+  // From y0 at fixed λ: converged to a root within `near` of y0?
+  const auto root_near = [&](const Eigen::VectorXd& y0, double lambda, double near) {
+    Eigen::VectorXd y = y0;
+    hb::InterfaceModeResidual::Evaluation e;
+    for (int it = 0; it < 20; ++it) {
+      epmc.evaluate(y, lambda, true, e);
+      if (e.residual.lpNorm<Eigen::Infinity>() < 1e-11) return (y - y0).norm() < near * y0.norm();
+      y -= e.d_state.partialPivLu().solve(e.residual);
+    }
+    return false;
+  };
+  for (std::size_t k = 0; k < b.turns.size(); ++k) {
+    const BackboneTurn& t = b.turns[k];
+    std::printf("  turn at log10 q = %.9f ± %.1e (%d points), Ω = %.6f, ζ = %.5f\n", t.log10_amplitude,
+                t.log10_amplitude_bound, t.points, t.omega, t.damping_ratio);
+    ASSERT_TRUE(t.refined) << k << ": " << t.message;
+    EXPECT_LT(t.log10_amplitude_bound, 1e-5) << k;
+    hb::InterfaceModeResidual::Evaluation e;
+    epmc.evaluate(t.unknowns, t.log10_amplitude, false, e);
+    EXPECT_LT(e.residual.lpNorm<Eigen::Infinity>(), 1e-9) << k;
+    EXPECT_NEAR(t.omega, t.unknowns[epmc.balance().unknowns()], 1e-15);
+    const double delta = 1e-4;  // above every bound; roots within ~√δ of the turn
+    const bool below = root_near(t.unknowns, t.log10_amplitude - delta, 5e-2);
+    const bool above = root_near(t.unknowns, t.log10_amplitude + delta, 5e-2);
+    EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
+  }
+  // The first turn is a maximum of λ (the curve comes back), the second a minimum: the points
+  // around them say so.
+  EXPECT_GT(b.turns[0].log10_amplitude, b.turns[1].log10_amplitude);
+  // Matrix-free (dense_below = 0) the curve starts too: at the linear start the followed mode's
+  // block is singular and the preconditioner, exact on this one-point joint, divided by zero
+  // ("GMRES: relative residual 1 after 0 iterations", InterfaceModeResidual::preconditioner).
+  o.dense_below = 0;
+  o.continuation.max_points = 12;
+  const InterfaceBackbone free = trace_interface_backbone(model, o);
+  ASSERT_EQ(free.points.size(), 12u) << free.message;
+  EXPECT_NEAR(free.points.front().state.omega / b.linear_omega, 1.0, 1e-9);
+  for (std::size_t i = 0; i < 12; ++i)
+    EXPECT_NEAR(free.points[i].state.omega, b.points[i].state.omega, 1e-8 * b.linear_omega) << i;
 }
 
 }  // namespace

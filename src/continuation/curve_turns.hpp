@@ -1,0 +1,28 @@
+#pragma once
+// The turns in amplitude of a damping curve (internal to the continuation layer; docs/stability.md
+// §7), for discrete and finite-element curves alike: every pair of accepted points of a run between
+// which the tangent's λ component changed sign (Point::fold) is refined to the extremum of λ along
+// the branch (curve_refinement.hpp, q = λ); a turn that cannot be refined is reported at the point
+// after it, bounded by the λ between the two.
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "jointhb/continuation/curve_turn.hpp"
+#include "jointhb/continuation/pseudo_arclength.hpp"
+
+namespace jointhb::continuation::detail {
+
+/// (Ω, ζ) of the point (x, λ) of a damping curve.
+using FrequencyAndDamping = std::function<std::pair<double, double>(const Eigen::VectorXd& x, double lambda)>;
+
+/// The turns of run `r` traced with `scaling` (its scales and tolerances). `residual` returns the
+/// dense Jacobian (the refinement's bordered LU); empty `residual`: no refinement, every turn is
+/// reported unrefined with `why_unrefined` as its message.
+std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const Options& scaling, const Result& r,
+                                       const FrequencyAndDamping& at, const std::string& why_unrefined = {});
+
+}  // namespace jointhb::continuation::detail
