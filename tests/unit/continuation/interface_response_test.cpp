@@ -8,11 +8,14 @@
 
 #include <cmath>
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <cstdio>
 #include <memory>
 
 #include "../hb/interface_test_model.hpp"
 #include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/continuation/backbone.hpp"
+#include "jointhb/hb/nonlinear_mode.hpp"
 
 namespace jointhb::continuation {
 namespace {
@@ -212,9 +215,72 @@ TEST(InterfaceBackbone, TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) {
     const bool above = root_near(t.unknowns, t.log10_amplitude + delta, 5e-2);
     EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
   }
-  // The first turn is a maximum of λ (the curve comes back), the second a minimum: the points
-  // around them say so.
+  // The first turn is a maximum of λ (the curve comes back), the second a minimum.
   EXPECT_GT(b.turns[0].log10_amplitude, b.turns[1].log10_amplitude);
+  // A second method: the same system as a discrete model (hb/nonlinear_mode.hpp: DOF coordinates,
+  // its own AFT of the Jenkins law, the amplitude normalised by the mass norm of the fundamental
+  // instead of the modal coordinate). Every point of its damping curve, mapped to the joint's
+  // unknowns (η = Φᵀx, M = I; δg = (x0, 0, 0); ŷ = y/q with q = η₁'s a₁; the phase conditions
+  // coincide, b₁ᵀMφ₁ = η₁'s b₁), is a root of the joint's EPMC residual at λ = log10 q: the two
+  // implementations trace the same branch through both turns.
+  hb::DiscreteSystem d;
+  Eigen::Matrix2d kd;
+  kd << 4.0, -3.0, -3.0, 3.0;  // k_1 + k_2, without the contact
+  d.mass = Eigen::Matrix2d::Identity().sparseView();
+  d.stiffness = kd.sparseView();
+  d.damping = (0.002 * Eigen::Matrix2d::Identity()).sparseView();
+  hb::ContactElement jenkins;
+  jenkins.dof_a = 0;
+  jenkins.stiffness = 3.0;
+  jenkins.friction_coefficient = 0.1;
+  jenkins.normal_force = 1.0;
+  d.contacts.push_back(jenkins);
+  BackboneOptions dopt;
+  dopt.mode.harmonics = 3;
+  dopt.mode.time_samples = 64;
+  dopt.log10_amplitude_start = -3.0;
+  dopt.log10_amplitude_end = 1.0;
+  dopt.error_estimate = false;
+  const BackboneCurve discrete = trace_backbone(d, dopt);
+  ASSERT_TRUE(discrete.completed()) << discrete.message;
+  const hb::NonlinearModeResidual dm(d, dopt.mode);
+  const hb::FourierBasis& db = dm.balance().basis();
+  const hb::FourierBasis& fb = epmc.balance().basis();
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 4);  // x rows of the joint's mode shapes
+  {
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);
+    K.topLeftCorner(2, 2) = kd;
+    K(0, 0) += 3.0;
+    K(2, 2) = 53.0;
+    K(3, 3) = 51.0;
+    phi = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K).eigenvectors().topRows(2);
+  }
+  const Eigen::Index U = epmc.balance().unknowns();
+  double worst = 0.0;
+  int crossed_turns = 0;
+  for (const BackbonePoint& p : discrete.points) {
+    const double qd = p.state.amplitude;
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(U + 2);
+    for (const int k : db.orders())
+      for (int c = 0; c < 2; ++c) {
+        const Eigen::Vector2d x(qd * p.unknowns[dm.balance().index(0, db.cosine_index(k) + c)],
+                                qd * p.unknowns[dm.balance().index(1, db.cosine_index(k) + c)]);
+        for (int j = 0; j < 4; ++j) y[epmc.balance().modal_index(j, fb.cosine_index(k) + c)] = phi.col(j).dot(x);
+        y[epmc.balance().gap_index(0, 0, fb.cosine_index(k) + c)] = x[0];
+      }
+    const double q = y[epmc.balance().modal_index(epmc.followed_mode(), fb.cosine_index(1))];
+    y /= q;
+    y[U] = p.state.omega;
+    y[U + 1] = p.unknowns[p.unknowns.size() - 1];  // ξ
+    hb::InterfaceModeResidual::Evaluation e;
+    epmc.evaluate(y, std::log10(q), false, e);
+    worst = std::max(worst, e.residual.lpNorm<Eigen::Infinity>());
+    for (const BackboneTurn& t : b.turns)
+      if (std::abs(p.state.omega - t.omega) < 2e-3) ++crossed_turns;
+  }
+  std::printf("discrete 2-DOF model: %zu points, worst joint residual %.1e\n", discrete.points.size(), worst);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(crossed_turns, 0);  // its points reach the turns' neighbourhood
   // Matrix-free (dense_below = 0) the curve starts too: at the linear start the followed mode's
   // block is singular and the preconditioner, exact on this one-point joint, divided by zero
   // ("GMRES: relative residual 1 after 0 iterations", InterfaceModeResidual::preconditioner).
