@@ -22,13 +22,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "../support/numeric_constants.hpp"
 
@@ -98,7 +98,7 @@ constexpr double kOutputMinStepFactor = 1e-3;
 constexpr int kMaxRestarts = 4;
 
 // Distance from y to the polyline through the scaled points ys[0..m) (0 segments: infinity).
-double distance_to_polyline(const std::deque<VectorXd>& ys, const VectorXd& y) {
+double distance_to_polyline(const std::vector<VectorXd>& ys, const VectorXd& y) {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
     const VectorXd d = ys[j + 1] - ys[j];
@@ -757,7 +757,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   double s = capped(options.initial_step, tau);
   // The scaled accepted points before y_k, and the test of a landing y_f against their polyline
   // (kRetraceFraction).
-  std::deque<VectorXd> traced;
+  std::vector<VectorXd> traced;
   const auto retraces = [&](const VectorXd& y_f) {
     return distance_to_polyline(traced, y_f) < kRetraceFraction * (y_f - y).norm();
   };
@@ -822,8 +822,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // Not back first, nor within 60°: either way the damping curves of a 2-DOF fit model changed
     // and DiscreteFit.TwoDofRecoversBothJointsFromTwoModes failed (measured; why was not
     // analysed: slip onsets where many time samples switch at once break the one-surface proof).
-    const bool returning = orientation != 0 && tracer.tangent_orientation() != 0 &&
-                           orientation != tracer.tangent_orientation();
+    const int far_orientation = tracer.tangent_orientation();  // of τ_f, just computed
+    const bool returning = orientation != 0 && far_orientation != 0 && orientation != far_orientation;
     if (t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
     if (std::optional<Crossing> ahead = cross_along(*t_far, step, false)) return ahead;
     if (!returning) return std::nullopt;
@@ -968,6 +968,10 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       const double scaled_dl = std::abs(dl) / options.parameter_scale;
       if (b.converged && (b.sample.y - y).norm() <= (1.0 + kNaturalMaxSlope) * scaled_dl &&
           !retraces(b.sample.y)) {
+        // Oriented along τ_k (τ·τ_k > 0). Orienting it by the secant y_b − y_k where its λ
+        // component goes against Δλ lets a 2-DOF Jenkins damping curve pass a 3:1 internal
+        // resonance where it now creeps back (docs/continuation.md, "Natural-parameter fallback
+        // at corners"), but changed the 2-DOF fit model's curves: not adopted (stop 47).
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);
         next_orientation = tracer.tangent_orientation();

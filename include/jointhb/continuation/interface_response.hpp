@@ -53,14 +53,15 @@ struct InterfaceBackboneOptions {
   /// Newton steps, hence the curve, are unchanged (mixed-precision iterative refinement).
   bool mixed_precision = true;
   /// Curves with at most this many unknowns ((n_s + 3P)(2H + 1) + 2) use the dense Jacobian and
-  /// the dense LU whatever matrix_free and continuation.linear_solver say (0: never). There a
-  /// dense LU costs little (~0.05 s at 1000), and it carries the orientation sign det [J; τᵀ]
-  /// that takes the curve through folds at kinks (docs/continuation.md, "Crossing a corner"),
-  /// which GMRES does not: a 2-DOF joint at a 3:1 internal resonance (test
-  /// InterfaceBackbone.TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) loops at such a fold
-  /// at log10 q = −0.82 with GMRES and passes it with the dense LU. Its turns are refined only
-  /// with a dense Jacobian (matrix-free: reported at the point after them).
-  Eigen::Index dense_below = 1000;
+  /// the dense LU whatever matrix_free and continuation.linear_solver say (0: never). The dense LU
+  /// carries the orientation sign det [J; τᵀ] that takes the curve through folds at kinks
+  /// (docs/continuation.md, "Crossing a corner"), which GMRES does not: a 2-DOF joint at a 3:1
+  /// internal resonance (test InterfaceBackbone.TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude)
+  /// loops at such a fold at log10 q = −0.82 with GMRES and passes it with the dense LU. Cost,
+  /// dense against matrix-free (one thread): 0.85–1.22× on synthetic joints of 68–786 unknowns,
+  /// but 1.66× on case 08 (629 unknowns, 2.72 s against 1.64 s for the whole run): hence 300.
+  /// Turns are refined only with a dense Jacobian (matrix-free: reported at the point after them).
+  Eigen::Index dense_below = 300;
   Options continuation = [] {
     Options o;
     o.residual_tolerance = 1e-10;

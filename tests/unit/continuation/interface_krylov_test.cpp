@@ -35,7 +35,7 @@ TEST(InterfaceNewtonKrylov, BackboneMatchesDenseLu) {
     o.log10_amplitude_end = -3.5;
     ASSERT_EQ(o.continuation.linear_solver, LinearSolver::newton_krylov);  // the default
     o.matrix_free = false;  // dense Jacobian, lagged LU
-    o.dense_below = 0;      // the solver itself, not the small-curve policy (dense LU below 1000 unknowns)
+    o.dense_below = 0;      // the solver itself, not the small-curve policy (dense LU up to 300 unknowns)
     const InterfaceBackbone krylov = trace_interface_backbone(model, o);
     o.continuation.linear_solver = LinearSolver::dense_lu;
     const InterfaceBackbone dense = trace_interface_backbone(model, o);

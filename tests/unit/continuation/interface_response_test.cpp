@@ -123,13 +123,14 @@ TEST(InterfaceFrf, PeaksLieOnTheBackbone) {
   }
 }
 
-// A joint of one contact point grounding DOF x0 of a 2-DOF chain in x (k_1 = 1 to ground, k_2 = 3
+// A joint of one contact point grounding DOF x0 of a 2-DOF chain in x (k_1 = 1 to ground, k_2
 // between x0 and x1, unit masses, C = 0.002 M), the point's transverse (y0) and normal (z0) DOFs
 // held by springs of 50: Jenkins, k_T = 3, μ p A = 0.1. Every mode kept (no residual modes). Its
-// damping curve of mode 1 (stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips, where 3Ω
-// meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward again.
-hb::InterfaceModel two_dof_joint() {
-  const double k2 = 3.0, kt = 3.0;
+// damping curve of mode 1 (k_2 = 3: stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips,
+// where 3Ω meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward
+// again (k_2 = 2: six times, between Ω = 0.71 and 0.83).
+hb::InterfaceModel two_dof_joint(double k2) {
+  const double kt = 3.0;
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);  // (x0, x1, y0, z0), contact stuck
   K(0, 0) = 1.0 + k2 + kt;
   K(0, 1) = K(1, 0) = -k2;
@@ -176,121 +177,128 @@ hb::InterfaceModel two_dof_joint() {
 // fixed λ, independent of the continuation: at a turn λ* the residual vanishes, and roots near
 // the turn's state exist on one side of λ* only.
 TEST(InterfaceBackbone, TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) {
-  const hb::InterfaceModel model = two_dof_joint();
-  ASSERT_EQ(model.validate(), "");
-  InterfaceBackboneOptions o;
-  o.mode.balance = {.harmonics = 3, .time_samples = 64};
-  o.log10_amplitude_start = -3.0;
-  o.log10_amplitude_end = 1.0;
-  const InterfaceBackbone b = trace_interface_backbone(model, o);  // 51 unknowns: dense (dense_below)
-  ASSERT_TRUE(b.completed()) << b.message;
-  std::printf("2-DOF joint: %zu points, %zu turns\n", b.points.size(), b.turns.size());
-  ASSERT_GE(b.turns.size(), 2u);
-  hb::InterfaceModeOptions mode = o.mode;
-  mode.balance.dense_jacobian = true;
-  const hb::InterfaceModeResidual epmc(model, mode);
-  // From y0 at fixed λ: converged to a root within `near` of y0?
-  const auto root_near = [&](const Eigen::VectorXd& y0, double lambda, double near) {
-    Eigen::VectorXd y = y0;
-    hb::InterfaceModeResidual::Evaluation e;
-    for (int it = 0; it < 20; ++it) {
-      epmc.evaluate(y, lambda, true, e);
-      if (e.residual.lpNorm<Eigen::Infinity>() < 1e-11) return (y - y0).norm() < near * y0.norm();
-      y -= e.d_state.partialPivLu().solve(e.residual);
-    }
-    return false;
-  };
-  for (std::size_t k = 0; k < b.turns.size(); ++k) {
-    const BackboneTurn& t = b.turns[k];
-    std::printf("  turn at log10 q = %.9f ± %.1e (%d points), Ω = %.6f, ζ = %.5f\n", t.log10_amplitude,
-                t.log10_amplitude_bound, t.points, t.omega, t.damping_ratio);
-    ASSERT_TRUE(t.refined) << k << ": " << t.message;
-    EXPECT_LT(t.log10_amplitude_bound, 1e-5) << k;
-    hb::InterfaceModeResidual::Evaluation e;
-    epmc.evaluate(t.unknowns, t.log10_amplitude, false, e);
-    EXPECT_LT(e.residual.lpNorm<Eigen::Infinity>(), 1e-9) << k;
-    EXPECT_NEAR(t.omega, t.unknowns[epmc.balance().unknowns()], 1e-15);
-    const double delta = 1e-4;  // above every bound; roots within ~√δ of the turn
-    const bool below = root_near(t.unknowns, t.log10_amplitude - delta, 5e-2);
-    const bool above = root_near(t.unknowns, t.log10_amplitude + delta, 5e-2);
-    EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
-  }
-  // The first turn is a maximum of λ (the curve comes back), the second a minimum.
-  EXPECT_GT(b.turns[0].log10_amplitude, b.turns[1].log10_amplitude);
-  // A second method: the same system as a discrete model (hb/nonlinear_mode.hpp: DOF coordinates,
-  // its own AFT of the Jenkins law, the amplitude normalised by the mass norm of the fundamental
-  // instead of the modal coordinate). Every point of its damping curve, mapped to the joint's
-  // unknowns (η = Φᵀx, M = I; δg = (x0, 0, 0); ŷ = y/q with q = η₁'s a₁; the phase conditions
-  // coincide, b₁ᵀMφ₁ = η₁'s b₁), is a root of the joint's EPMC residual at λ = log10 q: the two
-  // implementations trace the same branch through both turns.
-  hb::DiscreteSystem d;
-  Eigen::Matrix2d kd;
-  kd << 4.0, -3.0, -3.0, 3.0;  // k_1 + k_2, without the contact
-  d.mass = Eigen::Matrix2d::Identity().sparseView();
-  d.stiffness = kd.sparseView();
-  d.damping = (0.002 * Eigen::Matrix2d::Identity()).sparseView();
-  hb::ContactElement jenkins;
-  jenkins.dof_a = 0;
-  jenkins.stiffness = 3.0;
-  jenkins.friction_coefficient = 0.1;
-  jenkins.normal_force = 1.0;
-  d.contacts.push_back(jenkins);
-  BackboneOptions dopt;
-  dopt.mode.harmonics = 3;
-  dopt.mode.time_samples = 64;
-  dopt.log10_amplitude_start = -3.0;
-  dopt.log10_amplitude_end = 1.0;
-  dopt.error_estimate = false;
-  const BackboneCurve discrete = trace_backbone(d, dopt);
-  ASSERT_TRUE(discrete.completed()) << discrete.message;
-  const hb::NonlinearModeResidual dm(d, dopt.mode);
-  const hb::FourierBasis& db = dm.balance().basis();
-  const hb::FourierBasis& fb = epmc.balance().basis();
-  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 4);  // x rows of the joint's mode shapes
-  {
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);
-    K.topLeftCorner(2, 2) = kd;
-    K(0, 0) += 3.0;
-    K(2, 2) = 53.0;
-    K(3, 3) = 51.0;
-    phi = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K).eigenvectors().topRows(2);
-  }
-  const Eigen::Index U = epmc.balance().unknowns();
-  double worst = 0.0;
-  int crossed_turns = 0;
-  for (const BackbonePoint& p : discrete.points) {
-    const double qd = p.state.amplitude;
-    Eigen::VectorXd y = Eigen::VectorXd::Zero(U + 2);
-    for (const int k : db.orders())
-      for (int c = 0; c < 2; ++c) {
-        const Eigen::Vector2d x(qd * p.unknowns[dm.balance().index(0, db.cosine_index(k) + c)],
-                                qd * p.unknowns[dm.balance().index(1, db.cosine_index(k) + c)]);
-        for (int j = 0; j < 4; ++j) y[epmc.balance().modal_index(j, fb.cosine_index(k) + c)] = phi.col(j).dot(x);
-        y[epmc.balance().gap_index(0, 0, fb.cosine_index(k) + c)] = x[0];
+  for (const double k2 : {3.0, 2.0}) {
+    SCOPED_TRACE(k2);
+    const hb::InterfaceModel model = two_dof_joint(k2);
+    ASSERT_EQ(model.validate(), "");
+    InterfaceBackboneOptions o;
+    o.mode.balance = {.harmonics = 3, .time_samples = 64};
+    o.log10_amplitude_start = -3.0;
+    o.log10_amplitude_end = 1.0;
+    const InterfaceBackbone b = trace_interface_backbone(model, o);  // 51 unknowns: dense (dense_below)
+    ASSERT_TRUE(b.completed()) << b.message;
+    std::printf("2-DOF joint, k_2 = %g: %zu points, %zu turns\n", k2, b.points.size(), b.turns.size());
+    ASSERT_GE(b.turns.size(), 2u);
+    hb::InterfaceModeOptions mode = o.mode;
+    mode.balance.dense_jacobian = true;
+    const hb::InterfaceModeResidual epmc(model, mode);
+    // From y0 at fixed λ: converged to a root within `near` of y0?
+    const auto root_near = [&](const Eigen::VectorXd& y0, double lambda, double near) {
+      Eigen::VectorXd y = y0;
+      hb::InterfaceModeResidual::Evaluation e;
+      for (int it = 0; it < 20; ++it) {
+        epmc.evaluate(y, lambda, true, e);
+        if (e.residual.lpNorm<Eigen::Infinity>() < 1e-11) return (y - y0).norm() < near * y0.norm();
+        y -= e.d_state.partialPivLu().solve(e.residual);
       }
-    const double q = y[epmc.balance().modal_index(epmc.followed_mode(), fb.cosine_index(1))];
-    y /= q;
-    y[U] = p.state.omega;
-    y[U + 1] = p.unknowns[p.unknowns.size() - 1];  // ξ
-    hb::InterfaceModeResidual::Evaluation e;
-    epmc.evaluate(y, std::log10(q), false, e);
-    worst = std::max(worst, e.residual.lpNorm<Eigen::Infinity>());
-    for (const BackboneTurn& t : b.turns)
-      if (std::abs(p.state.omega - t.omega) < 2e-3) ++crossed_turns;
+      return false;
+    };
+    for (std::size_t k = 0; k < b.turns.size(); ++k) {
+      const BackboneTurn& t = b.turns[k];
+      std::printf("  turn at log10 q = %.9f ± %.1e (%d points), Ω = %.6f, ζ = %.5f\n", t.log10_amplitude,
+                  t.log10_amplitude_bound, t.points, t.omega, t.damping_ratio);
+      ASSERT_TRUE(t.refined) << k << ": " << t.message;
+      EXPECT_LT(t.log10_amplitude_bound, 1e-5) << k;
+      hb::InterfaceModeResidual::Evaluation e;
+      epmc.evaluate(t.unknowns, t.log10_amplitude, false, e);
+      EXPECT_LT(e.residual.lpNorm<Eigen::Infinity>(), 1e-9) << k;
+      EXPECT_NEAR(t.omega, t.unknowns[epmc.balance().unknowns()], 1e-15);
+      const double delta = 1e-4;  // above every bound; roots within ~√δ of the turn
+      const bool below = root_near(t.unknowns, t.log10_amplitude - delta, 5e-2);
+      const bool above = root_near(t.unknowns, t.log10_amplitude + delta, 5e-2);
+      EXPECT_NE(below, above) << "turn " << k << " at log10 q = " << t.log10_amplitude;
+    }
+    // The first turn is a maximum of λ (the curve comes back), the second a minimum.
+    EXPECT_GT(b.turns[0].log10_amplitude, b.turns[1].log10_amplitude);
+    // A second method: the same system as a discrete model (hb/nonlinear_mode.hpp: DOF coordinates,
+    // its own AFT of the Jenkins law, the amplitude normalised by the mass norm of the fundamental
+    // instead of the modal coordinate). With k_2 = 2 its curve stops at log10 q = −0.668 where the
+    // joint's passes: after a natural-parameter step the tangent oriented by τ_k points back along
+    // the branch, although Newton's method at fixed λ finds it going on (docs/continuation.md,
+    // "Natural-parameter fallback at corners"). Every point of its damping curve, mapped to the joint's
+    // unknowns (η = Φᵀx, M = I; δg = (x0, 0, 0); ŷ = y/q with q = η₁'s a₁; the phase conditions
+    // coincide, b₁ᵀMφ₁ = η₁'s b₁), is a root of the joint's EPMC residual at λ = log10 q: the two
+    // implementations trace the same branch through both turns.
+    hb::DiscreteSystem d;
+    Eigen::Matrix2d kd;
+    kd << 1.0 + k2, -k2, -k2, k2;  // without the contact
+    d.mass = Eigen::Matrix2d::Identity().sparseView();
+    d.stiffness = kd.sparseView();
+    d.damping = (0.002 * Eigen::Matrix2d::Identity()).sparseView();
+    hb::ContactElement jenkins;
+    jenkins.dof_a = 0;
+    jenkins.stiffness = 3.0;
+    jenkins.friction_coefficient = 0.1;
+    jenkins.normal_force = 1.0;
+    d.contacts.push_back(jenkins);
+    BackboneOptions dopt;
+    dopt.mode.harmonics = 3;
+    dopt.mode.time_samples = 64;
+    dopt.log10_amplitude_start = -3.0;
+    dopt.log10_amplitude_end = 1.0;
+    dopt.error_estimate = false;
+    const BackboneCurve discrete = trace_backbone(d, dopt);
+    if (k2 == 3.0) ASSERT_TRUE(discrete.completed()) << discrete.message;
+    const hb::NonlinearModeResidual dm(d, dopt.mode);
+    const hb::FourierBasis& db = dm.balance().basis();
+    const hb::FourierBasis& fb = epmc.balance().basis();
+    Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 4);  // x rows of the joint's mode shapes
+    {
+      Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);
+      K.topLeftCorner(2, 2) = kd;
+      K(0, 0) += 3.0;
+      K(2, 2) = 53.0;
+      K(3, 3) = 51.0;
+      phi = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K).eigenvectors().topRows(2);
+    }
+    const Eigen::Index U = epmc.balance().unknowns();
+    double worst = 0.0;
+    int crossed_turns = 0;
+    for (const BackbonePoint& p : discrete.points) {
+      const double qd = p.state.amplitude;
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(U + 2);
+      for (const int k : db.orders())
+        for (int c = 0; c < 2; ++c) {
+          const Eigen::Vector2d x(qd * p.unknowns[dm.balance().index(0, db.cosine_index(k) + c)],
+                                  qd * p.unknowns[dm.balance().index(1, db.cosine_index(k) + c)]);
+          for (int j = 0; j < 4; ++j) y[epmc.balance().modal_index(j, fb.cosine_index(k) + c)] = phi.col(j).dot(x);
+          y[epmc.balance().gap_index(0, 0, fb.cosine_index(k) + c)] = x[0];
+        }
+      const double q = y[epmc.balance().modal_index(epmc.followed_mode(), fb.cosine_index(1))];
+      y /= q;
+      y[U] = p.state.omega;
+      y[U + 1] = p.unknowns[p.unknowns.size() - 1];  // ξ
+      hb::InterfaceModeResidual::Evaluation e;
+      epmc.evaluate(y, std::log10(q), false, e);
+      worst = std::max(worst, e.residual.lpNorm<Eigen::Infinity>());
+      for (const BackboneTurn& t : b.turns)
+        if (std::abs(p.state.omega - t.omega) < 2e-3) ++crossed_turns;
+    }
+    std::printf("discrete 2-DOF model: %zu points, worst joint residual %.1e\n", discrete.points.size(), worst);
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_GT(crossed_turns, 0);  // its points reach the turns' neighbourhood
+    if (k2 != 3.0) continue;
+    // Matrix-free (dense_below = 0) the curve starts too: at the linear start the followed mode's
+    // block is singular and the preconditioner, exact on this one-point joint, divided by zero
+    // ("GMRES: relative residual 1 after 0 iterations", InterfaceModeResidual::preconditioner).
+    o.dense_below = 0;
+    o.continuation.max_points = 12;
+    const InterfaceBackbone free = trace_interface_backbone(model, o);
+    ASSERT_EQ(free.points.size(), 12u) << free.message;
+    EXPECT_NEAR(free.points.front().state.omega / b.linear_omega, 1.0, 1e-9);
+    for (std::size_t i = 0; i < 12; ++i)
+      EXPECT_NEAR(free.points[i].state.omega, b.points[i].state.omega, 1e-8 * b.linear_omega) << i;
   }
-  std::printf("discrete 2-DOF model: %zu points, worst joint residual %.1e\n", discrete.points.size(), worst);
-  EXPECT_LT(worst, 1e-9);
-  EXPECT_GT(crossed_turns, 0);  // its points reach the turns' neighbourhood
-  // Matrix-free (dense_below = 0) the curve starts too: at the linear start the followed mode's
-  // block is singular and the preconditioner, exact on this one-point joint, divided by zero
-  // ("GMRES: relative residual 1 after 0 iterations", InterfaceModeResidual::preconditioner).
-  o.dense_below = 0;
-  o.continuation.max_points = 12;
-  const InterfaceBackbone free = trace_interface_backbone(model, o);
-  ASSERT_EQ(free.points.size(), 12u) << free.message;
-  EXPECT_NEAR(free.points.front().state.omega / b.linear_omega, 1.0, 1e-9);
-  for (std::size_t i = 0; i < 12; ++i)
-    EXPECT_NEAR(free.points[i].state.omega, b.points[i].state.omega, 1e-8 * b.linear_omega) << i;
 }
 
 }  // namespace
