@@ -164,11 +164,7 @@ class DiscreteBackboneSegment {
       return judge(b, p);
     };
     Result r = trace(residual, y0, c, accept);
-    const std::vector<BackboneTurn> turns =
-        detail::locate_turns(residual, c, r, [&](const Eigen::VectorXd& x, double lambda) {
-          const hb::NonlinearModeState s = epmc_.state(x, lambda);
-          return std::pair{s.omega, s.damping_ratio};
-        });
+    const std::vector<BackboneTurn> turns = detail::locate_turns(residual, c, r);
     turns_.insert(turns_.end(), turns.begin(), turns.end());
     return r;
   }

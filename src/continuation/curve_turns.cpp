@@ -16,7 +16,7 @@ constexpr RefinementOptions kTurnRefinement{1e-8, 40};
 }  // namespace
 
 std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const Options& scaling, const Result& r,
-                                       const FrequencyAndDamping& at, const std::string& why_unrefined) {
+                                       const std::string& why_unrefined) {
   std::vector<BackboneTurn> turns;
   for (std::size_t k = 1; k < r.points.size(); ++k) {
     const Point& b = r.points[k];
@@ -32,7 +32,9 @@ std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const O
     t.log10_amplitude = e.ok ? e.lambda : b.lambda;
     t.unknowns = e.ok ? e.x : b.x;
     t.log10_amplitude_bound = e.ok ? e.value_bound : std::abs(b.lambda - a.lambda);
-    std::tie(t.omega, t.damping_ratio) = at(t.unknowns, t.log10_amplitude);
+    const Eigen::Index n = t.unknowns.size();
+    t.omega = t.unknowns[n - 2];
+    t.damping_ratio = t.unknowns[n - 1] / (2.0 * t.omega);
     turns.push_back(std::move(t));
   }
   return turns;

@@ -6,9 +6,7 @@
 // after it, bounded by the λ between the two.
 
 #include <Eigen/Core>
-#include <functional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "jointhb/continuation/curve_turn.hpp"
@@ -16,13 +14,12 @@
 
 namespace jointhb::continuation::detail {
 
-/// (Ω, ζ) of the point (x, λ) of a damping curve.
-using FrequencyAndDamping = std::function<std::pair<double, double>(const Eigen::VectorXd& x, double lambda)>;
-
-/// The turns of run `r` traced with `scaling` (its scales and tolerances). `residual` returns the
-/// dense Jacobian (the refinement's bordered LU); empty `residual`: no refinement, every turn is
-/// reported unrefined with `why_unrefined` as its message.
+/// The turns of run `r` traced with `scaling` (its scales and tolerances), whose unknowns end with
+/// (Ω, ξ) as those of both EPMC residuals do (ζ = ξ / 2Ω, hb/nonlinear_mode.hpp,
+/// hb/interface_mode.hpp). `residual` returns the dense Jacobian (the refinement's bordered LU);
+/// empty `residual`: no refinement, every turn is reported unrefined with `why_unrefined` as its
+/// message.
 std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const Options& scaling, const Result& r,
-                                       const FrequencyAndDamping& at, const std::string& why_unrefined = {});
+                                       const std::string& why_unrefined = {});
 
 }  // namespace jointhb::continuation::detail

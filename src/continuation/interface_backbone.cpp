@@ -122,12 +122,9 @@ class InterfaceBackboneSegment {
   // The turns of run r (curve_turns.hpp), refined with the dense Jacobian; matrix-free there is
   // none to refine them with.
   void add_turns(const ResidualFunction& residual, const Options& c, const Result& r) {
-    const auto at = [U = epmc_.balance().unknowns()](const Eigen::VectorXd& x, double) {
-      return std::pair{x[U], x[U + 1] / (2.0 * x[U])};  // Ω, ζ = ξ / 2Ω
-    };
     const std::vector<BackboneTurn> turns =
-        matrix_free_ ? detail::locate_turns({}, c, r, at, "not refined: the curve was traced matrix-free")
-                     : detail::locate_turns(residual, c, r, at);
+        matrix_free_ ? detail::locate_turns({}, c, r, "not refined: the curve was traced matrix-free")
+                     : detail::locate_turns(residual, c, r);
     turns_.insert(turns_.end(), turns.begin(), turns.end());
   }
 

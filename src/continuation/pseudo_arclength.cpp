@@ -819,9 +819,9 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // residual, docs/continuation.md, "Crossing a corner") says the other way than the jump, back
     // along −τ_f (at corners only, like the step along the jump): the branch comes back on the far
     // sheet (a fold at a kink: the 7:1 internal resonance of the 30-DOF chain's damping curve).
-    // Not back first, nor within 60°: either way the damping curves of a 2-DOF fit model changed
-    // and DiscreteFit.TwoDofRecoversBothJointsFromTwoModes failed (measured; why was not
-    // analysed: slip onsets where many time samples switch at once break the one-surface proof).
+    // Not back first, nor within 60°: either way DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
+    // failed (measured; not analysed for this rule — for the natural-parameter rule below the
+    // same failure came from one fit evaluation whose curve no longer failed, docs/continuation.md).
     const int far_orientation = tracer.tangent_orientation();  // of τ_f, just computed
     const bool returning = orientation != 0 && far_orientation != 0 && orientation != far_orientation;
     if (t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
@@ -970,8 +970,9 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
           !retraces(b.sample.y)) {
         // Oriented along τ_k (τ·τ_k > 0). Orienting it by the secant y_b − y_k where its λ
         // component goes against Δλ lets a 2-DOF Jenkins damping curve pass a 3:1 internal
-        // resonance where it now creeps back (docs/continuation.md, "Natural-parameter fallback
-        // at corners"), but changed the 2-DOF fit model's curves: not adopted (stop 47).
+        // resonance where it now creeps back, but DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
+        // then ends in a local minimum: one of its evaluations whose curve failed now completes
+        // (docs/continuation.md, "Natural-parameter fallback at corners"). Not adopted (stop 47).
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);
         next_orientation = tracer.tangent_orientation();
