@@ -968,13 +968,17 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       const double scaled_dl = std::abs(dl) / options.parameter_scale;
       if (b.converged && (b.sample.y - y).norm() <= (1.0 + kNaturalMaxSlope) * scaled_dl &&
           !retraces(b.sample.y)) {
-        // Oriented along τ_k (τ·τ_k > 0). Orienting it by the secant y_b − y_k where its λ
-        // component goes against Δλ lets a 2-DOF Jenkins damping curve pass a 3:1 internal
-        // resonance where it now creeps back, but DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
-        // then ends in a local minimum: one of its evaluations whose curve failed now completes
-        // (docs/continuation.md, "Natural-parameter fallback at corners"). Not adopted (stop 47).
+        // Oriented along τ_k (τ·τ_k > 0), unless its λ component then goes against the Δλ just
+        // taken: past a fold at a kink the tangent at the landing turns by more than 90° from τ_k,
+        // and oriented by τ_k it sends the run back along the sheet it crossed (a 2-DOF chain
+        // grounded through a Jenkins contact, k2 = 2: its damping curve crept back from a 3:1
+        // internal resonance until min_step). It is then oriented by the secant y_b − y_k, the
+        // direction in which the corner was crossed (docs/continuation.md, "Natural-parameter
+        // fallback at corners").
         std::string tangent_failure;
         next_tau = tracer.tangent(b.sample, tau, tangent_failure);
+        if (next_tau && (*next_tau)(n) * dl < 0.0)
+          next_tau = tracer.tangent(b.sample, (b.sample.y - y).normalized(), tangent_failure);
         next_orientation = tracer.tangent_orientation();
         if (next_tau) {
           c = std::move(b);

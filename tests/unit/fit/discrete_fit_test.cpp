@@ -137,6 +137,11 @@ TEST(DiscreteFit, TwoDofRecoversBothJointsFromTwoModes) {
                                        {names[1], 0.5, 50.0, 1.0, true}};
   FitOptions o;
   o.xtol = 1e-4;
+  // Two starts: from the given one BOBYQA ends in a local minimum (S = 2.68e5 after 46
+  // evaluations, against 40.7 at the truth's basin, found by the Latin-hypercube start). A single
+  // start passed until stop 47 only because one curve on its way failed and its penalty steered
+  // the search off that basin (docs/continuation.md, "Natural-parameter fallback at corners").
+  o.starts = 2;
   const FitResult r = fit(discrete_model(truth, names, targets), p, o);
   ASSERT_TRUE(r.ok && r.has_jacobian) << r.jacobian_message;
   EXPECT_TRUE(r.unresolved.empty());
