@@ -817,15 +817,16 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // Along the jump first, where τ_f turned by more than 60° from τ_k (a corner). Then, where
     // that found nothing and the orientation sign det [J ; τᵀ] (kept across a kink of the
     // residual, docs/continuation.md, "Crossing a corner") says the other way than the jump, back
-    // along −τ_f (at corners only, like the step along the jump): the branch comes back on the far
-    // sheet (a fold at a kink: the 7:1 internal resonance of the 30-DOF chain's damping curve).
-    // Not back first, nor within 60°: either way DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
-    // failed (measured; not analysed for this rule — for the natural-parameter rule below the
-    // same failure came from one fit evaluation whose curve no longer failed, docs/continuation.md).
+    // along −τ_f: the branch comes back on the far sheet (a fold at a kink: the 7:1 internal
+    // resonance of the 30-DOF chain's damping curve). The way back is tried whatever the angle
+    // between τ_f and τ_k: a fold at a kink that turns the branch by 122° (τ_f · τ_k = 0.526, the
+    // chain at log10 q = −0.9137) is no corner by the 60° test of the way ahead, and the curve
+    // stopped there until stop 48. Not back first: DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
+    // failed (measured in stop 46, with one start; not analysed).
     const int far_orientation = tracer.tangent_orientation();  // of τ_f, just computed
     const bool returning = orientation != 0 && far_orientation != 0 && orientation != far_orientation;
-    if (t_far->dot(tau) > kMaxTurnCosine) return std::nullopt;  // no corner there
-    if (std::optional<Crossing> ahead = cross_along(*t_far, step, false)) return ahead;
+    if (t_far->dot(tau) <= kMaxTurnCosine)  // a corner
+      if (std::optional<Crossing> ahead = cross_along(*t_far, step, false)) return ahead;
     if (!returning) return std::nullopt;
     return cross_along(-*t_far, step, true);
   };

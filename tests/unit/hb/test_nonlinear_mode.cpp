@@ -167,8 +167,9 @@ TEST(NonlinearMode, ExtremeAmplitudesEndOnFinitePoints) {
 // frequencies are nearly 1 : 3 : 5 : 7 (ratios 2.995, 4.983, 6.943), so the damping curve of mode 1
 // meets internal resonances with modes 2–4 through the harmonics 3, 5, 7. With H = 5 it reaches
 // its end; with H = 7 it turns back in amplitude at log10 q ≈ −0.376, passes folds at kinks of
-// the friction laws (the first at −0.806, where it stopped until stop 46) and stops at −0.914, by
-// the 7:1 resonance with mode 4, and the message must say so.
+// the friction laws (the first at −0.806, where it stopped until stop 46; one at −0.914 where it
+// stopped until stop 48) and stops at −1.186, by the 7:1 resonance with mode 4, and the message
+// must say so.
 DiscreteSystem chain30() {
   const int n = 30;
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
