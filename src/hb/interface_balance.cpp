@@ -271,6 +271,13 @@ const FourierBasis& InterfaceBalance::basis() const { return impl_->basis; }
 const InterfaceBalanceOptions& InterfaceBalance::options() const { return impl_->options; }
 int InterfaceBalance::modes() const { return impl_->ns; }
 int InterfaceBalance::points() const { return impl_->P; }
+const contact::ContactPoint& InterfaceBalance::point_law(int p) const {
+  if (p < 0 || p >= impl_->P) throw std::invalid_argument(fmt::format("point_law: point {} of {}", p, impl_->P));
+  if (!impl_->frozen.empty()) return impl_->frozen[static_cast<std::size_t>(p)];
+  for (const InterfaceGroup& g : impl_->model.groups)
+    if (p < g.first + g.count) return g.law;
+  return impl_->model.groups.back().law;
+}
 Index InterfaceBalance::unknowns() const { return impl_->U; }
 Index InterfaceBalance::modal_index(int mode, int coefficient) const {
   return static_cast<Index>(mode) * impl_->m + coefficient;

@@ -178,26 +178,33 @@ FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorX
   }
   Eigen::MatrixXd phi(d, d);
   phi << y, v, f;
-  if (!phi.allFinite()) {
+  return floquet_from_monodromy(phi, period, options.unstable_tolerance);
+}
+
+FloquetResult floquet_from_monodromy(const Eigen::MatrixXd& monodromy, double period,
+                                     double unstable_tolerance) {
+  FloquetResult out;
+  if (!monodromy.allFinite()) {
     out.message = "the monodromy is not finite";
     return out;
   }
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(phi, false);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(monodromy, false);
   if (eig.info() != Eigen::Success) {
     out.message = "the eigensolver did not converge";
     return out;
   }
+  const Eigen::Index d = monodromy.rows();
   std::vector<cd> rho(eig.eigenvalues().data(), eig.eigenvalues().data() + d);
   std::stable_sort(rho.begin(), rho.end(),
                    [](const cd& p, const cd& q) { return std::abs(p) > std::abs(q); });
   out.multipliers.resize(d);
   out.exponents.resize(d);
-  for (int k = 0; k < d; ++k) {
+  for (Eigen::Index k = 0; k < d; ++k) {
     const cd r = rho[static_cast<std::size_t>(k)];
     out.multipliers[k] = r;
     out.exponents[k] = cd(std::log(std::max(std::abs(r), 1e-300)), std::arg(r)) / period;
     out.max_multiplier = std::max(out.max_multiplier, std::abs(r));
-    if (std::abs(r) > 1.0 + options.unstable_tolerance) ++out.unstable;
+    if (std::abs(r) > 1.0 + unstable_tolerance) ++out.unstable;
   }
   out.ok = true;
   return out;

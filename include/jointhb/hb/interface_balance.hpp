@@ -153,6 +153,9 @@ class InterfaceBalance {
   [[nodiscard]] const InterfaceBalanceOptions& options() const;
   [[nodiscard]] int modes() const;
   [[nodiscard]] int points() const;
+  /// The law of point p as the balance evaluates it: its group's, or with the tangential
+  /// stiffness frozen at the preloaded pressure (preloaded_tangential_stiffness, eq. T-30).
+  [[nodiscard]] const contact::ContactPoint& point_law(int p) const;
   [[nodiscard]] Eigen::Index unknowns() const;  ///< (n_s + 3P)·m
   [[nodiscard]] Eigen::Index modal_index(int mode, int coefficient) const;
   [[nodiscard]] Eigen::Index gap_index(int point, int component, int coefficient) const;

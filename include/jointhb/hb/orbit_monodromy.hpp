@@ -45,4 +45,10 @@ struct OrbitMonodromyOptions {
 FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorXd& coefficients,
                             double omega, const OrbitMonodromyOptions& options = {});
 
+/// The multipliers ρ = eig(Φ) of a monodromy Φ over `period` (by |ρ| descending, exponents
+/// log ρ / T, |ρ| > 1 + unstable_tolerance counted unstable); ok = false when Φ is not finite or
+/// the eigensolver fails. Shared by the discrete and the finite-element monodromies.
+FloquetResult floquet_from_monodromy(const Eigen::MatrixXd& monodromy, double period,
+                                     double unstable_tolerance);
+
 }  // namespace jointhb::hb

@@ -123,55 +123,6 @@ TEST(InterfaceFrf, PeaksLieOnTheBackbone) {
   }
 }
 
-// A joint of one contact point grounding DOF x0 of a 2-DOF chain in x (k_1 = 1 to ground, k_2
-// between x0 and x1, unit masses, C = 0.002 M), the point's transverse (y0) and normal (z0) DOFs
-// held by springs of 50: Jenkins, k_T = 3, μ p A = 0.1. Every mode kept (no residual modes). Its
-// damping curve of mode 1 (k_2 = 3: stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips,
-// where 3Ω meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward
-// again (k_2 = 2: six times, between Ω = 0.71 and 0.83).
-hb::InterfaceModel two_dof_joint(double k2) {
-  const double kt = 3.0;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);  // (x0, x1, y0, z0), contact stuck
-  K(0, 0) = 1.0 + k2 + kt;
-  K(0, 1) = K(1, 0) = -k2;
-  K(1, 1) = k2;
-  K(2, 2) = 50.0 + kt;
-  K(3, 3) = 50.0 + 1.0;  // + λ p_N of the normal law below
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(K);
-  hb::InterfaceModel m;
-  m.omega2 = es.eigenvalues();
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, 4);
-  G(0, 0) = G(1, 2) = G(2, 3) = 1.0;
-  m.gap_shapes = G * es.eigenvectors();
-  m.rayleigh_mass = 0.002;
-  m.residual_flexibility = Eigen::MatrixXd::Zero(3, 3);
-  m.residual_inertia = Eigen::MatrixXd::Zero(3, 3);
-  jc::ContactPointOptions o;
-  o.normal = {1.0, 1.0, 0.0};  // p_N0 = 1 at g_N = 0, λ = 1
-  o.friction_coefficient = 0.1;
-  o.stiffness_model = jc::TangentialStiffnessModel::constant;
-  o.tangential_stiffness = kt;
-  o.gap_pressure_ratio = 1e-9;
-  m.groups.push_back({"joint", jc::ContactPoint(o, std::make_shared<jc::JenkinsLaw>()), 0, 1});
-  hb::ContactPointReference r;
-  r.traction << 0.0, 0.0, -1.0;
-  m.references.push_back(r);
-  m.areas = Eigen::VectorXd::Ones(1);
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  c(0, 0) = c(1, 1) = kt;
-  c(2, 2) = 1.0;
-  m.stuck_tangents.push_back(c);
-  m.load_name = "f";
-  m.load_modal = es.eigenvectors().transpose() * Eigen::Vector4d(0.0, 1.0, 0.0, 0.0);
-  m.load_residual0 = m.load_residual1 = Eigen::VectorXd::Zero(3);
-  hb::InterfaceOutput out;
-  out.name = "x1";
-  out.modal = es.eigenvectors().row(1).transpose();
-  out.residual0 = out.residual1 = Eigen::VectorXd::Zero(3);
-  m.outputs.push_back(out);
-  return m;
-}
-
 // The turns of a finite-element damping curve (docs/stability.md §7), checked as the discrete ones
 // are (NonlinearMode.ChainDampingCurveNamesTheInternalResonanceWhereItStops), by Newton's method at
 // fixed λ, independent of the continuation: at a turn λ* the residual vanishes, and roots near
@@ -229,18 +180,7 @@ TEST(InterfaceBackbone, TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) {
     // unknowns (η = Φᵀx, M = I; δg = (x0, 0, 0); ŷ = y/q with q = η₁'s a₁; the phase conditions
     // coincide, b₁ᵀMφ₁ = η₁'s b₁), is a root of the joint's EPMC residual at λ = log10 q: the two
     // implementations trace the same branch through both turns.
-    hb::DiscreteSystem d;
-    Eigen::Matrix2d kd;
-    kd << 1.0 + k2, -k2, -k2, k2;  // without the contact
-    d.mass = Eigen::Matrix2d::Identity().sparseView();
-    d.stiffness = kd.sparseView();
-    d.damping = (0.002 * Eigen::Matrix2d::Identity()).sparseView();
-    hb::ContactElement jenkins;
-    jenkins.dof_a = 0;
-    jenkins.stiffness = 3.0;
-    jenkins.friction_coefficient = 0.1;
-    jenkins.normal_force = 1.0;
-    d.contacts.push_back(jenkins);
+    const hb::DiscreteSystem d = two_dof_discrete(k2);
     BackboneOptions dopt;
     dopt.mode.harmonics = 3;
     dopt.mode.time_samples = 64;
@@ -252,15 +192,9 @@ TEST(InterfaceBackbone, TurnsAtAnInternalResonanceAreExtremaOfTheAmplitude) {
     const hb::NonlinearModeResidual dm(d, dopt.mode);
     const hb::FourierBasis& db = dm.balance().basis();
     const hb::FourierBasis& fb = epmc.balance().basis();
-    Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 4);  // x rows of the joint's mode shapes
-    {
-      Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);
-      K.topLeftCorner(2, 2) = kd;
-      K(0, 0) += 3.0;
-      K(2, 2) = 53.0;
-      K(3, 3) = 51.0;
-      phi = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K).eigenvectors().topRows(2);
-    }
+    Eigen::MatrixXd modes;
+    two_dof_joint_modes(k2, 1.0, modes);
+    const Eigen::MatrixXd phi = modes.topRows(2);  // x rows of the joint's mode shapes
     const Eigen::Index U = epmc.balance().unknowns();
     double worst = 0.0;
     int crossed_turns = 0;

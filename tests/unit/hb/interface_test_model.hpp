@@ -3,6 +3,7 @@
 // continuation/interface_response.hpp: n DOFs, P contact points whose gaps are differences of DOF
 // triples, and its modal/interface model built by dense eigen-decomposition.
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -10,6 +11,7 @@
 
 #include "jointhb/contact/gaul_mayer_law.hpp"
 #include "jointhb/contact/jenkins_law.hpp"
+#include "jointhb/hb/discrete_system.hpp"
 #include "jointhb/hb/interface_model.hpp"
 
 namespace jointhb::hb::testing {
@@ -156,6 +158,102 @@ inline InterfaceModel make_model(const Structure& s, int ns, bool gaul_mayer) {
   return m;
 }
 
+
+// A joint of one contact point grounding DOF x0 of a 2-DOF chain in x (k_1 = 1 to ground, k_2
+// between x0 and x1, unit masses, C = 0.002 M), the point's transverse (y0) and normal (z0) DOFs
+// held by springs of 50: Jenkins, k_T = 3, μ p A = 0.1. Every mode kept (no residual modes). Its
+// damping curve of mode 1 (k_2 = 3: stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips,
+// where 3Ω meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward
+// again (k_2 = 2: six times, between Ω = 0.71 and 0.83). `kept` < 4: the lowest modes kept, the
+// others residual (s = 0, eq. T-24). `m0`: the mass of x0 (M = diag(m0, 1, 1, 1)).
+// The mass-normalised modes φ (4 × 4, ascending; φᵀMφ = I) and ω² of that joint, contact stuck.
+inline Eigen::SelfAdjointEigenSolver<MatrixXd> two_dof_joint_modes(double k2, double m0, MatrixXd& phi) {
+  const double kt = 3.0;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(4, 4);  // (x0, x1, y0, z0), contact stuck
+  K(0, 0) = 1.0 + k2 + kt;
+  K(0, 1) = K(1, 0) = -k2;
+  K(1, 1) = k2;
+  K(2, 2) = 50.0 + kt;
+  K(3, 3) = 50.0 + 1.0;  // + λ p_N of the normal law below
+  const Eigen::Vector4d scale(1.0 / std::sqrt(m0), 1.0, 1.0, 1.0);  // M^(-1/2)
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(scale.asDiagonal() * K * scale.asDiagonal());
+  phi = scale.asDiagonal() * es.eigenvectors();
+  return es;
+}
+
+inline InterfaceModel two_dof_joint(double k2, int kept = 4, double m0 = 1.0) {
+  const double kt = 3.0;
+  MatrixXd phi;
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es = two_dof_joint_modes(k2, m0, phi);
+  InterfaceModel m;
+  m.omega2 = es.eigenvalues().head(kept);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, 4);
+  G(0, 0) = G(1, 2) = G(2, 3) = 1.0;
+  m.gap_shapes = G * phi.leftCols(kept);
+  m.rayleigh_mass = 0.002;
+  m.residual_flexibility = Eigen::MatrixXd::Zero(3, 3);
+  m.residual_inertia = Eigen::MatrixXd::Zero(3, 3);
+  m.load_residual0 = m.load_residual1 = Eigen::VectorXd::Zero(3);
+  const Eigen::Vector4d load(0.0, 1.0, 0.0, 0.0);  // on x1
+  for (int r = kept; r < 4; ++r) {
+    const Eigen::Vector3d gr = G * phi.col(r);
+    const double mu = es.eigenvalues()[r];
+    m.residual_flexibility += gr * gr.transpose() / mu;
+    m.residual_inertia += gr * gr.transpose() / (mu * mu);
+    m.load_residual0 += gr * phi.col(r).dot(load) / mu;
+    m.load_residual1 += gr * phi.col(r).dot(load) / (mu * mu);
+  }
+  jc::ContactPointOptions o;
+  o.normal = {1.0, 1.0, 0.0};  // p_N0 = 1 at g_N = 0, λ = 1
+  o.friction_coefficient = 0.1;
+  o.stiffness_model = jc::TangentialStiffnessModel::constant;
+  o.tangential_stiffness = kt;
+  o.gap_pressure_ratio = 1e-9;
+  m.groups.push_back({"joint", jc::ContactPoint(o, std::make_shared<jc::JenkinsLaw>()), 0, 1});
+  ContactPointReference preload;
+  preload.traction << 0.0, 0.0, -1.0;
+  m.references.push_back(preload);
+  m.areas = Eigen::VectorXd::Ones(1);
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c(0, 0) = c(1, 1) = kt;
+  c(2, 2) = 1.0;
+  m.stuck_tangents.push_back(c);
+  m.load_name = "f";
+  m.load_modal = phi.leftCols(kept).transpose() * load;
+  InterfaceOutput out;
+  out.name = "x1";
+  out.modal = phi.row(1).head(kept).transpose();
+  out.residual0 = out.residual1 = Eigen::VectorXd::Zero(3);
+  for (int r = kept; r < 4; ++r) {
+    const Eigen::Vector3d gr = G * phi.col(r);
+    const double mu = es.eigenvalues()[r];
+    out.residual0 += gr * phi(1, r) / mu;
+    out.residual1 += gr * phi(1, r) / (mu * mu);
+    out.load_residual0 += phi(1, r) * phi.col(r).dot(load) / mu;
+    out.load_residual1 += phi(1, r) * phi.col(r).dot(load) / (mu * mu);
+  }
+  m.outputs.push_back(out);
+  return m;
+}
+
+// The joint of two_dof_joint(k2, ·, m0) as a discrete system: x0 (mass m0) and x1, the Jenkins
+// contact on x0 (k_T = 3, μF_N = 0.1), C = 0.002 M.
+inline DiscreteSystem two_dof_discrete(double k2, double m0 = 1.0) {
+  DiscreteSystem d;
+  Eigen::Matrix2d k;
+  k << 1.0 + k2, -k2, -k2, k2;
+  const Eigen::Matrix2d mass = Eigen::Vector2d(m0, 1.0).asDiagonal();
+  d.mass = mass.sparseView();
+  d.stiffness = k.sparseView();
+  d.damping = (0.002 * mass).sparseView();
+  ContactElement jenkins;
+  jenkins.dof_a = 0;
+  jenkins.stiffness = 3.0;
+  jenkins.friction_coefficient = 0.1;
+  jenkins.normal_force = 1.0;
+  d.contacts.push_back(jenkins);
+  return d;
+}
 
 // A slipping state of a balance: the linear solution at a force that slips, perturbed by 5 % of
 // its size per unknown (seeded).
