@@ -20,6 +20,18 @@
 
 namespace jointhb::cli {
 
+// The columns of an frf.csv (discrete or finite-element) after its numeric `base`: with
+// stability, "stable" (1, 0; −1 where it failed) and "max_floquet_multiplier" (max |ρ|; −1 where
+// unknown), and the word column "bifurcation" (hb::to_string(Bifurcation)) last.
+inline std::vector<std::string> frf_columns_with_stability(std::vector<std::string> base, bool stability) {
+  if (stability) {
+    base.emplace_back("stable");
+    base.emplace_back("max_floquet_multiplier");
+  }
+  base.emplace_back("bifurcation");
+  return base;
+}
+
 inline const std::vector<std::string> kBackboneColumns = {
     "mode",                  // the linear mode followed
     "amplitude",             // modal amplitude q [m √kg]

@@ -52,6 +52,29 @@ ordered_json contact_states_along(const std::vector<pipeline::BackbonePoint>& po
   return out;
 }
 
+// Stability of an FE FRF for summary.json: computed or not, the points known and unstable, the
+// bifurcations (type, point, Ω), and one line naming them.
+ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bool computed) {
+  ordered_json j = {{"computed", computed}};
+  int known = 0, unstable = 0;
+  ordered_json bifurcations = ordered_json::array();
+  std::string line;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const pipeline::FrfPoint& p = points[k];
+    known += p.stability_known ? 1 : 0;
+    unstable += p.stability_known && !p.stable ? 1 : 0;
+    if (p.bifurcation == hb::Bifurcation::none) continue;
+    bifurcations.push_back({{"type", hb::to_string(p.bifurcation)}, {"point", k}, {"omega", p.omega}});
+    line += fmt::format("{}{} at {:.6g} Hz", line.empty() ? "" : ", ", hb::to_string(p.bifurcation), p.frequency_hz);
+  }
+  j["points_known"] = known;
+  j["unstable_points"] = unstable;
+  j["bifurcations"] = bifurcations;
+  j["line"] = fmt::format("{} of {} points known, {} unstable{}{}", known, points.size(), unstable,
+                          line.empty() ? "" : "; ", line);
+  return j;
+}
+
 ordered_json timings_json(const continuation::InterfaceTimings& t) {
   return {{"aft", t.aft},
           {"assembly", t.assembly},
@@ -60,6 +83,7 @@ ordered_json timings_json(const continuation::InterfaceTimings& t) {
           {"preconditioner_build", t.preconditioner},
           {"preconditioner_apply", t.preconditioner_apply},
           {"error_estimate", t.error_estimate},
+          {"stability", t.stability},
           {"total", t.total},
           {"evaluations", t.evaluations},
           {"jacobians", t.jacobians},
@@ -237,7 +261,10 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
   // ---- frequency responses -------------------------------------------------------------------
   if (d.frf) {
     const io::FeFrfSpec& fs = *d.frf;
-    io::CsvWriter csv(dir / "frf.csv", kFeFrfColumns);
+    continuation::InterfaceFrfOptions stability_options;
+    stability_options.stability = fs.stability;
+    const bool stability = continuation::computes_interface_stability(stability_options, points);
+    io::CsvWriter csv(dir / "frf.csv", frf_columns_with_stability(kFeFrfColumns, stability));
     summary["outputs"]["frf"] = "frf.csv";
     summary["frfs"] = ordered_json::array();
     for (std::size_t level = 0; level < fs.forces.size(); ++level) {
@@ -250,7 +277,12 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         for (const auto& field : frf_error_fields(p.error)) row.push_back(field);
         row.push_back(static_cast<double>(p.harmonics));
         row.push_back(static_cast<double>(p.time_samples));
-        csv.write_row(std::span<const std::optional<double>>(row));
+        if (stability) {
+          row.push_back(p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0);
+          row.push_back(p.stability_known ? p.max_multiplier : -1.0);
+        }
+        const std::string bifurcation(hb::to_string(p.bifurcation));
+        csv.write_row(std::span<const std::optional<double>>(row), std::span<const std::string>(&bifurcation, 1));
         if (tty)
           std::fprintf(stderr, "\rfrf F = %g N: f = %.6g Hz  |u| = %.4e m  slipping %d/%d   ", p.force, p.frequency_hz,
                        p.amplitude_h1, p.slipping_points, points);
@@ -280,6 +312,8 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       entry["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
       entry["error_estimate"]["seconds"] = r.curve.timings.error_estimate;
       entry["accuracy"] = accuracy_json(fs.accuracy, r.points, r.curve.level_changes, r.curve.short_of_accuracy);
+      entry["stability"] = fe_stability_json(r.points, stability);
+      if (stability) std::fprintf(stderr, "  stability: %s\n", entry["stability"]["line"].get<std::string>().c_str());
       summary["frfs"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);
     }

@@ -39,15 +39,7 @@ const std::vector<std::string> kFrfColumns = {
     // the harmonics H and time samples N_t of the point (per point with `accuracy`)
     "harmonics", "time_samples"};
 
-std::vector<std::string> frf_columns(bool stability) {
-  std::vector<std::string> columns = kFrfColumns;
-  if (stability) {
-    columns.emplace_back("stable");
-    columns.emplace_back("max_floquet_multiplier");
-  }
-  columns.emplace_back("bifurcation");
-  return columns;
-}
+std::vector<std::string> frf_columns(bool stability) { return frf_columns_with_stability(kFrfColumns, stability); }
 
 Json matrix_json(const hb::SparseMatrix& a) {
   const Eigen::MatrixXd d(a);

@@ -22,11 +22,12 @@
 namespace jointhb::continuation {
 
 std::string InterfaceTimings::breakdown() const {
-  const double other = std::max(total - aft - assembly - linear_solve - error_estimate, 0.0);
+  const double other = std::max(total - aft - assembly - linear_solve - error_estimate - stability, 0.0);
   // The estimates' own evaluations and solves are counted in error_estimate only, except the
   // AFT of their evaluation at the point on the curve's balance (in aft).
   const std::string estimates =
-      error_estimate > 0.0 ? fmt::format(", error estimates {:.3g} s", error_estimate) : std::string();
+      (error_estimate > 0.0 ? fmt::format(", error estimates {:.3g} s", error_estimate) : std::string()) +
+      (stability > 0.0 ? fmt::format(", stability {:.3g} s", stability) : std::string());
   if (products == 0.0 && preconditioner == 0.0)
     return fmt::format("{:.3g} s: AFT {:.3g} s ({} evaluations), assembly {:.3g} s, linear solves {:.3g} s "
                        "({} factorisations){}, other {:.3g} s",
@@ -51,7 +52,13 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
   if (output < 0 || output >= static_cast<int>(model.outputs.size()))
     return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
   if (std::string msg = accuracy.validate({balance.harmonics, balance.time_samples}); !msg.empty()) return msg;
+  if (auto msg = monodromy.validate(); !msg.empty()) return "monodromy." + msg;
   return balance.validate();
+}
+
+bool computes_interface_stability(const InterfaceFrfOptions& options, int points) {
+  if (options.stability != Stability::automatic) return options.stability == Stability::always;
+  return points <= kAutomaticInterfaceStabilityPoints;
 }
 
 namespace {
@@ -76,6 +83,7 @@ class InterfaceFrfSegment {
 
   [[nodiscard]] const hb::InterfaceBalance& balance() const { return balance_; }
   [[nodiscard]] double error_seconds() const { return error_seconds_; }
+  [[nodiscard]] double stability_seconds() const { return stability_seconds_; }
 
   // The linear response at Ω_start, or the start's unknowns transferred to this level.
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
@@ -148,6 +156,7 @@ class InterfaceFrfSegment {
         f.error = estimator_->estimate(balance_, p.x, p.lambda, &last_, options_.error_estimate || wants_truncation());
         error_seconds_ += support::seconds_since(estimate_start);
       }
+      add_stability(f, p);
       return judge(f, p);
     };
     return trace(residual, x0, c, accept);
@@ -160,6 +169,25 @@ class InterfaceFrfSegment {
     b.time_samples = level.time_samples;
     if (matrix_free) b.dense_jacobian = false;
     return b;
+  }
+
+  // The Floquet multipliers of an accepted point (options.stability) and what changed since the
+  // previous one of this run; without them, a turn of Ω is reported as a fold.
+  void add_stability(InterfaceFrfPoint& f, const Point& p) {
+    if (!computes_interface_stability(options_, balance_.points())) {
+      if (p.fold) f.bifurcation = hb::Bifurcation::fold;
+      return;
+    }
+    const auto start = support::Clock::now();
+    hb::FloquetResult floquet = hb::interface_orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
+    stability_seconds_ += support::seconds_since(start);
+    f.stability_known = floquet.ok;
+    f.stable = floquet.stable();
+    f.max_multiplier = floquet.max_multiplier;
+    f.unstable_multipliers = floquet.unstable;
+    f.multipliers = floquet.multipliers;
+    if (previous_floquet_) f.bifurcation = hb::classify_bifurcation(*previous_floquet_, floquet, p.fold);
+    previous_floquet_ = std::move(floquet);
   }
 
   Evaluation evaluate(const Eigen::VectorXd& x, double omega, bool jacobian) {
@@ -201,6 +229,8 @@ class InterfaceFrfSegment {
   Level level_;
   std::optional<InterfaceFrfErrorEstimator> estimator_;
   double error_seconds_ = 0.0;
+  double stability_seconds_ = 0.0;
+  std::optional<hb::FloquetResult> previous_floquet_;
   hb::InterfaceBalanceEvaluation last_;
   Eigen::VectorXd last_x_;
   double last_omega_ = std::numeric_limits<double>::quiet_NaN();
@@ -224,6 +254,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
     curve.rejected_steps += r.rejected_steps;
     interface_detail::add_curve_timings(curve.timings, run.balance().timings(), r);
     curve.timings.error_estimate += run.error_seconds();
+    curve.timings.stability += run.stability_seconds();
   };
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.balance.harmonics, options.balance.time_samples}, options.omega_start,

@@ -109,4 +109,13 @@ void read_accuracy_keys(const yaml::Reader& reader_, const YAML::Node& node, con
                  fmt::format("must be >= the starting time_samples = {}, got {}", time_samples, a.max_time_samples));
 }
 
+continuation::Stability read_stability_key(const yaml::Reader& reader, const YAML::Node& value,
+                                           const std::string& key) {
+  const std::string text = reader.text(value, key);
+  reader.check(value, key, check_one_of(text, {"auto", "true", "false"}));
+  return text == "auto"   ? continuation::Stability::automatic
+         : text == "true" ? continuation::Stability::always
+                          : continuation::Stability::never;
+}
+
 }  // namespace jointhb::io

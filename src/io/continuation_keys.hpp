@@ -5,6 +5,7 @@
 #include <string>
 
 #include "jointhb/continuation/accuracy.hpp"
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "yaml_support.hpp"
 
@@ -21,5 +22,9 @@ void read_continuation_keys(const yaml::Reader& reader, const YAML::Node& node,
 /// starting level (harmonics, time_samples) lies in the range, blaming the accuracy key.
 void read_accuracy_keys(const yaml::Reader& reader, const YAML::Node& node, const std::string& path,
                         int harmonics, int time_samples, bool frf, continuation::Accuracy& a);
+
+/// The value of a `stability:` key (`auto`, `true` or `false`; the key's path in messages).
+continuation::Stability read_stability_key(const yaml::Reader& reader, const YAML::Node& value,
+                                           const std::string& key);
 
 }  // namespace jointhb::io

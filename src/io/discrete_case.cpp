@@ -673,14 +673,8 @@ class DiscreteCaseReader {
     // H and N_t per point from the estimates of the amplitudes (continuation/accuracy.hpp).
     if (const auto* e = f.find("accuracy"))
       read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.harmonics, o.time_samples, true, o.accuracy);
-    if (const auto* stability = f.find("stability")) {  // Hill's method at every point
-      const std::string key = f.path_of("stability");
-      const std::string value = reader_.text(stability->value, key);
-      reader_.check(stability->value, key, check_one_of(value, {"auto", "true", "false"}));
-      o.stability = value == "auto"   ? continuation::Stability::automatic
-                    : value == "true" ? continuation::Stability::always
-                                      : continuation::Stability::never;
-    }
+    if (const auto* stability = f.find("stability"))  // Floquet multipliers at every point
+      o.stability = read_stability_key(reader_, stability->value, f.path_of("stability"));
     if (const auto* method = f.find("stability_method")) {
       const std::string key = f.path_of("stability_method");
       const std::string value = reader_.text(method->value, key);

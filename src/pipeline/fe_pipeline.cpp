@@ -417,6 +417,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
   o.continuation = fs.continuation;
   o.error_estimate = fs.error_estimate;
   o.accuracy = fs.accuracy;
+  o.stability = fs.stability;
   FrfCurve out;
   out.level = level;
   out.force = fs.forces[level];
@@ -445,6 +446,10 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
     f.error = p.error;
     f.harmonics = p.harmonics;
     f.time_samples = p.time_samples;
+    f.stability_known = p.stability_known;
+    f.stable = p.stable;
+    f.max_multiplier = p.max_multiplier;
+    f.bifurcation = p.bifurcation;
     out.points.push_back(f);
     if (f.amplitude_h1 > out.peak_amplitude) out.peak_amplitude = f.amplitude_h1, out.peak_frequency_hz = f.frequency_hz;
     if (on_point && !on_point(f)) {

@@ -298,6 +298,18 @@ py::dict backbone_dict(const pipeline::BackboneCurve& b, bool interrupted) {
   return d;
 }
 
+// Stability columns of an FRF (docs/stability.md): "stable" and "max_floquet_multiplier" (−1
+// where not computed) and "bifurcation" (list of str), from points with stability_known, stable,
+// max_multiplier and bifurcation (discrete or finite-element).
+template <class P>
+void put_stability_columns(py::dict& d, const std::vector<P>& points) {
+  d["stable"] = column(points, [](const P& p) { return p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0; });
+  d["max_floquet_multiplier"] = column(points, [](const P& p) { return p.stability_known ? p.max_multiplier : -1.0; });
+  py::list bifurcation;
+  for (const auto& p : points) bifurcation.append(hb::to_string(p.bifurcation));
+  d["bifurcation"] = bifurcation;
+}
+
 py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   using P = pipeline::FrfPoint;
   py::dict d;
@@ -315,6 +327,7 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   put_frf_error_columns(d, r.points, [](const P& p) -> const continuation::FrfError& { return p.error; });
   d["harmonics_of_points"] = column(r.points, [](const P& p) { return double(p.harmonics); });
   d["time_samples_of_points"] = column(r.points, [](const P& p) { return double(p.time_samples); });
+  put_stability_columns(d, r.points);
   d["level_changes"] = r.curve.level_changes;
   d["points_short_of_accuracy"] = r.curve.short_of_accuracy;
   put_curve_status(d, r.status(), interrupted);
@@ -743,15 +756,7 @@ class DiscreteModel {
     d["amplitude_h1"] = column(r.points, [](const P& p) { return p.amplitude_h1; });
     d["amplitude_max"] = column(r.points, [](const P& p) { return p.amplitude_max; });
     d["dissipation"] = column(r.points, [](const P& p) { return p.dissipation; });
-    // Stability (docs/stability.md): −1 where it was not computed.
-    d["stable"] = column(r.points, [](const P& p) {
-      return p.stability_known ? (p.stable ? 1.0 : 0.0) : -1.0;
-    });
-    d["max_floquet_multiplier"] =
-        column(r.points, [](const P& p) { return p.stability_known ? p.max_multiplier : -1.0; });
-    py::list bifurcation;
-    for (const auto& p : r.points) bifurcation.append(hb::to_string(p.bifurcation));
-    d["bifurcation"] = bifurcation;
+    put_stability_columns(d, r.points);
     const auto extremum = [](const continuation::FrfExtremum& e) {
       py::dict out;
       out["omega"] = e.omega;
@@ -1002,7 +1007,9 @@ PYBIND11_MODULE(_core, m) {
            "amplitude_max_error_truncation, amplitude_max_error_aliasing (NaN where not computed). "
            "accuracy={'amplitude': 1e-3} (also min_harmonics, max_harmonics, max_time_samples) chooses H "
            "and N_t per point; harmonics_of_points and time_samples_of_points give each point's level. "
-           "max_output_change=0.05 limits the relative change of amplitude_h1 between two points.")
+           "max_output_change=0.05 limits the relative change of amplitude_h1 between two points. "
+           "stable, max_floquet_multiplier (-1 where not computed: analysis.frf.stability, automatic up to "
+           "10 contact points) and bifurcation (list of str) give each point's stability.")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
                              "interfaces.<name>.pressure|decay|cutoff_gap|normal_stiffness|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
       .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))

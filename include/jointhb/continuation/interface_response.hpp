@@ -10,8 +10,10 @@
 #include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/interface_mode.hpp"
+#include "jointhb/hb/interface_orbit_monodromy.hpp"
 
 namespace jointhb::continuation {
 
@@ -28,6 +30,7 @@ struct InterfaceTimings {
   double preconditioner_apply = 0.0;  ///< applying preconditioners (inside the linear solves) [s]
   int product_calls = 0, preconditioner_calls = 0;
   double error_estimate = 0.0;  ///< error estimates of the accepted points [s] (included in total)
+  double stability = 0.0;       ///< Floquet multipliers of the accepted points [s] (included in total)
   /// One line: where the time went (AFT; residual assembly; linear solves with their GMRES
   /// iterations and preconditioner builds and applications; Jacobian products, inside the
   /// solves and for the EPMC's ∂R/∂λ; other).
@@ -123,6 +126,11 @@ InterfaceBackbone trace_interface_backbone(
     const hb::InterfaceModel& model, const InterfaceBackboneOptions& options,
     const std::function<bool(const InterfaceBackbonePoint&)>& on_point = {});
 
+/// The largest number of contact points for which Stability::automatic computes the Floquet
+/// multipliers of an FE FRF (measured: 0.04 s per point at 10 points with N_f = 1024, H = 3;
+/// docs/stability.md §7).
+inline constexpr int kAutomaticInterfaceStabilityPoints = 10;
+
 struct InterfaceFrfOptions {
   double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s], > 0, different
   double load_amplitude = 1.0;                 ///< F(t) = amplitude · cos Ωt times the load shape
@@ -148,6 +156,12 @@ struct InterfaceFrfOptions {
   /// Accuracy on request (accuracy.amplitude: amplitude_h1 and amplitude_max): H and N_t chosen per
   /// point, as InterfaceBackboneOptions::accuracy.
   Accuracy accuracy;
+  /// Floquet multipliers of every accepted point by the monodromy of the reduced model along
+  /// the orbit (hb/interface_orbit_monodromy.hpp: kept modes exactly, residual modes
+  /// quasi-statically; O(N_f (3P)³) per point): automatic when the joint has at most
+  /// kAutomaticInterfaceStabilityPoints contact points.
+  Stability stability = Stability::automatic;
+  hb::OrbitMonodromyOptions monodromy;  ///< its settings
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -161,7 +175,19 @@ struct InterfaceFrfPoint {
   FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
   Eigen::VectorXd unknowns;  ///< in the basis of (harmonics, time_samples)
   int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
+  // Stability (options.stability): as FrfPoint's.
+  bool stability_known = false;  ///< the multipliers were computed
+  bool stable = true;
+  double max_multiplier = 0.0;   ///< max |ρ|
+  int unstable_multipliers = 0;  ///< |ρ| > 1 + tolerance
+  Eigen::VectorXcd multipliers;  ///< by |ρ| descending
+  /// Against the previous point: fold where Ω turned, else from the change of the multipliers
+  /// (hb::classify_bifurcation); none at the first point of a run.
+  hb::Bifurcation bifurcation = hb::Bifurcation::none;
 };
+
+/// Whether trace_interface_frf computes the stability of the points of a joint of `points` points.
+[[nodiscard]] bool computes_interface_stability(const InterfaceFrfOptions& options, int points);
 
 struct InterfaceFrf {
   std::vector<InterfaceFrfPoint> points;

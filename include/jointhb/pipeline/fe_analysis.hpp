@@ -63,6 +63,9 @@ struct FeFrfSpec {
   /// H and N_t chosen per point for a requested accuracy of the amplitudes (accuracy.amplitude;
   /// continuation/accuracy.hpp), starting from balance's; inactive by default.
   continuation::Accuracy accuracy;
+  /// Floquet multipliers of every point (continuation::InterfaceFrfOptions::stability): automatic
+  /// for joints of at most continuation::kAutomaticInterfaceStabilityPoints points.
+  continuation::Stability stability = continuation::Stability::automatic;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation = continuation::InterfaceFrfOptions{}.continuation;  ///< as above
 };

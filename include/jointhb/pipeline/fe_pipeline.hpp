@@ -121,6 +121,10 @@ struct FrfPoint {
   hb::ContactStateCounts states;  ///< points per contact state (hb/contact_state.hpp)
   continuation::FrfError error;   ///< estimated relative errors of the amplitudes (error_estimate)
   int harmonics = 0, time_samples = 0;  ///< the level the point was computed at (accuracy: per point)
+  // Stability (FeFrfSpec::stability; continuation::InterfaceFrfPoint)
+  bool stability_known = false, stable = true;
+  double max_multiplier = 0.0;  ///< max |ρ| of the Floquet multipliers
+  hb::Bifurcation bifurcation = hb::Bifurcation::none;
 };
 
 struct FrfCurve {
