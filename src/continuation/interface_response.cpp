@@ -159,7 +159,22 @@ class InterfaceFrfSegment {
       add_stability(f, p);
       return judge(f, p);
     };
-    return trace(residual, x0, c, accept);
+    Result r = trace(residual, x0, c, accept);
+    if (r.reason == StopReason::start_failed) {
+      // Newton from the stuck linear response fails where the contacts slip far at Ω_start (the
+      // one-point joint of the tests at 0.8 rad/s, force 0.2: "no decrease of the residual along
+      // the Newton step"). Ramp the load from zero at Ω_start instead, as the discrete FRF does
+      // (frf.cpp, force_ramp), and start from the ramp's end.
+      std::string why;
+      if (const std::optional<Eigen::VectorXd> start = load_ramp(c, why)) {
+        const int failed_iterations = r.corrector_iterations;
+        r = trace(residual, *start, c, accept);
+        r.corrector_iterations += failed_iterations;
+      } else {
+        r.message += "; " + why;
+      }
+    }
+    return r;
   }
 
  private:
@@ -169,6 +184,37 @@ class InterfaceFrfSegment {
     b.time_samples = level.time_samples;
     if (matrix_free) b.dense_jacobian = false;
     return b;
+  }
+
+  // The solution at Ω = c.parameter_start under the full load, by continuation in the load factor
+  // s ∈ [0, 1] from the preloaded state (s = 0: no motion): R_s(x) = R(x) + (s − 1) ℓ, where
+  // ℓ = R(x, load) − R(x, 0) is the load's part of the residual (affine in the load, independent
+  // of x), ∂R_s/∂s = ℓ.
+  std::optional<Eigen::VectorXd> load_ramp(const Options& c, std::string& why) {
+    const double omega = c.parameter_start;
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(balance_.unknowns());
+    hb::InterfaceBalanceEvaluation loaded, unloaded;
+    balance_.evaluate(zero, omega, 0.0, load_, false, loaded);
+    balance_.evaluate(zero, omega, 0.0, Eigen::VectorXd::Zero(load_.size()), false, unloaded);
+    const Eigen::VectorXd load_part = loaded.residual - unloaded.residual;
+    const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
+      Evaluation e = evaluate(x, omega, jacobian);
+      if (e.residual.size() == load_part.size()) e.residual += (s - 1.0) * load_part;
+      if (jacobian) e.d_parameter = load_part;
+      return e;
+    };
+    Options h = c;
+    h.parameter_start = 0.0;
+    h.parameter_end = 1.0;
+    h.direction = 1;
+    h.parameter_scale = 1.0;
+    h.outputs = nullptr;
+    h.max_output_change = 0.0;
+    h.max_points = 20 * Options{}.max_points;  // not limited by the curve's point budget
+    const Result ramp = trace(scaled, zero, h);
+    if (ramp.completed()) return ramp.points.back().x;
+    why = "load ramp at Ω_start: " + ramp.message;
+    return std::nullopt;
   }
 
   // The Floquet multipliers of an accepted point (options.stability) and what changed since the
