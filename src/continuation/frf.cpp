@@ -160,23 +160,11 @@ double response_scale(const DiscreteSystem& system, const Excitation& excitation
 // (s = 0: exact), R_s = R(X, Ω_start) − (s − 1) F_ex.
 std::optional<Eigen::VectorXd> force_ramp(const hb::HarmonicBalance& b, double omega,
                                           const Options& base, int& iterations, std::string& why) {
-  const ResidualFunction r = residual_of(b);
-  const Eigen::VectorXd& f_ex = b.forcing();
-  const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
-    Evaluation e = r(x, omega, jacobian);
-    e.residual -= (s - 1.0) * f_ex;
-    if (jacobian) e.d_parameter = -f_ex;
-    return e;
-  };
   Options h = base;
-  h.parameter_start = 0.0;
-  h.parameter_end = 1.0;
-  h.direction = 1;
-  h.parameter_scale = 1.0;
   h.state_scale = Eigen::VectorXd::Constant(
       b.unknowns(), base.state_scale.size() > 0 ? base.state_scale[0] : 1.0);
-  h.max_points = 20 * Options{}.max_points;  // not limited by the curve's point budget
-  const Result ramp = trace(scaled, b.stuck_solution(omega, 0.0), h);
+  const Eigen::VectorXd load_part = -b.forcing();
+  const Result ramp = segment_detail::trace_load_ramp(residual_of(b), omega, load_part, b.stuck_solution(omega, 0.0), h);
   iterations += ramp.corrector_iterations;
   if (ramp.completed()) return ramp.points.back().x;
   why = "force ramp: " + ramp.message;

@@ -197,21 +197,13 @@ class InterfaceFrfSegment {
     balance_.evaluate(zero, omega, 0.0, load_, false, loaded);
     balance_.evaluate(zero, omega, 0.0, Eigen::VectorXd::Zero(load_.size()), false, unloaded);
     const Eigen::VectorXd load_part = loaded.residual - unloaded.residual;
-    const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
-      Evaluation e = evaluate(x, omega, jacobian);
-      if (e.residual.size() == load_part.size()) e.residual += (s - 1.0) * load_part;
-      if (jacobian) e.d_parameter = load_part;
-      return e;
+    const ResidualFunction residual = [&](const Eigen::VectorXd& x, double w, bool jacobian) {
+      return evaluate(x, w, jacobian);
     };
     Options h = c;
-    h.parameter_start = 0.0;
-    h.parameter_end = 1.0;
-    h.direction = 1;
-    h.parameter_scale = 1.0;
-    h.outputs = nullptr;
+    h.outputs = nullptr;  // they read λ as Ω
     h.max_output_change = 0.0;
-    h.max_points = 20 * Options{}.max_points;  // not limited by the curve's point budget
-    const Result ramp = trace(scaled, zero, h);
+    const Result ramp = segment_detail::trace_load_ramp(residual, omega, load_part, zero, h);
     if (ramp.completed()) return ramp.points.back().x;
     why = "load ramp at Ω_start: " + ramp.message;
     return std::nullopt;

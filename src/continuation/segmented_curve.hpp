@@ -181,4 +181,24 @@ SegmentedOutcome trace_in_segments(const Accuracy& accuracy, Level start, double
   return out;
 }
 
+/// The start of an FRF by a load ramp at fixed Ω: continuation in the load factor s from 0 to 1,
+/// R_s(x) = R(x, Ω) + (s − 1) ℓ with ℓ the load's part of R (∂R_s/∂s = ℓ), from x0 (the solution
+/// at s = 0), with the steps, tolerances and output limits of `base` but not its point budget
+/// (outputs that read λ as Ω must be cleared by the caller).
+inline Result trace_load_ramp(const ResidualFunction& residual, double omega, const Eigen::VectorXd& load_part,
+                              const Eigen::VectorXd& x0, Options base) {
+  const ResidualFunction scaled = [&](const Eigen::VectorXd& x, double s, bool jacobian) {
+    Evaluation e = residual(x, omega, jacobian);
+    if (e.residual.size() == load_part.size()) e.residual += (s - 1.0) * load_part;
+    if (jacobian) e.d_parameter = load_part;
+    return e;
+  };
+  base.parameter_start = 0.0;
+  base.parameter_end = 1.0;
+  base.direction = 1;
+  base.parameter_scale = 1.0;
+  base.max_points = 20 * Options{}.max_points;  // not limited by the curve's point budget
+  return trace(scaled, x0, base);
+}
+
 }  // namespace jointhb::continuation::segment_detail
