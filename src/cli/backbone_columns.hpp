@@ -17,6 +17,7 @@
 #include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
 #include "jointhb/hb/contact_state.hpp"
+#include "jointhb/hb/hill_stability.hpp"
 
 namespace jointhb::cli {
 
@@ -30,6 +31,42 @@ inline std::vector<std::string> frf_columns_with_stability(std::vector<std::stri
   }
   base.emplace_back("bifurcation");
   return base;
+}
+
+// The points of an FRF (discrete or finite-element: stability_known, stable, omega, bifurcation)
+// whose stability is known, the unstable ones and the Ω range they span.
+struct StabilityCounts {
+  int known = 0;
+  int unstable = 0;
+  double lo = 0.0, hi = 0.0;  // Ω range of the unstable points (when there are any)
+};
+
+template <class Point>
+StabilityCounts stability_counts(const std::vector<Point>& points) {
+  StabilityCounts c;
+  for (const auto& p : points) {
+    if (!p.stability_known) continue;
+    ++c.known;
+    if (p.stable) continue;
+    c.lo = c.unstable == 0 ? p.omega : std::min(c.lo, p.omega);
+    c.hi = c.unstable == 0 ? p.omega : std::max(c.hi, p.omega);
+    ++c.unstable;
+  }
+  return c;
+}
+
+// summary.json's "bifurcations" of an FRF: type, point index, Ω and the Ω of the point before.
+template <class Point>
+nlohmann::ordered_json bifurcations_json(const std::vector<Point>& points) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const auto& p = points[k];
+    if (p.bifurcation == hb::Bifurcation::none) continue;
+    nlohmann::ordered_json b = {{"type", hb::to_string(p.bifurcation)}, {"point", k}, {"omega", p.omega}};
+    if (k > 0) b["previous_omega"] = points[k - 1].omega;
+    out.push_back(b);
+  }
+  return out;
 }
 
 inline const std::vector<std::string> kBackboneColumns = {

@@ -53,26 +53,19 @@ ordered_json contact_states_along(const std::vector<pipeline::BackbonePoint>& po
 }
 
 // Stability of an FE FRF for summary.json: computed or not, the points known and unstable, the
-// bifurcations (type, point, Ω), and one line naming them.
+// bifurcations (type, point, Ω, the Ω of the point before), and one line naming them.
 ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bool computed) {
-  ordered_json j = {{"computed", computed}};
-  int known = 0, unstable = 0;
-  ordered_json bifurcations = ordered_json::array();
+  const StabilityCounts counts = stability_counts(points);
   std::string line;
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const pipeline::FrfPoint& p = points[k];
-    known += p.stability_known ? 1 : 0;
-    unstable += p.stability_known && !p.stable ? 1 : 0;
-    if (p.bifurcation == hb::Bifurcation::none) continue;
-    bifurcations.push_back({{"type", hb::to_string(p.bifurcation)}, {"point", k}, {"omega", p.omega}});
-    line += fmt::format("{}{} at {:.6g} Hz", line.empty() ? "" : ", ", hb::to_string(p.bifurcation), p.frequency_hz);
-  }
-  j["points_known"] = known;
-  j["unstable_points"] = unstable;
-  j["bifurcations"] = bifurcations;
-  j["line"] = fmt::format("{} of {} points known, {} unstable{}{}", known, points.size(), unstable,
-                          line.empty() ? "" : "; ", line);
-  return j;
+  for (const pipeline::FrfPoint& p : points)
+    if (p.bifurcation != hb::Bifurcation::none)
+      line += fmt::format("{}{} at {:.6g} Hz", line.empty() ? "" : ", ", hb::to_string(p.bifurcation), p.frequency_hz);
+  return {{"computed", computed},
+          {"points_known", counts.known},
+          {"unstable_points", counts.unstable},
+          {"bifurcations", bifurcations_json(points)},
+          {"line", fmt::format("{} of {} points known, {} unstable{}{}", counts.known, points.size(), counts.unstable,
+                               line.empty() ? "" : "; ", line)}};
 }
 
 ordered_json timings_json(const continuation::InterfaceTimings& t) {
@@ -261,9 +254,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
   // ---- frequency responses -------------------------------------------------------------------
   if (d.frf) {
     const io::FeFrfSpec& fs = *d.frf;
-    continuation::InterfaceFrfOptions stability_options;
-    stability_options.stability = fs.stability;
-    const bool stability = continuation::computes_interface_stability(stability_options, points);
+    const bool stability = continuation::computes_interface_stability(fs.stability, points);
     io::CsvWriter csv(dir / "frf.csv", frf_columns_with_stability(kFeFrfColumns, stability));
     summary["outputs"]["frf"] = "frf.csv";
     summary["frfs"] = ordered_json::array();

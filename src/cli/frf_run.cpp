@@ -152,26 +152,6 @@ Json inputs_json(const io::DiscreteCase& c) {
   return inputs;
 }
 
-// The points whose stability is known, the unstable ones and the Ω range they span.
-struct StabilityCounts {
-  int known = 0;
-  int unstable = 0;
-  double lo = 0.0, hi = 0.0;  // Ω range of the unstable points (when there are any)
-};
-
-StabilityCounts stability_counts(const continuation::FrfCurve& curve) {
-  StabilityCounts c;
-  for (const auto& p : curve.points) {
-    if (!p.stability_known) continue;
-    ++c.known;
-    if (p.stable) continue;
-    c.lo = c.unstable == 0 ? p.omega : std::min(c.lo, p.omega);
-    c.hi = c.unstable == 0 ? p.omega : std::max(c.hi, p.omega);
-    ++c.unstable;
-  }
-  return c;
-}
-
 Json curve_json(std::size_t level, double force, const continuation::FrfCurve& curve,
                 bool check_jacobian, const continuation::Accuracy& accuracy) {
   Json j = {{"level", level}, {"force_amplitude", force}};
@@ -216,16 +196,8 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
     located.push_back(fold);
   }
   j["fold_points"] = located;
-  Json bifurcations = Json::array();
-  for (std::size_t k = 0; k < curve.points.size(); ++k) {
-    const auto& p = curve.points[k];
-    if (p.bifurcation == hb::Bifurcation::none) continue;
-    Json b = {{"type", hb::to_string(p.bifurcation)}, {"point", k}, {"omega", p.omega}};
-    if (k > 0) b["previous_omega"] = curve.points[k - 1].omega;
-    bifurcations.push_back(b);
-  }
-  j["bifurcations"] = bifurcations;
-  const StabilityCounts counts = stability_counts(curve);
+  j["bifurcations"] = bifurcations_json(curve.points);
+  const StabilityCounts counts = stability_counts(curve.points);
   j["stability"] = {{"points_known", counts.known}, {"unstable_points", counts.unstable}};
   if (!curve.stability_note.empty()) j["stability"]["note"] = curve.stability_note;
   if (check_jacobian) {
@@ -279,7 +251,7 @@ std::string bifurcation_line(const continuation::FrfCurve& curve) {
     if (p.bifurcation == hb::Bifurcation::none || p.bifurcation == hb::Bifurcation::fold) continue;
     parts.push_back(fmt::format("{} near Ω = {:.6g} rad/s", hb::to_string(p.bifurcation), p.omega));
   }
-  if (const StabilityCounts counts = stability_counts(curve); counts.unstable > 0) {
+  if (const StabilityCounts counts = stability_counts(curve.points); counts.unstable > 0) {
     parts.push_back(fmt::format("unstable for Ω in [{:.6g}, {:.6g}] rad/s ({} point{})", counts.lo,
                                 counts.hi, counts.unstable, counts.unstable == 1 ? "" : "s"));
   }

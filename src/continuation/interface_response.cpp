@@ -56,8 +56,8 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
   return balance.validate();
 }
 
-bool computes_interface_stability(const InterfaceFrfOptions& options, int points) {
-  if (options.stability != Stability::automatic) return options.stability == Stability::always;
+bool computes_interface_stability(Stability stability, int points) {
+  if (stability != Stability::automatic) return stability == Stability::always;
   return points <= kAutomaticInterfaceStabilityPoints;
 }
 
@@ -212,7 +212,7 @@ class InterfaceFrfSegment {
   // The Floquet multipliers of an accepted point (options.stability) and what changed since the
   // previous one of this run; without them, a turn of Ω is reported as a fold.
   void add_stability(InterfaceFrfPoint& f, const Point& p) {
-    if (!computes_interface_stability(options_, balance_.points())) {
+    if (!computes_interface_stability(options_.stability, balance_.points())) {
       if (p.fold) f.bifurcation = hb::Bifurcation::fold;
       return;
     }

@@ -113,20 +113,22 @@ FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const Vec
   // Unit initial states of z = (η, η̇, δt_T of the force states).
   const int d = 2 * ns + force_states;
   MatrixXd eta = MatrixXd::Zero(ns, d), vel = MatrixXd::Zero(ns, d);
-  MatrixXd force = MatrixXd::Zero(std::max(force_states, 0), d);
+  MatrixXd force = MatrixXd::Zero(force_states, d);
   eta.leftCols(ns).setIdentity();
   vel.middleCols(ns, ns).setIdentity();
   force.rightCols(force_states).setIdentity();
 
-  // α (3P × d): the force states' part of δt at landing sample `next` of step i (i < 0: the
-  // initial state itself, δt_T = the state); D = A (K − C_pre) block diagonal (3P × 3P).
+  // δt = α/A + K δg at landing sample `next` of step i (T-39a; i < 0: the initial state itself,
+  // δt_T = the force state): α (3P × d, area-weighted) the force states' part, K per point
+  // (tangents), D = A (K − C_pre) block diagonal (3P × 3P).
   MatrixXd dmat = MatrixXd::Zero(3 * P, 3 * P);
+  std::vector<Eigen::Matrix3d> tangents(static_cast<std::size_t>(P));
   const auto contact_terms = [&](int i, const MatrixXd& gap_before, MatrixXd& alpha) {
     const std::size_t next = i < 0 ? 0 : (static_cast<std::size_t>(i) + 1) % nfs;
     alpha.setZero(3 * P, d);
     for (int p = 0; p < P; ++p) {
       const PointSteps& s = steps[static_cast<std::size_t>(p)];
-      Eigen::Matrix3d k;
+      Eigen::Matrix3d& k = tangents[static_cast<std::size_t>(p)];
       if (i < 0) {
         k.setZero();
         k(2, 2) = s.periodic.normal_stiffness[0];
@@ -160,11 +162,15 @@ FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const Vec
     force_part = w_lu.solve(alpha);
   };
 
+  // δg = GΦ η − R0 δF (T-40a).
+  const auto gaps_of = [&](const MatrixXd& modal, const MatrixXd& contact) -> MatrixXd {
+    return residual ? MatrixXd(shapes * modal - r0 * contact) : MatrixXd(shapes * modal);
+  };
   MatrixXd alpha, wdg, walpha;
   contact_terms(-1, MatrixXd(), alpha);
   condensed(alpha, wdg, walpha);
   MatrixXd contact_force = walpha + wdg * eta;  // δF_0 (3P × d)
-  MatrixXd gap = shapes * eta - (residual ? MatrixXd(r0 * contact_force) : MatrixXd::Zero(3 * P, d));
+  MatrixXd gap = gaps_of(eta, contact_force);
   MatrixXd acc = -(modal_damping.asDiagonal() * vel + lambda.asDiagonal() * eta +
                    shapes.transpose() * contact_force);
 
@@ -181,20 +187,13 @@ FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const Vec
                          modal_damping.asDiagonal() * (c1 * eta + vel) - shapes.transpose() * walpha;
     const MatrixXd eta1 = step.partialPivLu().solve(rhs);
     contact_force = walpha + wdg * eta1;
-    const MatrixXd gap1 = shapes * eta1 - (residual ? MatrixXd(r0 * contact_force) : MatrixXd::Zero(3 * P, d));
-    const std::size_t next = (static_cast<std::size_t>(i) + 1) % nfs;
+    const MatrixXd gap1 = gaps_of(eta1, contact_force);
+    // The force states at the landing sample: δt_T = α_T/A + K_T δg (T-39a).
     for (int p = 0; p < P; ++p) {
       const PointSteps& s = steps[static_cast<std::size_t>(p)];
       if (s.spring) continue;
-      const contact::PeriodicStateResult& t = s.periodic.tangential;
-      const auto ii = static_cast<std::size_t>(i);
-      const Eigen::Vector2d e = t.d_limit[ii] * s.periodic.d_limit[next] +
-                                t.d_stiffness[ii] * s.periodic.d_stiffness[next];
-      force.middleRows(s.state, 2) =
-          (t.d_traction[ii] * force.middleRows(s.state, 2) +
-           t.d_slip[ii] * (gap1.middleRows(3 * p, 2) - gap.middleRows(3 * p, 2)) +
-           e * gap1.row(3 * p + 2))
-              .eval();
+      force.middleRows(s.state, 2) = alpha.middleRows(3 * p, 2) / model.areas[p] +
+                                     tangents[static_cast<std::size_t>(p)].topRows<2>() * gap1.middleRows(3 * p, 3);
     }
     const MatrixXd acc1 = c0 * (eta1 - eta - dt * vel) - acc;
     vel = c1 * (eta1 - eta) - vel;

@@ -186,8 +186,9 @@ struct InterfaceFrfPoint {
   hb::Bifurcation bifurcation = hb::Bifurcation::none;
 };
 
-/// Whether trace_interface_frf computes the stability of the points of a joint of `points` points.
-[[nodiscard]] bool computes_interface_stability(const InterfaceFrfOptions& options, int points);
+/// Whether trace_interface_frf with InterfaceFrfOptions::stability = `stability` computes the
+/// stability of the points of a joint of `points` contact points.
+[[nodiscard]] bool computes_interface_stability(Stability stability, int points);
 
 struct InterfaceFrf {
   std::vector<InterfaceFrfPoint> points;

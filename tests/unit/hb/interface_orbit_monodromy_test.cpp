@@ -222,7 +222,7 @@ TEST(InterfaceOrbitMonodromy, EveryPointOfAnFrfHasTheDiscreteSystemsStability) {
     o.balance.time_samples = 256;
     o.monodromy.samples = 1024;
     const InterfaceModel model = two_dof_joint(3.0);
-    ASSERT_TRUE(continuation::computes_interface_stability(o, model.num_points()));
+    ASSERT_TRUE(continuation::computes_interface_stability(o.stability, model.num_points()));
     const continuation::InterfaceFrf frf = continuation::trace_interface_frf(model, o);
     ASSERT_TRUE(frf.completed()) << frf.message;
     ASSERT_GT(frf.timings.stability, 0.0);
