@@ -266,5 +266,19 @@ TEST(InterfaceOrbitMonodromy, EveryPointOfAnFrfHasTheDiscreteSystemsStability) {
   }
 }
 
+TEST(InterfaceOrbitMonodromy, GaulMayerPointsAreRefusedNotAnswered) {
+  // Not validated for Gaul–Mayer (docs/stability.md §7: max |ρ| ≈ 2.5e4 on a stable microslip
+  // solution): a moving Gaul–Mayer point gives no verdict rather than a wrong one.
+  const Structure s = make_structure(2, 4, 7);
+  InterfaceBalanceOptions o;
+  o.harmonics = 3;
+  o.time_samples = 32;
+  const InterfaceBalance b(make_model(s, 8, true), o);
+  const double w = 0.8 * std::sqrt(b.model().omega2[0]);
+  const FloquetResult r = interface_orbit_floquet(b, b.linear_solution(w, b.cosine_load(0.5)), w);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("not validated for the"), std::string::npos) << r.message;
+}
+
 }  // namespace
 }  // namespace jointhb::hb
