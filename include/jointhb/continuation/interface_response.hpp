@@ -127,7 +127,7 @@ InterfaceBackbone trace_interface_backbone(
     const std::function<bool(const InterfaceBackbonePoint&)>& on_point = {});
 
 /// The largest number of contact points for which Stability::automatic computes the Floquet
-/// multipliers of an FE FRF (measured: 0.04 s per point at 10 points with N_f = 1024, H = 3;
+/// multipliers of an FE FRF (measured: 0.03 s per point at 10 points with N_f = 1024, H = 3;
 /// docs/stability.md §7).
 inline constexpr int kAutomaticInterfaceStabilityPoints = 10;
 
