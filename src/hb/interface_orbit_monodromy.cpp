@@ -90,15 +90,6 @@ FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const Vec
       out.message = fmt::format("point {}: periodic state: {}", p, s.periodic.tangential.status().message);
       return out;
     }
-    // Validated for laws with an elastic range (Jenkins) only: on the synthetic Gaul–Mayer joint of
-    // the tests (5 points, 8 kept modes, H = 3) at a harmonic-balance solution in microslip
-    // (residual 3e-17, one point slipping) the monodromy gave max |ρ| ≈ 2.4e4–2.6e4 at N_f = 1024
-    // to 16384 where the damped structure is stable — a defect not yet found (docs/stability.md §7).
-    if (!law.law().sticks_below_limit() && !s.periodic.tangential.stuck) {
-      out.message = fmt::format("point {}: the monodromy is not validated for the {} law (docs/stability.md §7)", p,
-                                law.law().name());
-      return out;
-    }
     const bool constant = std::all_of(s.periodic.d_stiffness.begin(), s.periodic.d_stiffness.end(),
                                       [](double d) { return d == 0.0; });
     s.spring = s.periodic.tangential.stuck && s.periodic.open_fraction == 0.0 && constant;

@@ -15,6 +15,7 @@
 
 #include "jointhb/contact/periodic_state.hpp"
 #include "jointhb/contact/preloaded_normal_law.hpp"
+#include "../support/lapack_eig.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -188,13 +189,14 @@ FloquetResult floquet_from_monodromy(const Eigen::MatrixXd& monodromy, double pe
     out.message = "the monodromy is not finite";
     return out;
   }
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(monodromy, false);
-  if (eig.info() != Eigen::Success) {
+  // Balanced QR (support/lapack_eig.hpp): Φ's blocks carry the units of its state.
+  const support::EigenDecomposition eig = support::eigen_decomposition(monodromy, false);
+  if (!eig.ok) {
     out.message = "the eigensolver did not converge";
     return out;
   }
   const Eigen::Index d = monodromy.rows();
-  std::vector<cd> rho(eig.eigenvalues().data(), eig.eigenvalues().data() + d);
+  std::vector<cd> rho(eig.values.data(), eig.values.data() + d);
   std::stable_sort(rho.begin(), rho.end(),
                    [](const cd& p, const cd& q) { return std::abs(p) > std::abs(q); });
   out.multipliers.resize(d);

@@ -47,7 +47,10 @@ FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorX
 
 /// The multipliers ρ = eig(Φ) of a monodromy Φ over `period` (by |ρ| descending, exponents
 /// log ρ / T, |ρ| > 1 + unstable_tolerance counted unstable); ok = false when Φ is not finite or
-/// the eigensolver fails. Shared by the discrete and the finite-element monodromies.
+/// the eigensolver fails. Shared by the discrete and the finite-element monodromies. The
+/// eigenvalues are those of the balanced matrix (LAPACK dgeev): Φ's blocks carry the units of the
+/// state (coordinates, velocities, tractions in Pa) and span up to 27 orders of magnitude, where
+/// unbalanced QR returns |ρ| ~ 1e4 for multipliers at 1 (docs/stability.md §7).
 FloquetResult floquet_from_monodromy(const Eigen::MatrixXd& monodromy, double period,
                                      double unstable_tolerance);
 

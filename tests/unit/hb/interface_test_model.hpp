@@ -165,7 +165,8 @@ inline InterfaceModel make_model(const Structure& s, int ns, bool gaul_mayer) {
 // damping curve of mode 1 (k_2 = 3: stuck ω₁ = 1.181, ω₂ = 2.934) falls to Ω ≈ 0.9 as it slips,
 // where 3Ω meets ω₂ (a 3:1 internal resonance): the curve turns back in amplitude and forward
 // again (k_2 = 2: six times, between Ω = 0.71 and 0.83). `kept` < 4: the lowest modes kept, the
-// others residual (s = 0, eq. T-24). `m0`: the mass of x0 (M = diag(m0, 1, 1, 1)).
+// others residual (s = 0, eq. T-24). `m0`: the mass of x0 (M = diag(m0, 1, 1, 1)). `gaul_mayer`:
+// the point's tangential law Gaul–Mayer (n = 1/3, the same k_T and μ p A) instead of Jenkins.
 // The mass-normalised modes φ (4 × 4, ascending; φᵀMφ = I) and ω² of that joint, contact stuck.
 inline Eigen::SelfAdjointEigenSolver<MatrixXd> two_dof_joint_modes(double k2, double m0, MatrixXd& phi) {
   const double kt = 3.0;
@@ -181,7 +182,7 @@ inline Eigen::SelfAdjointEigenSolver<MatrixXd> two_dof_joint_modes(double k2, do
   return es;
 }
 
-inline InterfaceModel two_dof_joint(double k2, int kept = 4, double m0 = 1.0) {
+inline InterfaceModel two_dof_joint(double k2, int kept = 4, double m0 = 1.0, bool gaul_mayer = false) {
   const double kt = 3.0;
   MatrixXd phi;
   const Eigen::SelfAdjointEigenSolver<MatrixXd> es = two_dof_joint_modes(k2, m0, phi);
@@ -209,7 +210,10 @@ inline InterfaceModel two_dof_joint(double k2, int kept = 4, double m0 = 1.0) {
   o.stiffness_model = jc::TangentialStiffnessModel::constant;
   o.tangential_stiffness = kt;
   o.gap_pressure_ratio = 1e-9;
-  m.groups.push_back({"joint", jc::ContactPoint(o, std::make_shared<jc::JenkinsLaw>()), 0, 1});
+  std::shared_ptr<const jc::TangentialLaw> law;
+  if (gaul_mayer) law = std::make_shared<jc::GaulMayerLaw>(1.0 / 3.0);
+  else law = std::make_shared<jc::JenkinsLaw>();
+  m.groups.push_back({"joint", jc::ContactPoint(o, law), 0, 1});
   ContactPointReference preload;
   preload.traction << 0.0, 0.0, -1.0;
   m.references.push_back(preload);
@@ -236,9 +240,9 @@ inline InterfaceModel two_dof_joint(double k2, int kept = 4, double m0 = 1.0) {
   return m;
 }
 
-// The joint of two_dof_joint(k2, ·, m0) as a discrete system: x0 (mass m0) and x1, the Jenkins
-// contact on x0 (k_T = 3, μF_N = 0.1), C = 0.002 M.
-inline DiscreteSystem two_dof_discrete(double k2, double m0 = 1.0) {
+// The joint of two_dof_joint(k2, ·, m0, gaul_mayer) as a discrete system: x0 (mass m0) and x1, the
+// Jenkins (or Gaul–Mayer, n = 1/3) contact on x0 (k_T = 3, μF_N = 0.1), C = 0.002 M.
+inline DiscreteSystem two_dof_discrete(double k2, double m0 = 1.0, bool gaul_mayer = false) {
   DiscreteSystem d;
   Eigen::Matrix2d k;
   k << 1.0 + k2, -k2, -k2, k2;
@@ -246,12 +250,14 @@ inline DiscreteSystem two_dof_discrete(double k2, double m0 = 1.0) {
   d.mass = mass.sparseView();
   d.stiffness = k.sparseView();
   d.damping = (0.002 * mass).sparseView();
-  ContactElement jenkins;
-  jenkins.dof_a = 0;
-  jenkins.stiffness = 3.0;
-  jenkins.friction_coefficient = 0.1;
-  jenkins.normal_force = 1.0;
-  d.contacts.push_back(jenkins);
+  ContactElement contact;
+  contact.law = gaul_mayer ? "gaul-mayer" : "jenkins";
+  contact.exponent = 1.0 / 3.0;
+  contact.dof_a = 0;
+  contact.stiffness = 3.0;
+  contact.friction_coefficient = 0.1;
+  contact.normal_force = 1.0;
+  d.contacts.push_back(contact);
   return d;
 }
 
