@@ -16,6 +16,7 @@
 #include "jointhb/continuation/accuracy.hpp"
 #include "jointhb/continuation/curve_turn.hpp"
 #include "jointhb/continuation/error_estimate.hpp"
+#include "jointhb/continuation/frf.hpp"
 #include "jointhb/hb/contact_state.hpp"
 #include "jointhb/hb/hill_stability.hpp"
 
@@ -216,5 +217,40 @@ struct WorstErrors {
     second_aliasing = std::max(second_aliasing, std::abs(second.aliasing));
   }
 };
+
+// summary.json "peak" of an FRF: the located peak (`located`, continuation/frf_extrema) where it
+// was refined, else the highest accepted point; amplitude_max is the highest accepted point's.
+template <class Point>
+nlohmann::ordered_json peak_json(const std::optional<continuation::FrfExtremum>& located, const Point& highest) {
+  const bool refined = located && located->refined;
+  const double omega = refined ? located->omega : highest.omega;
+  nlohmann::ordered_json j = {{"omega", omega},
+                              {"frequency_hz", omega / (2.0 * std::numbers::pi)},
+                              {"amplitude_h1", refined ? located->amplitude_h1 : highest.amplitude_h1},
+                              {"amplitude_max", highest.amplitude_max},
+                              {"refined", refined}};
+  if (refined) {
+    j["amplitude_h1_error_bound"] = located->value_bound;
+    j["omega_bracket"] = located->omega_bracket;
+  } else if (located) {
+    j["note"] = located->message;
+  }
+  return j;
+}
+
+// summary.json "fold_points" of an FRF: each fold located between points, with its bound on Ω.
+inline nlohmann::ordered_json fold_points_json(const std::vector<continuation::FrfExtremum>& folds) {
+  nlohmann::ordered_json located = nlohmann::ordered_json::array();
+  for (const auto& f : folds) {
+    nlohmann::ordered_json fold = {{"omega", f.omega},
+                                   {"frequency_hz", f.omega / (2.0 * std::numbers::pi)},
+                                   {"amplitude_h1", f.amplitude_h1},
+                                   {"omega_error_bound", f.value_bound},
+                                   {"refined", f.refined}};
+    if (!f.message.empty()) fold["note"] = f.message;
+    located.push_back(fold);
+  }
+  return located;
+}
 
 }  // namespace jointhb::cli

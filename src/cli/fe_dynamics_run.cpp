@@ -77,6 +77,7 @@ ordered_json timings_json(const continuation::InterfaceTimings& t) {
           {"preconditioner_apply", t.preconditioner_apply},
           {"error_estimate", t.error_estimate},
           {"stability", t.stability},
+          {"refinement", t.refinement},
           {"total", t.total},
           {"evaluations", t.evaluations},
           {"jacobians", t.jacobians},
@@ -303,6 +304,13 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
       entry["error_estimate"] = worst.json("amplitude_h1", "amplitude_max");
       entry["error_estimate"]["seconds"] = r.curve.timings.error_estimate;
       entry["accuracy"] = accuracy_json(fs.accuracy, r.points, r.curve.level_changes, r.curve.short_of_accuracy);
+      if (!r.points.empty()) {
+        const auto highest = std::max_element(r.points.begin(), r.points.end(), [](const auto& a, const auto& b) {
+          return a.amplitude_h1 < b.amplitude_h1;
+        });
+        entry["peak"] = peak_json(r.curve.peak, *highest);
+      }
+      entry["fold_points"] = fold_points_json(r.curve.folds);
       entry["stability"] = fe_stability_json(r.points, stability);
       if (stability) std::fprintf(stderr, "  stability: %s\n", entry["stability"]["line"].get<std::string>().c_str());
       summary["frfs"].push_back(std::move(entry));

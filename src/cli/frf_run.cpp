@@ -167,35 +167,9 @@ Json curve_json(std::size_t level, double force, const continuation::FrfCurve& c
     if (!peak || p.amplitude_h1 > peak->amplitude_h1) peak = &p;
     folds += p.fold ? 1 : 0;
   }
-  if (peak) {
-    // The located peak (curve.peak) where it could be refined, else the highest accepted point;
-    // amplitude_max is that of the highest accepted point.
-    const bool refined = curve.peak && curve.peak->refined;
-    const double omega = refined ? curve.peak->omega : peak->omega;
-    j["peak"] = {{"omega", omega},
-                 {"frequency_hz", omega / (2.0 * std::numbers::pi)},
-                 {"amplitude_h1", refined ? curve.peak->amplitude_h1 : peak->amplitude_h1},
-                 {"amplitude_max", peak->amplitude_max},
-                 {"refined", refined}};
-    if (refined) {
-      j["peak"]["amplitude_h1_error_bound"] = curve.peak->value_bound;
-      j["peak"]["omega_bracket"] = curve.peak->omega_bracket;
-    } else if (curve.peak) {
-      j["peak"]["note"] = curve.peak->message;
-    }
-  }
+  if (peak) j["peak"] = peak_json(curve.peak, *peak);
   j["folds"] = folds;
-  Json located = Json::array();
-  for (const auto& f : curve.folds) {
-    Json fold = {{"omega", f.omega},
-                 {"frequency_hz", f.omega / (2.0 * std::numbers::pi)},
-                 {"amplitude_h1", f.amplitude_h1},
-                 {"omega_error_bound", f.value_bound},
-                 {"refined", f.refined}};
-    if (!f.message.empty()) fold["note"] = f.message;
-    located.push_back(fold);
-  }
-  j["fold_points"] = located;
+  j["fold_points"] = fold_points_json(curve.folds);
   j["bifurcations"] = bifurcations_json(curve.points);
   const StabilityCounts counts = stability_counts(curve.points);
   j["stability"] = {{"points_known", counts.known}, {"unstable_points", counts.unstable}};

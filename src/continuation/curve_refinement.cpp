@@ -9,6 +9,9 @@
 #include <exception>
 #include <limits>
 #include <optional>
+#include <string>
+
+#include "../support/gmres.hpp"
 
 namespace jointhb::continuation::detail {
 namespace {
@@ -54,12 +57,93 @@ double q_derivative(const CurveQuantity& q, const Scales& s, const Eigen::Vector
                     double lambda, const Eigen::VectorXd& tangent, const Eigen::VectorXd& d) {
   const double along = tangent.dot(d);
   if (!(along > 0.0)) return kNaN;
-  const auto [gx, gl] = q.gradient(x, lambda);
   const Eigen::Index n = x.size();
+  if (q.slope) return q.slope(x, lambda, tangent.head(n).cwiseProduct(s.state), tangent[n] * s.parameter) / along;
+  const auto [gx, gl] = q.gradient(x, lambda);
   double dq = gl * tangent[n] * s.parameter;
   if (gx.size() == n) dq += gx.dot(tangent.head(n).cwiseProduct(s.state));
   return dq / along;
 }
+
+// The bordered matrix A = [R_x D_x, R_λ λ_scale; dᵀ] of one evaluation, to solve with: by LU when the
+// Jacobian is dense; matrix-free (Evaluation::d_state_product) by restarted GMRES preconditioned
+// with the block elimination of [K̃, j_λ; dᵀ], K̃⁻¹ = D_x⁻¹ Ã⁻¹ (Ã⁻¹ the evaluation's approximate
+// inverse of R_x, built once per evaluation), as the continuation's own matrix-free solves
+// (pseudo_arclength.cpp, docs/continuation.md §2).
+class BorderedSolver {
+ public:
+  BorderedSolver(const Evaluation& e, const Scales& s, const Eigen::VectorXd& d, const Options& o)
+      : e_(e), s_(s), d_(d), o_(o), n_(d.size() - 1) {
+    if (!e.d_state_product) {
+      lu_.compute(bordered(e, s, d));
+      return;
+    }
+    inverse_ = e.make_preconditioner ? e.make_preconditioner() : LinearOperator([](const Eigen::VectorXd& v) { return v; });
+    w2_ = k_inverse(e.d_parameter * s.parameter);
+    den_ = d[n_] - d.head(n_).dot(w2_);
+  }
+
+  // A out = rhs; false with `why` when the solve fails.
+  bool solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, std::string& why) const {
+    if (!e_.d_state_product) {
+      out = lu_.solve(rhs);
+      if (out.allFinite()) return true;
+      why = "singular bordered matrix";
+      return false;
+    }
+    const auto apply = [&](const Eigen::VectorXd& z) {
+      Eigen::VectorXd az(n_ + 1);
+      az.head(n_) = e_.d_state_product(Eigen::VectorXd(z.head(n_).cwiseProduct(s_.state))) +
+                    e_.d_parameter * (s_.parameter * z[n_]);
+      az[n_] = d_.dot(z);
+      return az;
+    };
+    const bool border = std::abs(den_) > 1e-14 * (std::abs(d_[n_]) + d_.head(n_).norm() * w2_.norm());
+    const auto precondition = [&](const Eigen::VectorXd& v) {
+      Eigen::VectorXd z(n_ + 1);
+      const Eigen::VectorXd w1 = k_inverse(v.head(n_));
+      const double zl = border ? (v[n_] - d_.head(n_).dot(w1)) / den_ : 0.0;
+      z.head(n_) = w1 - w2_ * zl;
+      z[n_] = zl;
+      return z;
+    };
+    // Restarted on the true residual (iterative refinement against the recursive residual's drift).
+    out = Eigen::VectorXd::Zero(n_ + 1);
+    Eigen::VectorXd residual = rhs;
+    const double target = o_.krylov_tolerance * rhs.norm();
+    int iterations = 0;
+    for (int cycle = 0; cycle < 4 && residual.norm() > target; ++cycle) {
+      Eigen::VectorXd dz;
+      const double previous = residual.norm();
+      const support::GmresOutcome g =
+          support::gmres(apply, precondition, residual, o_.krylov_max_iterations, target / previous, dz);
+      iterations += g.iterations;
+      if (!dz.allFinite()) break;
+      out += dz;
+      residual = rhs - apply(out);
+      if (!g.converged && residual.norm() > 0.5 * previous) break;
+    }
+    if (residual.norm() <= target) return true;
+    why = fmt::format("GMRES on the bordered system: relative residual {:.3g} after {} iterations",
+                      residual.norm() / rhs.norm(), iterations);
+    return false;
+  }
+
+ private:
+  [[nodiscard]] Eigen::VectorXd k_inverse(const Eigen::VectorXd& v) const {
+    return inverse_(v).cwiseQuotient(s_.state);
+  }
+
+  const Evaluation& e_;
+  const Scales& s_;
+  const Eigen::VectorXd& d_;
+  const Options& o_;
+  Eigen::Index n_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;  // dense
+  LinearOperator inverse_;                    // matrix-free: Ã⁻¹ ≈ R_x⁻¹
+  Eigen::VectorXd w2_;                        // K̃⁻¹ j_λ
+  double den_ = 0.0;                          // d_λ − d_xᵀ w2
+};
 
 // Newton on the branch at σ from the guess y0; the tangent at the converged point.
 std::optional<BranchPoint> correct_at(const ResidualFunction& residual, const Options& o,
@@ -81,12 +165,12 @@ std::optional<BranchPoint> correct_at(const ResidualFunction& residual, const Op
       why = fmt::format("the residual failed: {}", error.what());
       return std::nullopt;
     }
-    if (!e.ok || !e.residual.allFinite() || e.d_state.rows() != n) {
+    if (!e.ok || !e.residual.allFinite() || e.d_parameter.size() != n ||
+        (!e.d_state_product && e.d_state.rows() != n)) {
       why = e.ok ? "the residual or its Jacobian is not available" : e.message;
       return std::nullopt;
     }
-    const Eigen::MatrixXd a = bordered(e, s, d);
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+    const BorderedSolver bordered_system(e, s, d, o);
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -e.residual;
     rhs[n] = sigma - d.dot(y - ya);
@@ -94,20 +178,17 @@ std::optional<BranchPoint> correct_at(const ResidualFunction& residual, const Op
     if (r <= o.residual_tolerance && std::abs(rhs[n]) <= o.step_tolerance && it > 0) {
       Eigen::VectorXd e_last = Eigen::VectorXd::Zero(n + 1);
       e_last[n] = 1.0;
-      Eigen::VectorXd t = lu.solve(e_last);
-      if (!t.allFinite() || t.norm() == 0.0) {
-        why = "the tangent is not defined (singular bordered matrix)";
+      Eigen::VectorXd t;
+      if (!bordered_system.solve(e_last, t, why) || !t.allFinite() || t.norm() == 0.0) {
+        why = "the tangent is not defined: " + (why.empty() ? std::string("singular bordered matrix") : why);
         return std::nullopt;
       }
       t /= t.norm();
       return BranchPoint{x, lambda, t, sigma, 0.0};
     }
     if (it == o.max_corrector_iterations) break;
-    const Eigen::VectorXd dy = lu.solve(rhs);
-    if (!dy.allFinite()) {
-      why = "singular bordered matrix";
-      return std::nullopt;
-    }
+    Eigen::VectorXd dy;
+    if (!bordered_system.solve(rhs, dy, why)) return std::nullopt;
     y += dy;
     ++iterations;
   }

@@ -24,12 +24,17 @@
 
 namespace jointhb::continuation::detail {
 
-/// A smooth scalar function of a point of the branch and its gradient.
+/// A smooth scalar function of a point of the branch and its gradient, or its slope along a
+/// direction where the gradient is not at hand.
 struct CurveQuantity {
   std::function<double(const Eigen::VectorXd& x, double lambda)> value;
   /// (∂q/∂x, ∂q/∂λ) at (x, λ), unscaled; ∂q/∂x empty means zero
   std::function<std::pair<Eigen::VectorXd, double>(const Eigen::VectorXd& x, double lambda)>
       gradient;
+  /// ∂q/∂x·dx + ∂q/∂λ dλ at (x, λ) (unscaled; used instead of `gradient` when set), e.g. by central
+  /// differences of `value`
+  std::function<double(const Eigen::VectorXd& x, double lambda, const Eigen::VectorXd& dx, double dlambda)>
+      slope;
 };
 
 /// q = λ: its extremum along the branch is a fold.
@@ -54,7 +59,10 @@ struct RefinementOptions {
 
 /// The extremum of q between accepted points a and b, whose tangents give q' of opposite signs.
 /// `scaling` supplies state_scale, parameter_scale, residual_scale, residual_tolerance,
-/// step_tolerance and max_corrector_iterations. Dense LU: for the discrete systems of FRFs.
+/// step_tolerance and max_corrector_iterations. The bordered systems are solved by LU where the
+/// residual returns a dense Jacobian, else matrix-free (Evaluation::d_state_product) by GMRES to
+/// krylov_tolerance (at most krylov_max_iterations per cycle, four restarts) preconditioned with the
+/// block elimination of the evaluation's approximate inverse (make_preconditioner).
 CurveExtremum refine_extremum(const ResidualFunction& residual, const Options& scaling,
                               const Point& a, const Point& b, const CurveQuantity& q,
                               const RefinementOptions& options = {});

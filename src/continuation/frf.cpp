@@ -3,6 +3,7 @@
 
 #include "../support/stopwatch.hpp"
 #include "curve_refinement.hpp"
+#include "frf_extrema.hpp"
 #include "linear_limits.hpp"
 #include "segmented_curve.hpp"
 
@@ -283,68 +284,6 @@ detail::CurveQuantity fundamental_quantity(const hb::HarmonicBalance& b, int dof
   return q;
 }
 
-// An extremum as located (e.ok), else reported at the accepted point `at` with e's message.
-FrfExtremum extremum_of(const detail::CurveExtremum& e, const FrfPoint& at,
-                        const hb::HarmonicBalance& b, int dof) {
-  FrfExtremum f;
-  f.refined = e.ok;
-  f.message = e.message;
-  f.points = e.points;
-  if (!e.ok) {
-    f.omega = at.omega;
-    f.coefficients = at.coefficients;
-    f.amplitude_h1 = at.amplitude_h1;
-    return f;
-  }
-  f.omega = e.lambda;
-  f.coefficients = e.x;
-  f.amplitude_h1 = b.fundamental_amplitude(e.x, dof);
-  f.value_bound = e.value_bound;
-  f.omega_bracket = e.lambda_bracket;
-  return f;
-}
-
-// The folds (every turn of Ω that is not a reversal) and the peak of amplitude_h1 located between
-// accepted points (curve_refinement.hpp), from the points and their unit tangents; an extremum
-// that cannot be refined is reported at its accepted point.
-void refine_extrema(const ResidualFunction& residual, const Options& scaling,
-                    const hb::HarmonicBalance& b, int dof,
-                    const std::vector<Eigen::VectorXd>& tangents, FrfCurve& curve) {
-  const std::size_t count = std::min(tangents.size(), curve.points.size());
-  const auto branch_point = [&](std::size_t k) {
-    Point p;
-    p.x = curve.points[k].coefficients;
-    p.lambda = curve.points[k].omega;
-    p.tangent = tangents[k];
-    return p;
-  };
-  for (std::size_t k = 1; k < count; ++k) {
-    const FrfPoint& p = curve.points[k];
-    if (!p.fold || p.bifurcation == hb::Bifurcation::reversal) continue;
-    FrfExtremum f = extremum_of(detail::refine_extremum(residual, scaling, branch_point(k - 1),
-                                                        branch_point(k), detail::parameter_quantity()),
-                                p, b, dof);
-    if (!f.refined) f.value_bound = std::abs(p.omega - curve.points[k - 1].omega);
-    f.bifurcation = p.bifurcation;
-    curve.folds.push_back(std::move(f));
-  }
-  if (curve.points.empty() || b.basis().cosine_index(1) < 0) return;
-  std::size_t top = 0;
-  for (std::size_t k = 1; k < curve.points.size(); ++k)
-    if (curve.points[k].amplitude_h1 > curve.points[top].amplitude_h1) top = k;
-  detail::CurveExtremum located;
-  located.message = "the largest amplitude is at an end of the curve";
-  if (top > 0 && top + 1 < count) {
-    const detail::CurveQuantity q = fundamental_quantity(b, dof);
-    for (const std::size_t first : {top - 1, top}) {
-      located = detail::refine_extremum(residual, scaling, branch_point(first),
-                                        branch_point(first + 1), q);
-      if (located.ok) break;
-    }
-  }
-  curve.peak = extremum_of(located, curve.points[top], b, dof);
-}
-
 }  // namespace
 
 std::string FrfOptions::validate(int dofs) const {
@@ -596,27 +535,6 @@ void merge_split_folds(std::vector<FrfPoint>& points) {
   }
 }
 
-// The folds and the peak of a curve traced in segments, located within each segment
-// (refine_extrema on the segment's points, its balance and residual); a peak at a segment's end
-// that is not the curve's end is reported at its accepted point.
-void refine_segments(const std::vector<std::unique_ptr<DiscreteFrfSegment>>& segments, int dof, FrfCurve& curve) {
-  std::size_t top = 0;
-  for (std::size_t k = 1; k < curve.points.size(); ++k)
-    if (curve.points[k].amplitude_h1 > curve.points[top].amplitude_h1) top = k;
-  for (const auto& segment : segments) {
-    if (segment->kept().empty()) continue;
-    FrfCurve part;
-    for (const std::size_t k : segment->kept()) part.points.push_back(curve.points[k]);
-    refine_extrema(segment->residual(), segment->options(), segment->balance(), dof, segment->tangents(), part);
-    for (auto& fold : part.folds) curve.folds.push_back(std::move(fold));
-    const auto& kept = segment->kept();
-    if (std::find(kept.begin(), kept.end(), top) == kept.end() || !part.peak) continue;
-    curve.peak = std::move(part.peak);
-    if (!curve.peak->refined && top != 0 && top + 1 != curve.points.size() && (kept.front() == top || kept.back() == top))
-      curve.peak->message = "the largest amplitude is where the curve changes its harmonics (accuracy)";
-  }
-}
-
 }  // namespace
 
 FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, const FrfOptions& options,
@@ -668,7 +586,14 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
   merge_split_folds(curve.points);
   if (options.refine_extrema) {
     const auto refinement_start = Clock::now();
-    refine_segments(segments, options.output_dof, curve);
+    detail::locate_in_segments(segments, curve, [&](const DiscreteFrfSegment& run) {
+      const hb::HarmonicBalance& b = run.balance();
+      const detail::CurveQuantity amplitude =
+          b.basis().cosine_index(1) < 0 ? detail::CurveQuantity{} : fundamental_quantity(b, options.output_dof);
+      return detail::locate_frf_extrema(
+          run.residual(), run.options(),
+          detail::run_points(curve.points, run.kept(), run.tangents(), &FrfPoint::coefficients), amplitude);
+    });
     curve.timings.refinement = seconds_since(refinement_start);
   }
   segment_detail::put_outcome(outcome, curve);

@@ -16,18 +16,21 @@
 #include "jointhb/continuation/interface_error_estimate.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "frf_extrema.hpp"
 #include "interface_curve_support.hpp"
 #include "segmented_curve.hpp"
 
 namespace jointhb::continuation {
 
 std::string InterfaceTimings::breakdown() const {
-  const double other = std::max(total - aft - assembly - linear_solve - error_estimate - stability, 0.0);
+  const double other =
+      std::max(total - aft - assembly - linear_solve - error_estimate - stability - refinement, 0.0);
   // The estimates' own evaluations and solves are counted in error_estimate only, except the
   // AFT of their evaluation at the point on the curve's balance (in aft).
   const std::string estimates =
       (error_estimate > 0.0 ? fmt::format(", error estimates {:.3g} s", error_estimate) : std::string()) +
-      (stability > 0.0 ? fmt::format(", stability {:.3g} s", stability) : std::string());
+      (stability > 0.0 ? fmt::format(", stability {:.3g} s", stability) : std::string()) +
+      (refinement > 0.0 ? fmt::format(", folds and peak {:.3g} s", refinement) : std::string());
   if (products == 0.0 && preconditioner == 0.0)
     return fmt::format("{:.3g} s: AFT {:.3g} s ({} evaluations), assembly {:.3g} s, linear solves {:.3g} s "
                        "({} factorisations){}, other {:.3g} s",
@@ -69,9 +72,11 @@ class InterfaceFrfSegment {
  public:
   using Judge = std::function<bool(InterfaceFrfPoint&, const Point&)>;
 
-  InterfaceFrfSegment(const hb::InterfaceModel& model, const InterfaceFrfOptions& options, Level level)
+  InterfaceFrfSegment(const hb::InterfaceModel& model, const InterfaceFrfOptions& options, Level level,
+                      const std::vector<InterfaceFrfPoint>& curve_points)
       : model_(model),
         options_(options),
+        curve_points_(curve_points),
         matrix_free_(options.matrix_free && options.continuation.linear_solver == LinearSolver::newton_krylov),
         balance_options_(balance_at(options, level, matrix_free_)),
         balance_(model, balance_options_),
@@ -84,6 +89,7 @@ class InterfaceFrfSegment {
   [[nodiscard]] const hb::InterfaceBalance& balance() const { return balance_; }
   [[nodiscard]] double error_seconds() const { return error_seconds_; }
   [[nodiscard]] double stability_seconds() const { return stability_seconds_; }
+  [[nodiscard]] const std::vector<std::size_t>& kept() const { return kept_; }
 
   // The linear response at Ω_start, or the start's unknowns transferred to this level.
   [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
@@ -113,6 +119,7 @@ class InterfaceFrfSegment {
     if (c.max_state_turn == 0.0) c.max_state_turn = kMaxStateTurn;  // frf.hpp
     // |fundamental| of the output, for max_output_change: from the corrector's last evaluation,
     // which is at the converged point (one more evaluation otherwise).
+    continuation_ = c;  // with the outputs below, for the refinement of the extrema
     c.outputs = [this](const Eigen::VectorXd& x, double omega) {
       if (omega != last_omega_ || x.size() != last_x_.size() || x != last_x_) {
         last_x_.resize(0);
@@ -156,8 +163,15 @@ class InterfaceFrfSegment {
         f.error = estimator_->estimate(balance_, p.x, p.lambda, &last_, options_.error_estimate || wants_truncation());
         error_seconds_ += support::seconds_since(estimate_start);
       }
+      f.fold = p.fold;
       add_stability(f, p);
-      return judge(f, p);
+      const std::size_t before = curve_points_.size();
+      const bool go_on = judge(f, p);
+      if (curve_points_.size() > before) {  // kept (judge appended it)
+        kept_.push_back(before);
+        tangents_.push_back(p.tangent);
+      }
+      return go_on;
     };
     Result r = trace(residual, x0, c, accept);
     if (r.reason == StopReason::start_failed) {
@@ -177,7 +191,37 @@ class InterfaceFrfSegment {
     return r;
   }
 
+ // The folds and the peak of this run's kept points (frf_extrema.hpp), by bordered Newton on the
+  // run's own Jacobian: dense, or matrix-free with GMRES and the run's preconditioner.
+  detail::FrfExtrema extrema() {
+    const ResidualFunction residual = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
+      return evaluate(x, omega, jacobian);
+    };
+    return detail::locate_frf_extrema(residual, continuation_,
+                                      detail::run_points(curve_points_, kept_, tangents_, &InterfaceFrfPoint::unknowns),
+                                      amplitude_quantity());
+  }
+
  private:
+  // |fundamental| of the output at (ŷ, Ω) (eq. T-25: its residual part needs the contact forces,
+  // one evaluation), its slope along a direction by central differences (10⁻⁶ of the scaled unit
+  // tangent the refinement passes).
+  detail::CurveQuantity amplitude_quantity() const {
+    detail::CurveQuantity q;
+    q.value = [this](const Eigen::VectorXd& x, double omega) {
+      hb::InterfaceBalanceEvaluation at;
+      balance_.evaluate(x, omega, 0.0, load_, false, at);
+      const Eigen::VectorXd u = balance_.output_coefficients(options_.output, x, omega, 0.0, load_, at.contact_force);
+      const int a1 = balance_.basis().cosine_index(1);
+      return std::hypot(u[a1], u[a1 + 1]);
+    };
+    q.slope = [value = q.value](const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& dx, double dw) {
+      constexpr double h = 1e-6;
+      return (value(x + h * dx, omega + h * dw) - value(x - h * dx, omega - h * dw)) / (2.0 * h);
+    };
+    return q;
+  }
+
   static hb::InterfaceBalanceOptions balance_at(const InterfaceFrfOptions& options, Level level, bool matrix_free) {
     hb::InterfaceBalanceOptions b = options.balance;
     b.harmonics = level.harmonics;
@@ -260,6 +304,7 @@ class InterfaceFrfSegment {
 
   const hb::InterfaceModel& model_;
   const InterfaceFrfOptions& options_;
+  const std::vector<InterfaceFrfPoint>& curve_points_;
   bool matrix_free_;
   hb::InterfaceBalanceOptions balance_options_;
   hb::InterfaceBalance balance_;
@@ -269,6 +314,9 @@ class InterfaceFrfSegment {
   double error_seconds_ = 0.0;
   double stability_seconds_ = 0.0;
   std::optional<hb::FloquetResult> previous_floquet_;
+  Options continuation_;                     // of the run (scales, tolerances)
+  std::vector<std::size_t> kept_;            // the kept points' indices in the curve
+  std::vector<Eigen::VectorXd> tangents_;    // and their unit tangents
   hb::InterfaceBalanceEvaluation last_;
   Eigen::VectorXd last_x_;
   double last_omega_ = std::numeric_limits<double>::quiet_NaN();
@@ -281,10 +329,11 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   const auto start = support::Clock::now();
   if (std::string msg = options.validate(model); !msg.empty()) throw std::invalid_argument(msg);
   InterfaceFrf curve;
+  std::vector<std::unique_ptr<InterfaceFrfSegment>> segments;  // kept alive for the folds and the peak
   const auto make_segment = [&](Level level) {
-    auto run = std::make_unique<InterfaceFrfSegment>(model, options, level);
-    if (curve.unknowns == 0) curve.unknowns = run->balance().unknowns();
-    return run;
+    segments.push_back(std::make_unique<InterfaceFrfSegment>(model, options, level, curve.points));
+    if (curve.unknowns == 0) curve.unknowns = segments.back()->balance().unknowns();
+    return segments.back().get();
   };
   const std::function<bool(InterfaceFrfPoint&)> keep = segment_detail::append_to(curve.points, on_point);
   const auto after_run = [&](const InterfaceFrfSegment& run, const Result& r) {
@@ -297,6 +346,11 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.balance.harmonics, options.balance.time_samples}, options.omega_start,
       options.omega_end, options.continuation, make_segment, keep, after_run);
+  if (options.refine_extrema) {
+    const auto refinement_start = support::Clock::now();
+    detail::locate_in_segments(segments, curve, [](InterfaceFrfSegment& run) { return run.extrema(); });
+    curve.timings.refinement = support::seconds_since(refinement_start);
+  }
   segment_detail::put_outcome(outcome, curve);
   curve.timings.total = support::seconds_since(start);
   return curve;

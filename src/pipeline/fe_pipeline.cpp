@@ -459,6 +459,11 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
     return true;
   };
   out.curve = continuation::trace_interface_frf(im, o, accept);
+  if (const auto& peak = out.curve.peak; peak && peak->refined && failure.empty()) {
+    out.peak_amplitude = peak->amplitude_h1;  // located between the points (frf_extrema.hpp)
+    out.peak_frequency_hz = peak->omega / kTwoPi;
+    out.peak_refined = true;
+  }
   ++counters_.curves;
   if (!failure.empty()) out.curve.message = failure;
   return out;

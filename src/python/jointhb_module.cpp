@@ -64,6 +64,8 @@ py::dict timings_dict(const continuation::InterfaceTimings& t) {
   d["preconditioner_apply"] = t.preconditioner_apply;
   d["linear_solve"] = t.linear_solve;
   d["error_estimate"] = t.error_estimate;
+  d["stability"] = t.stability;
+  d["refinement"] = t.refinement;
   d["total"] = t.total;
   d["gmres_iterations"] = t.krylov_iterations;
   d["product_calls"] = t.product_calls;
@@ -333,6 +335,15 @@ py::dict frf_dict(const pipeline::FrfCurve& r, bool interrupted) {
   put_curve_status(d, r.status(), interrupted);
   d["peak_amplitude"] = r.peak_amplitude;
   d["peak_frequency_hz"] = r.peak_frequency_hz;
+  d["peak_refined"] = r.peak_refined;
+  d["peak_amplitude_bound"] = r.peak_refined ? r.curve.peak->value_bound : 0.0;
+  py::list folds;
+  for (const continuation::FrfExtremum& f : r.curve.folds)
+    folds.append(py::dict(py::arg("frequency_hz") = f.omega / (2.0 * std::numbers::pi),
+                          py::arg("amplitude_h1") = f.amplitude_h1,
+                          py::arg("frequency_bound_hz") = f.value_bound / (2.0 * std::numbers::pi),
+                          py::arg("refined") = f.refined));
+  d["folds"] = folds;
   d["unknowns"] = r.curve.unknowns;
   d["seconds"] = timings_dict(r.curve.timings);
   return d;

@@ -4,6 +4,7 @@
 // the backbone over λ = log10 q, the FRF over Ω at a fixed load amplitude.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ struct InterfaceTimings {
   int product_calls = 0, preconditioner_calls = 0;
   double error_estimate = 0.0;  ///< error estimates of the accepted points [s] (included in total)
   double stability = 0.0;       ///< Floquet multipliers of the accepted points [s] (included in total)
+  double refinement = 0.0;      ///< FRF folds and peak located between points [s] (included in total)
   /// One line: where the time went (AFT; residual assembly; linear solves with their GMRES
   /// iterations and preconditioner builds and applications; Jacobian products, inside the
   /// solves and for the EPMC's ∂R/∂λ; other).
@@ -162,6 +164,10 @@ struct InterfaceFrfOptions {
   /// kAutomaticInterfaceStabilityPoints contact points.
   Stability stability = Stability::automatic;
   hb::OrbitMonodromyOptions monodromy;  ///< its settings
+  /// Locate the folds and the resonance peak between accepted points (as FrfOptions::
+  /// refine_extrema), by bordered Newton on the run's Jacobian: dense, or matrix-free with GMRES
+  /// and the run's preconditioner (continuation/curve_refinement.hpp).
+  bool refine_extrema = true;
   [[nodiscard]] std::string validate(const hb::InterfaceModel& model) const;
 };
 
@@ -175,6 +181,7 @@ struct InterfaceFrfPoint {
   FrfError error;  ///< estimated relative errors of amplitude_h1 and amplitude_max (error_estimate)
   Eigen::VectorXd unknowns;  ///< in the basis of (harmonics, time_samples)
   int harmonics = 0, time_samples = 0;  ///< the level the point was computed at
+  bool fold = false;           ///< Ω turned between the previous point of its run and this one
   // Stability (options.stability): as FrfPoint's.
   bool stability_known = false;  ///< the multipliers were computed
   bool stable = true;
@@ -199,6 +206,8 @@ struct InterfaceFrf {
   InterfaceTimings timings;
   int level_changes = 0;      ///< restarts at another H or N_t (options.accuracy)
   int short_of_accuracy = 0;  ///< points kept above the request at the largest level allowed
+  std::vector<FrfExtremum> folds;   ///< one per turn of Ω (not a reversal), as FrfCurve's
+  std::optional<FrfExtremum> peak;  ///< the largest amplitude_h1, as FrfCurve's (coefficients: ŷ)
   [[nodiscard]] bool completed() const { return reason == StopReason::reached_end; }
   /// {termination(reason), message} (pseudo_arclength.hpp).
   [[nodiscard]] Status status() const { return {termination(reason), message}; }

@@ -134,7 +134,10 @@ struct FrfCurve {
   continuation::InterfaceFrf curve;
   std::vector<FrfPoint> points;
   bool stopped_by_callback = false;
-  double peak_amplitude = 0.0, peak_frequency_hz = 0.0;  ///< the largest accepted |fundamental|
+  /// The resonance peak: located between the points where refined (curve.peak, bound
+  /// curve.peak->value_bound), else the largest accepted |fundamental|
+  double peak_amplitude = 0.0, peak_frequency_hz = 0.0;
+  bool peak_refined = false;
   /// The status convention (contact/termination.hpp), message `curve.message`: the end reached →
   /// reached_end (status().ok()); on_point returned false → stopped_by_user; a non-finite
   /// point → failed; otherwise continuation::termination(reason).
