@@ -8,6 +8,7 @@
 // finite-difference scales (X, V, μF_N), a similarity that leaves the multipliers unchanged.
 #include "jointhb/timeint/shooting.hpp"
 
+#include "../support/lapack_eig.hpp"
 #include "../support/stopwatch.hpp"
 
 #include <fmt/format.h>
@@ -389,9 +390,10 @@ ShootingResult periodic_orbit_by_shooting(const hb::DiscreteSystem& system,
       result.stuck_margins.push_back(1.0 -
                                      run.contact_f_max[static_cast<std::size_t>(c)] / map.limit(c));
     }
-    Eigen::EigenSolver<Eigen::MatrixXd> eig(phi_s, false);
-    if (eig.info() != Eigen::Success) return false;
-    std::vector<std::complex<double>> rho(eig.eigenvalues().begin(), eig.eigenvalues().end());
+    // Balanced QR (support/lapack_eig.hpp): the state mixes displacements, velocities and forces.
+    const support::EigenDecomposition eig = support::eigen_decomposition(phi_s, false);
+    if (!eig.ok) return false;
+    std::vector<std::complex<double>> rho(eig.values.begin(), eig.values.end());
     std::sort(rho.begin(), rho.end(), [](const auto& a, const auto& b) {
       if (std::abs(a) != std::abs(b)) return std::abs(a) > std::abs(b);
       return a.imag() > b.imag();
