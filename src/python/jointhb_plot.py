@@ -6,7 +6,9 @@ usage: jointhb_plot.py DIR
 Reads DIR/frf.csv and/or DIR/backbone.csv (docs/cli.md) and writes
   DIR/frf.png       |fundamental| of the output DOF vs frequency, one curve per force level;
                     with a `stable` column, unstable stretches dashed and bifurcations marked
-                    (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●, reversal ×)
+                    (fold ▲, period doubling ■, Neimark–Sacker ◆, branch point ●, reversal ×);
+                    the peak (★) and folds (▶) located between the points, from summary.json
+                    (`curves[]` or `frfs[]`: `peak`, `fold_points` where `refined`)
   DIR/backbone.png  frequency and damping ratio vs modal amplitude (log axis), one curve per mode,
                     and the share of the contact points per state (stuck … open) along the first
                     mode's curve (docs/theory.md §14)
@@ -59,8 +61,26 @@ def stretches(sel):
     return runs
 
 
+def located_extrema(directory):
+    """{level: (peak, folds)} of the extrema located between points (summary.json of a discrete
+    FRF: `curves[]`, of a finite-element one: `frfs[]`), refined ones only: (frequency, amplitude)."""
+    try:
+        with open(os.path.join(directory, "summary.json")) as f:
+            summary = json.load(f)
+    except (OSError, ValueError):
+        return {}
+    located = {}
+    for curve in summary.get("curves", []) + summary.get("frfs", []):
+        peak = curve.get("peak") or {}
+        peak_at = (peak["frequency_hz"], peak["amplitude_h1"]) if peak.get("refined") else None
+        folds = [(f["frequency_hz"], f["amplitude_h1"]) for f in curve.get("fold_points", []) if f.get("refined")]
+        located[str(curve.get("level"))] = (peak_at, folds)
+    return located
+
+
 def plot_frf(directory):
     rows = read(os.path.join(directory, "frf.csv"))
+    located = located_extrema(directory)
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     marked = set()
@@ -79,6 +99,12 @@ def plot_frf(directory):
                         color=colour, markersize=6,
                         label=kind.replace("_", " ") if kind not in marked else None)
                 marked.add(kind)
+        peak, folds = located.get(level, (None, []))
+        for (x, y), kind, marker in [(p, "peak (located)", "*") for p in ([peak] if peak else [])] + \
+                [(f, "fold (located)", ">") for f in folds]:
+            ax.plot(x, y, marker, color=colour, markersize=9 if marker == "*" else 6, markeredgecolor="k",
+                    label=kind if kind not in marked else None)
+            marked.add(kind)
     if any(r.get("stable") == "0" for r in rows):
         ax.plot([], [], "k--", label="unstable")
     ax.set_xlabel("excitation frequency [Hz]")
