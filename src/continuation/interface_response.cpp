@@ -164,7 +164,6 @@ class InterfaceFrfSegment {
         error_seconds_ += support::seconds_since(estimate_start);
       }
       f.fold = p.fold;
-      add_stability(f, p);
       const std::size_t before = curve_points_.size();
       const bool go_on = judge(f, p);
       if (curve_points_.size() > before) {  // kept (judge appended it)
@@ -191,7 +190,11 @@ class InterfaceFrfSegment {
     return r;
   }
 
- // The folds and the peak of this run's kept points (frf_extrema.hpp), by bordered Newton on the
+  // What only a kept point needs (segmented_curve.hpp): its stability, not paid for a point that a
+  // finer level traces again (options.accuracy).
+  void complete(InterfaceFrfPoint& f, const Point& p) { add_stability(f, p); }
+
+  // The folds and the peak of this run's kept points (frf_extrema.hpp), by bordered Newton on the
   // run's own Jacobian: dense, or matrix-free with GMRES and the run's preconditioner.
   detail::FrfExtrema extrema() {
     const ResidualFunction residual = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
