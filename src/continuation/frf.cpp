@@ -586,13 +586,13 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
   merge_split_folds(curve.points);
   if (options.refine_extrema) {
     const auto refinement_start = Clock::now();
-    detail::locate_in_segments(segments, curve, [&](const DiscreteFrfSegment& run) {
+    detail::locate_in_segments(segments, curve, [&](const DiscreteFrfSegment& run, bool peak) {
       const hb::HarmonicBalance& b = run.balance();
       const detail::CurveQuantity amplitude =
           b.basis().cosine_index(1) < 0 ? detail::CurveQuantity{} : fundamental_quantity(b, options.output_dof);
       return detail::locate_frf_extrema(
           run.residual(), run.options(),
-          detail::run_points(curve.points, run.kept(), run.tangents(), &FrfPoint::coefficients), amplitude);
+          detail::run_points(curve.points, run.kept(), run.tangents(), &FrfPoint::coefficients), amplitude, peak);
     });
     curve.timings.refinement = seconds_since(refinement_start);
   }

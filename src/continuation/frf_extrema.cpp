@@ -39,7 +39,7 @@ Point branch_point(const FrfRunPoint& r) {
 
 FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& scaling,
                               const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude,
-                              const std::string& why_unrefined) {
+                              bool peak, const std::string& why_unrefined) {
   FrfExtrema out;
   const bool refine = why_unrefined.empty() && static_cast<bool>(residual);
   const auto unrefined = [&](const std::string& why) {
@@ -58,7 +58,7 @@ FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& s
     f.bifurcation = p.bifurcation;
     out.folds.push_back(std::move(f));
   }
-  if (points.empty() || !amplitude.value) return out;
+  if (!peak || points.empty() || !amplitude.value) return out;
   std::size_t top = 0;
   for (std::size_t k = 1; k < points.size(); ++k)
     if (points[k].amplitude_h1 > points[top].amplitude_h1) top = k;

@@ -39,9 +39,10 @@ struct FrfExtrema {
 /// (without a value, e.g. a basis without the fundamental: no peak).
 /// Non-empty `why_unrefined`: nothing is refined, every extremum is reported at its accepted point
 /// with that message (e.g. a matrix-free run: no Jacobian to border).
+/// `peak` false: the folds only (a run that does not hold the curve's highest point).
 FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& scaling,
                               const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude,
-                              const std::string& why_unrefined = {});
+                              bool peak = true, const std::string& why_unrefined = {});
 
 /// The run points of the curve's points `kept` (indices) with their `tangents`; `unknowns` the
 /// point type's member holding x.
@@ -58,9 +59,10 @@ std::vector<FrfRunPoint> run_points(const std::vector<PointT>& points, const std
 }
 
 /// The folds and the peak of a curve traced in segments (segmented_curve.hpp), each located within
-/// its segment: `locate(segment)` returns the FrfExtrema of the segment's kept points (`kept()`:
-/// their indices in curve.points). The curve's peak is its largest amplitude_h1, as its segment
-/// located it; one at a segment's end that is not the curve's end is reported at its accepted point.
+/// its segment: `locate(segment, peak)` returns the FrfExtrema of the segment's kept points
+/// (`kept()`: their indices in curve.points), with the peak only where `peak` (the segment holds the
+/// curve's largest amplitude_h1). The curve's peak is that point, as its segment located it; one at
+/// a segment's end that is not the curve's end is reported at its accepted point.
 template <class Curve, class Segment, class Locate>
 void locate_in_segments(const std::vector<std::unique_ptr<Segment>>& segments, Curve& curve, const Locate& locate) {
   std::size_t top = 0;
@@ -69,9 +71,10 @@ void locate_in_segments(const std::vector<std::unique_ptr<Segment>>& segments, C
   for (const auto& segment : segments) {
     const std::vector<std::size_t>& kept = segment->kept();
     if (kept.empty()) continue;
-    FrfExtrema part = locate(*segment);
+    const bool holds_top = std::find(kept.begin(), kept.end(), top) != kept.end();
+    FrfExtrema part = locate(*segment, holds_top);
     for (auto& fold : part.folds) curve.folds.push_back(std::move(fold));
-    if (std::find(kept.begin(), kept.end(), top) == kept.end() || !part.peak) continue;
+    if (!holds_top || !part.peak) continue;
     curve.peak = std::move(part.peak);
     if (!curve.peak->refined && top != 0 && top + 1 != curve.points.size() && (kept.front() == top || kept.back() == top))
       curve.peak->message = "the largest amplitude is where the curve changes its harmonics (accuracy)";

@@ -194,15 +194,15 @@ class InterfaceFrfSegment {
   // finer level traces again (options.accuracy).
   void complete(InterfaceFrfPoint& f, const Point& p) { add_stability(f, p); }
 
-  // The folds and the peak of this run's kept points (frf_extrema.hpp), by bordered Newton on the
-  // run's own Jacobian: dense, or matrix-free with GMRES and the run's preconditioner.
-  detail::FrfExtrema extrema() {
+  // The folds (and with `peak` the peak) of this run's kept points (frf_extrema.hpp), by bordered
+  // Newton on the run's own Jacobian: dense, or matrix-free with GMRES and the run's preconditioner.
+  detail::FrfExtrema extrema(bool peak) {
     const ResidualFunction residual = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
       return evaluate(x, omega, jacobian);
     };
     return detail::locate_frf_extrema(residual, continuation_,
                                       detail::run_points(curve_points_, kept_, tangents_, &InterfaceFrfPoint::unknowns),
-                                      amplitude_quantity());
+                                      amplitude_quantity(), peak);
   }
 
  private:
@@ -351,7 +351,7 @@ InterfaceFrf trace_interface_frf(const hb::InterfaceModel& model, const Interfac
       options.omega_end, options.continuation, make_segment, keep, after_run);
   if (options.refine_extrema) {
     const auto refinement_start = support::Clock::now();
-    detail::locate_in_segments(segments, curve, [](InterfaceFrfSegment& run) { return run.extrema(); });
+    detail::locate_in_segments(segments, curve, [](InterfaceFrfSegment& run, bool peak) { return run.extrema(peak); });
     curve.timings.refinement = support::seconds_since(refinement_start);
   }
   segment_detail::put_outcome(outcome, curve);
