@@ -12,6 +12,7 @@
 #include <string>
 
 #include "../support/gmres.hpp"
+#include "bordered_preconditioner.hpp"
 
 namespace jointhb::continuation::detail {
 namespace {
@@ -78,9 +79,10 @@ class BorderedSolver {
       lu_.compute(bordered(e, s, d));
       return;
     }
-    inverse_ = e.make_preconditioner ? e.make_preconditioner() : LinearOperator([](const Eigen::VectorXd& v) { return v; });
-    w2_ = k_inverse(e.d_parameter * s.parameter);
-    den_ = d[n_] - d.head(n_).dot(w2_);
+    const LinearOperator inverse =
+        e.make_preconditioner ? e.make_preconditioner() : LinearOperator([](const Eigen::VectorXd& v) { return v; });
+    precondition_.emplace([inverse, &s](const Eigen::VectorXd& v) { return Eigen::VectorXd(inverse(v).cwiseQuotient(s.state)); },
+                          e.d_parameter * s.parameter, d);
   }
 
   // A out = rhs; false with `why` when the solve fails.
@@ -98,15 +100,7 @@ class BorderedSolver {
       az[n_] = d_.dot(z);
       return az;
     };
-    const bool border = std::abs(den_) > 1e-14 * (std::abs(d_[n_]) + d_.head(n_).norm() * w2_.norm());
-    const auto precondition = [&](const Eigen::VectorXd& v) {
-      Eigen::VectorXd z(n_ + 1);
-      const Eigen::VectorXd w1 = k_inverse(v.head(n_));
-      const double zl = border ? (v[n_] - d_.head(n_).dot(w1)) / den_ : 0.0;
-      z.head(n_) = w1 - w2_ * zl;
-      z[n_] = zl;
-      return z;
-    };
+    const auto precondition = [&](const Eigen::VectorXd& v) { return (*precondition_)(v); };
     // Restarted on the true residual (iterative refinement against the recursive residual's drift).
     out = Eigen::VectorXd::Zero(n_ + 1);
     Eigen::VectorXd residual = rhs;
@@ -130,19 +124,13 @@ class BorderedSolver {
   }
 
  private:
-  [[nodiscard]] Eigen::VectorXd k_inverse(const Eigen::VectorXd& v) const {
-    return inverse_(v).cwiseQuotient(s_.state);
-  }
-
   const Evaluation& e_;
   const Scales& s_;
   const Eigen::VectorXd& d_;
   const Options& o_;
   Eigen::Index n_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;  // dense
-  LinearOperator inverse_;                    // matrix-free: Ã⁻¹ ≈ R_x⁻¹
-  Eigen::VectorXd w2_;                        // K̃⁻¹ j_λ
-  double den_ = 0.0;                          // d_λ − d_xᵀ w2
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;               // dense
+  std::optional<BorderedPreconditioner> precondition_;  // matrix-free, K̃⁻¹ = D_x⁻¹ Ã⁻¹
 };
 
 // Newton on the branch at σ from the guess y0; the tangent at the converged point.

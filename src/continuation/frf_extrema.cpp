@@ -38,22 +38,14 @@ Point branch_point(const FrfRunPoint& r) {
 }  // namespace
 
 FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& scaling,
-                              const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude,
-                              bool peak, const std::string& why_unrefined) {
+                              const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude, bool peak) {
   FrfExtrema out;
-  const bool refine = why_unrefined.empty() && static_cast<bool>(residual);
-  const auto unrefined = [&](const std::string& why) {
-    CurveExtremum e;
-    e.message = why;
-    return e;
-  };
   for (std::size_t k = 1; k < points.size(); ++k) {
     const FrfRunPoint& p = points[k];
     if (!p.fold || p.bifurcation == hb::Bifurcation::reversal) continue;
-    const CurveExtremum e = refine ? refine_extremum(residual, scaling, branch_point(points[k - 1]), branch_point(p),
-                                                     parameter_quantity())
-                                   : unrefined(why_unrefined);
-    FrfExtremum f = extremum_of(e, p, amplitude);
+    FrfExtremum f = extremum_of(refine_extremum(residual, scaling, branch_point(points[k - 1]), branch_point(p),
+                                                parameter_quantity()),
+                                p, amplitude);
     if (!f.refined) f.value_bound = std::abs(p.omega - points[k - 1].omega);
     f.bifurcation = p.bifurcation;
     out.folds.push_back(std::move(f));
@@ -62,11 +54,10 @@ FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& s
   std::size_t top = 0;
   for (std::size_t k = 1; k < points.size(); ++k)
     if (points[k].amplitude_h1 > points[top].amplitude_h1) top = k;
-  CurveExtremum located = unrefined("the largest amplitude is at an end of the curve");
+  CurveExtremum located;
+  located.message = "the largest amplitude is at an end of the curve";
   if (top > 0 && top + 1 < points.size()) {
-    if (!refine) located = unrefined(why_unrefined);
     for (const std::size_t first : {top - 1, top}) {
-      if (!refine) break;
       located = refine_extremum(residual, scaling, branch_point(points[first]), branch_point(points[first + 1]),
                                 amplitude);
       if (located.ok) break;

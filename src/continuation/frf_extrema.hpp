@@ -11,7 +11,6 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "curve_refinement.hpp"
@@ -36,13 +35,10 @@ struct FrfExtrema {
 
 /// The extrema of one run traced with `scaling` (its scales and tolerances) on `residual` (dense
 /// or matrix-free Jacobian, refine_extremum), `amplitude` the output's |fundamental| as a CurveQuantity
-/// (without a value, e.g. a basis without the fundamental: no peak).
-/// Non-empty `why_unrefined`: nothing is refined, every extremum is reported at its accepted point
-/// with that message (e.g. a matrix-free run: no Jacobian to border).
-/// `peak` false: the folds only (a run that does not hold the curve's highest point).
+/// (without a value, e.g. a basis without the fundamental: no peak). `peak` false: the folds only
+/// (a run that does not hold the curve's highest point).
 FrfExtrema locate_frf_extrema(const ResidualFunction& residual, const Options& scaling,
-                              const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude,
-                              bool peak = true, const std::string& why_unrefined = {});
+                              const std::vector<FrfRunPoint>& points, const CurveQuantity& amplitude, bool peak);
 
 /// The run points of the curve's points `kept` (indices) with their `tangents`; `unknowns` the
 /// point type's member holding x.

@@ -136,9 +136,6 @@ class InterfaceFrfSegment {
 
   Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge,
              const std::function<bool()>& wants_truncation) {
-    const ResidualFunction residual = [&](const Eigen::VectorXd& x, double omega, bool jacobian) {
-      return evaluate(x, omega, jacobian);
-    };
     const AcceptCallback accept = [&](const Point& p) {
       if (p.lambda != last_omega_ || p.x.size() != last_x_.size() || p.x != last_x_)
         balance_.evaluate(p.x, p.lambda, 0.0, load_, false, last_);
@@ -172,7 +169,7 @@ class InterfaceFrfSegment {
       }
       return go_on;
     };
-    Result r = trace(residual, x0, c, accept);
+    Result r = trace(residual_, x0, c, accept);
     if (r.reason == StopReason::start_failed) {
       // Newton from the stuck linear response fails where the contacts slip far at Ω_start (the
       // one-point joint of the tests at 0.8 rad/s, force 0.2: "no decrease of the residual along
@@ -181,7 +178,7 @@ class InterfaceFrfSegment {
       std::string why;
       if (const std::optional<Eigen::VectorXd> start = load_ramp(c, why)) {
         const int failed_iterations = r.corrector_iterations;
-        r = trace(residual, *start, c, accept);
+        r = trace(residual_, *start, c, accept);
         r.corrector_iterations += failed_iterations;
       } else {
         r.message += "; " + why;
@@ -197,10 +194,7 @@ class InterfaceFrfSegment {
   // The folds (and with `peak` the peak) of this run's kept points (frf_extrema.hpp), by bordered
   // Newton on the run's own Jacobian: dense, or matrix-free with GMRES and the run's preconditioner.
   detail::FrfExtrema extrema(bool peak) {
-    const ResidualFunction residual = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
-      return evaluate(x, omega, jacobian);
-    };
-    return detail::locate_frf_extrema(residual, continuation_,
+    return detail::locate_frf_extrema(residual_, continuation_,
                                       detail::run_points(curve_points_, kept_, tangents_, &InterfaceFrfPoint::unknowns),
                                       amplitude_quantity(), peak);
   }
@@ -244,13 +238,10 @@ class InterfaceFrfSegment {
     balance_.evaluate(zero, omega, 0.0, load_, false, loaded);
     balance_.evaluate(zero, omega, 0.0, Eigen::VectorXd::Zero(load_.size()), false, unloaded);
     const Eigen::VectorXd load_part = loaded.residual - unloaded.residual;
-    const ResidualFunction residual = [&](const Eigen::VectorXd& x, double w, bool jacobian) {
-      return evaluate(x, w, jacobian);
-    };
     Options h = c;
     h.outputs = nullptr;  // they read λ as Ω
     h.max_output_change = 0.0;
-    const Result ramp = segment_detail::trace_load_ramp(residual, omega, load_part, zero, h);
+    const Result ramp = segment_detail::trace_load_ramp(residual_, omega, load_part, zero, h);
     if (ramp.completed()) return ramp.points.back().x;
     why = "load ramp at Ω_start: " + ramp.message;
     return std::nullopt;
@@ -323,6 +314,10 @@ class InterfaceFrfSegment {
   hb::InterfaceBalanceEvaluation last_;
   Eigen::VectorXd last_x_;
   double last_omega_ = std::numeric_limits<double>::quiet_NaN();
+  // The run's residual (evaluate above), for the continuation, the load ramp and the extrema.
+  const ResidualFunction residual_ = [this](const Eigen::VectorXd& x, double omega, bool jacobian) {
+    return evaluate(x, omega, jacobian);
+  };
 };
 
 }  // namespace

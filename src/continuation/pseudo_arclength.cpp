@@ -13,6 +13,7 @@
 #include "../support/gmres.hpp"
 #include "../support/lapack_lu.hpp"
 #include "../support/stopwatch.hpp"
+#include "bordered_preconditioner.hpp"
 
 #include <fmt/format.h>
 
@@ -429,20 +430,10 @@ class Tracer {
         ++result_.factorisations;
         fresh = true;
       }
-      const auto k_inverse = [&](const VectorXd& v) {
-        return VectorXd(rs * approximate_inverse_(v).cwiseQuotient(state_scale_));
-      };
-      const VectorXd w2 = k_inverse(sample.d_lambda);
-      const double den = c(n_) - c.head(n_).dot(w2);
-      const bool border = std::abs(den) > 1e-14 * (std::abs(c(n_)) + c.head(n_).norm() * w2.norm());
-      const auto precondition = [&](const VectorXd& v) {
-        VectorXd z(n_ + 1);
-        const VectorXd w1 = k_inverse(v.head(n_));
-        const double zl = border ? (v(n_) - c.head(n_).dot(w1)) / den : 0.0;
-        z.head(n_) = w1 - w2 * zl;
-        z(n_) = zl;
-        return z;
-      };
+      const detail::BorderedPreconditioner bordered_inverse(
+          [&](const VectorXd& v) { return VectorXd(rs * approximate_inverse_(v).cwiseQuotient(state_scale_)); },
+          sample.d_lambda, c);
+      const auto precondition = [&](const VectorXd& v) { return bordered_inverse(v); };
       // Restarted GMRES (kMaxRestarts cycles on the true residual b − A z): with an approximate
       // preconditioner of an ill-conditioned matrix the recursive residual of one cycle can drift
       // below the true one; a restart from z corrects that (iterative refinement).
