@@ -147,18 +147,22 @@ inline nlohmann::ordered_json turns_json(const std::vector<continuation::Backbon
                                    {"damping_ratio", t.damping_ratio},
                                    {"log10_amplitude_error_bound", t.log10_amplitude_bound},
                                    {"refined", t.refined}};
+    if (t.after_point >= 0) turn["after_point"] = t.after_point;  // between points after_point − 1 and after_point
     if (!t.message.empty()) turn["note"] = t.message;
     located.push_back(turn);
   }
   return located;
 }
 
-/// "the curve turns back in amplitude N time(s): log10 q = … (f = … Hz), …" (the stderr line).
+/// "the curve turns back in amplitude N time(s): log10 q = … (f = … Hz), …" (the stderr line; the
+/// first eight turns, all in summary.json's turn_points).
 inline std::string turns_line(const std::vector<continuation::BackboneTurn>& turns) {
+  constexpr std::size_t kListed = 8;
   std::string where;
-  for (const auto& t : turns)
-    where += fmt::format("{}log10 q = {:.6f} (f = {:.6g} Hz)", where.empty() ? "" : ", ", t.log10_amplitude,
-                         t.omega / (2.0 * std::numbers::pi));
+  for (std::size_t i = 0; i < std::min(turns.size(), kListed); ++i)
+    where += fmt::format("{}log10 q = {:.6f} (f = {:.6g} Hz)", where.empty() ? "" : ", ", turns[i].log10_amplitude,
+                         turns[i].omega / (2.0 * std::numbers::pi));
+  if (turns.size() > kListed) where += fmt::format(", … ({} more in summary.json turn_points)", turns.size() - kListed);
   return fmt::format("the curve turns back in amplitude {} time(s): {}", turns.size(), where);
 }
 

@@ -328,12 +328,12 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     continuation::BackboneOptions options = *c.nonlinear_modes;
     options.mode.mode = mode;
     Json points = Json::array();
-    WorstErrors worst;  // over the rows written (the curve's points are lost when an error ends it)
-    const auto on_point = [&](const continuation::BackbonePoint& p) {
+    WorstErrors worst;  // over the rows written
+    // A row of backbone.csv and an entry of summary.json for each point of the curve, written once
+    // the curve is traced: a curve completed from both ends is not the sequence of points accepted
+    // (continuation/backbone.hpp).
+    const auto write_point = [&](const continuation::BackbonePoint& p) {
       const hb::NonlinearModeState& s = p.state;
-      for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
-        require_finite_result("backbone point", v);
-      }
       // Discrete contacts carry a constant normal force: none is ever open.
       std::vector<std::optional<double>> row = {
           static_cast<double>(mode), s.amplitude, p.output_amplitude, s.omega,
@@ -362,6 +362,12 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
                         {"harmonics", p.harmonics},
                         {"time_samples", p.time_samples}});
       ++outcome.rows;
+    };
+    const auto on_point = [&](const continuation::BackbonePoint& p) {
+      const hb::NonlinearModeState& s = p.state;
+      for (double v : {s.amplitude, s.omega, s.damping_ratio, s.dissipation}) {
+        require_finite_result("backbone point", v);
+      }
       if (progress) {
         std::cerr << fmt::format("\rjointhb run: mode {}  q = {:.4g}  f = {:.6g} Hz  ζ = {:.4g}  ",
                                  mode, s.amplitude, s.omega / (2.0 * std::numbers::pi),
@@ -375,10 +381,11 @@ AnalysisOutcome run_backbone(const io::DiscreteCase& c, pipeline::DiscretePipeli
     continuation::BackboneCurve curve;
     try {
       curve = pipe.backbone(options, on_point);
+      for (const continuation::BackbonePoint& p : curve.points) write_point(p);
     } catch (const std::exception& e) {
-      // An error (e.g. writing the CSV) ends the curve and loses its in-memory points; the rows
-      // already written stay, and the summary below counts and lists exactly those, with no
-      // invented linear values (null where the curve never computed them).
+      // An error (a non-finite output, or writing the CSV) ends the curve and loses its in-memory
+      // points; the rows already written stay, and the summary below counts and lists exactly
+      // those, with no invented linear values (null where the curve never computed them).
       curve = continuation::BackboneCurve{};
       curve.reason = continuation::StopReason::error;
       curve.message = e.what();

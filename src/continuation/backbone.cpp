@@ -2,6 +2,7 @@
 #include "jointhb/continuation/backbone.hpp"
 
 #include "../support/stopwatch.hpp"
+#include "curve_from_both_ends.hpp"
 #include "curve_turns.hpp"
 #include "linear_limits.hpp"
 #include "mode_outputs.hpp"
@@ -22,26 +23,22 @@
 namespace jointhb::continuation {
 namespace {
 
-// Why a damping curve that did not reach its end stopped, in physical terms, or empty: a harmonic
-// k Ω of the last point (k ≥ 2 among the kept orders) within 2 % of a natural frequency ω_j of the
-// stuck or the contact-free linear system. There the followed mode exchanges energy with mode j
-// (a k:1 internal resonance): the EPMC curve turns back in amplitude and can meet non-smooth
-// points of the friction laws it does not pass.
-std::string internal_resonance(const hb::DiscreteSystem& system, const hb::FourierBasis& basis,
-                               double omega) {
+// The internal resonance at Ω, if any: a harmonic k Ω (k ≥ 2 among the kept orders) within 2 % of
+// a natural frequency ω_j of the stuck or the contact-free linear system. There the followed mode
+// exchanges energy with mode j (a k:1 internal resonance): the EPMC curve turns back in amplitude,
+// many times where it meets non-smooth points of the friction laws.
+std::optional<detail::NearResonance> internal_resonance(const hb::DiscreteSystem& system,
+                                                        const hb::FourierBasis& basis, double omega) {
   std::vector<int> harmonics;
   for (const int k : basis.orders())
     if (k >= 2) harmonics.push_back(k);
-  const std::optional<detail::NearResonance> best =
-      detail::nearest_resonance(system, omega, harmonics, 0.02, std::numeric_limits<double>::infinity());
-  if (!best) return {};
-  return fmt::format(
-      "{} Ω = {:.6g} rad/s is within {:.2g} % of mode {} of the {} system ({:.6g} rad/s): the curve "
-      "runs through a {}:1 internal resonance, where a damping curve turns back in amplitude and "
-      "can meet non-smooth points of the friction laws; harmonics below {} leave that interaction "
-      "out, or trace the curve in pieces on either side of it",
-      best->harmonic, best->harmonic * omega, 100.0 * best->distance, best->mode,
-      best->stuck ? "stuck" : "contact-free", best->omega, best->harmonic, best->harmonic);
+  return detail::nearest_resonance(system, omega, harmonics, 0.02, std::numeric_limits<double>::infinity());
+}
+
+// "k Ω = … is within … % of mode j of the stuck system (ω_j)".
+std::string resonance_words(const detail::NearResonance& r, double omega) {
+  return fmt::format("{} Ω = {:.6g} rad/s is within {:.2g} % of mode {} of the {} system ({:.6g} rad/s)", r.harmonic,
+                     r.harmonic * omega, 100.0 * r.distance, r.mode, r.stuck ? "stuck" : "contact-free", r.omega);
 }
 
 // Every output a point reports is a finite number (a curve whose amplitude range reaches ~1e154
@@ -100,8 +97,11 @@ class DiscreteBackboneSegment {
   [[nodiscard]] std::optional<double> overflow_at() const { return overflow_at_; }
   [[nodiscard]] const std::vector<BackboneTurn>& turns() const { return turns_; }
 
-  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) const {
-    return from.y.size() == 0 ? epmc_.linear_start()
+  // The linear limit when `from` holds no point: the stuck linear mode (and, should the start
+  // corrector fail from it, the slipping one: run()).
+  [[nodiscard]] Eigen::VectorXd start_state(const segment_detail::SegmentStart& from) {
+    from_linear_limit_ = from.y.size() == 0;
+    return from_linear_limit_ ? epmc_.linear_start()
                               : segment_detail::transfer_unknowns(from.y, from.from, epmc_.balance().basis(),
                                                                   epmc_.balance().system().dofs(), 2);
   }
@@ -164,6 +164,14 @@ class DiscreteBackboneSegment {
       return judge(b, p);
     };
     Result r = trace(residual, y0, c, accept);
+    // A curve that starts at large amplitude (e.g. traced from its far end), where the contacts
+    // slip and the stuck linear mode is no guess: from the mode with every friction contact slipping.
+    if (r.reason == StopReason::start_failed && from_linear_limit_) {
+      if (const std::optional<Eigen::VectorXd> slipping = epmc_.slipping_start()) {
+        Result again = trace(residual, *slipping, c, accept);
+        if (again.reason != StopReason::start_failed) r = std::move(again);
+      }
+    }
     const std::vector<BackboneTurn> turns = detail::locate_turns(residual, c, r);
     turns_.insert(turns_.end(), turns.begin(), turns.end());
     return r;
@@ -180,6 +188,7 @@ class DiscreteBackboneSegment {
   hb::NonlinearModeResidual epmc_;
   Level level_;
   std::optional<BackboneErrorEstimator> estimator_;
+  bool from_linear_limit_ = false;  // the run starts from a linear mode, not a point of the curve
   double error_seconds_ = 0.0;
   hb::NonlinearModeResidual::Evaluation last_;
   Eigen::VectorXd last_y_;
@@ -187,6 +196,61 @@ class DiscreteBackboneSegment {
   std::optional<double> overflow_at_;  // λ of a point whose outputs are not finite or slip too far
   std::vector<BackboneTurn> turns_;
 };
+
+// The curve completed from λ_end where its run from λ_start stopped (curve_from_both_ends.hpp):
+// `pass(points, turns, meets)` traces from λ_end towards λ_start until `meets` holds. True when
+// that run met the curve, which is then joined and reaches λ_end; false leaves the curve as it was
+// and says so in its message.
+template <class Pass>
+bool complete_from_far_end(BackboneCurve& curve, const BackboneOptions& options, const detail::CurveMetric& metric,
+                           const Pass& pass) {
+  const auto unknowns = [](const BackbonePoint& p) -> const Eigen::VectorXd& { return p.unknowns; };
+  const auto lambda = [](const BackbonePoint& p) { return std::log10(p.state.amplitude); };
+  const auto step = [](const BackbonePoint& p) { return p.step; };
+  std::vector<BackbonePoint> back;
+  std::vector<BackboneTurn> back_turns;
+  std::optional<std::size_t> met;  // in curve.points
+  const std::function<bool(const BackbonePoint&)> meets = [&](const BackbonePoint& p) {
+    met = detail::meeting_point(curve.points, p, metric, unknowns, lambda, step);
+    return met.has_value();
+  };
+  const segment_detail::SegmentedOutcome far = pass(back, back_turns, meets);
+  curve.level_changes += far.level_changes;
+  curve.short_of_accuracy += far.short_points;
+  if (!met) {
+    curve.message += back.empty()
+        ? fmt::format(". Traced from log10 q = {:g} as well, the curve did not start there: {}",
+                      options.log10_amplitude_end, far.message)
+        : fmt::format(". Traced back from log10 q = {:g} as well, the curve did not meet this run ({} points, "
+                      "the last at log10 q = {:.6g}: {})",
+                      options.log10_amplitude_end, back.size(), lambda(back.back()), far.message);
+    return false;
+  }
+  const std::size_t k = *met, j = back.size() - 1, first_points = curve.points.size();
+  const double first_stop = lambda(curve.points.back()), joint = lambda(curve.points[k]);
+  const double joint_step = metric.distance(back[j].unknowns, lambda(back[j]), curve.points[k].unknowns, joint);
+  detail::join_from_both_ends(curve.points, curve.turns, k, back, back_turns, j, joint_step);
+  curve.reason = StopReason::reached_end;
+  curve.message = fmt::format(
+      "reached λ_end = {:.10g} ({} points) from both ends: the run from log10 q = {:g} stopped after {} points at "
+      "log10 q = {:.6g} ({}); traced back from log10 q = {:g}, the curve met it within one step at its point {} "
+      "(log10 q = {:.6g}) after {} points, and is joined there ({} points of the first run beyond it dropped)",
+      options.log10_amplitude_end, curve.points.size(), options.log10_amplitude_start, first_points, first_stop,
+      curve.message, options.log10_amplitude_end, k, joint, back.size(), first_points - k - 1);
+  return true;
+}
+
+// The joined curve ends at its first point whose ζ reaches max_damping_ratio, as a single run
+// does; its λ, or empty when no point does.
+std::optional<double> cut_at_damping_ratio(BackboneCurve& curve, double max_damping_ratio) {
+  for (std::size_t i = 0; i < curve.points.size(); ++i) {
+    if (curve.points[i].state.damping_ratio < max_damping_ratio) continue;
+    curve.points.resize(i + 1);
+    std::erase_if(curve.turns, [&](const BackboneTurn& t) { return t.after_point > static_cast<int>(i); });
+    return std::log10(curve.points.back().state.amplitude);
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -196,37 +260,81 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   if (auto msg = options.validate(system.dofs()); !msg.empty()) throw std::invalid_argument(msg);
   BackboneCurve curve;
   std::optional<double> overflow_at;
-  std::optional<hb::FourierBasis> last_basis;  // of the last run, for the internal-resonance message
-  const auto make_segment = [&](Level level) {
-    auto run = std::make_unique<DiscreteBackboneSegment>(system, options, level);
-    if (!last_basis) {
-      curve.linear_omega = run->epmc().linear_omega();
-      curve.linear_damping_ratio = run->epmc().linear_damping_ratio();
-    }
-    last_basis = run->epmc().balance().basis();
-    return run;
+  std::optional<hb::FourierBasis> last_basis;  // of the first run, for the internal-resonance message
+  std::optional<double> overdamped_at;         // λ of the first point with ζ ≥ max_damping_ratio
+  bool user_stopped = false;
+  std::optional<detail::CurveMetric> metric;  // the first run's arclength norm (curve_from_both_ends.hpp)
+  // One pass over λ from `from` to `to`: its kept points to `points` (and on_point), its turns to
+  // `turns`; `meets(point)` returns true to end the pass at a kept point.
+  const auto pass = [&](double from, double to, std::vector<BackbonePoint>& points, std::vector<BackboneTurn>& turns,
+                        const std::function<bool(const BackbonePoint&)>& meets) {
+    const auto make_segment = [&](Level level) {
+      auto run = std::make_unique<DiscreteBackboneSegment>(system, options, level);
+      if (!last_basis) {
+        curve.linear_omega = run->epmc().linear_omega();
+        curve.linear_damping_ratio = run->epmc().linear_damping_ratio();
+        last_basis = run->epmc().balance().basis();
+        const Options c = run->continuation(options.log10_amplitude_start, options.log10_amplitude_end);
+        metric = detail::CurveMetric{c.state_scale, c.parameter_scale};
+      }
+      return run;
+    };
+    const std::function<bool(BackbonePoint&)> keep = [&](BackbonePoint& b) {
+      points.push_back(b);
+      if (on_point && !on_point(points.back())) {
+        user_stopped = true;
+        return false;
+      }
+      if (!meets && options.max_damping_ratio > 0.0 && b.state.damping_ratio >= options.max_damping_ratio) {
+        overdamped_at = std::log10(b.state.amplitude);
+        return false;
+      }
+      return !(meets && meets(points.back()));
+    };
+    const auto after_run = [&](const DiscreteBackboneSegment& run, const Result& r) {
+      curve.newton_iterations += r.corrector_iterations;
+      curve.rejected_steps += r.rejected_steps;
+      curve.error_seconds += run.error_seconds();
+      if (run.overflow_at()) overflow_at = run.overflow_at();
+      const std::vector<BackboneTurn> placed =
+          detail::place_turns(run.turns(), r, points, [](const BackbonePoint& p) -> const Eigen::VectorXd& { return p.unknowns; });
+      turns.insert(turns.end(), placed.begin(), placed.end());
+    };
+    return segment_detail::trace_in_segments(options.accuracy, {options.mode.harmonics, options.mode.time_samples},
+                                             from, to, options.continuation, make_segment, keep, after_run);
   };
-  const std::function<bool(BackbonePoint&)> append = segment_detail::append_to(curve.points, on_point);
-  std::optional<double> overdamped_at;  // λ of the first point with ζ ≥ max_damping_ratio
-  const std::function<bool(BackbonePoint&)> keep = [&](BackbonePoint& b) {
-    if (!append(b)) return false;
-    if (options.max_damping_ratio > 0.0 && b.state.damping_ratio >= options.max_damping_ratio) {
-      overdamped_at = std::log10(b.state.amplitude);
-      return false;
-    }
-    return true;
-  };
-  const auto after_run = [&](const DiscreteBackboneSegment& run, const Result& r) {
-    curve.newton_iterations += r.corrector_iterations;
-    curve.rejected_steps += r.rejected_steps;
-    curve.error_seconds += run.error_seconds();
-    if (run.overflow_at()) overflow_at = run.overflow_at();
-    curve.turns.insert(curve.turns.end(), run.turns().begin(), run.turns().end());
-  };
-  const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
-      options.accuracy, {options.mode.harmonics, options.mode.time_samples}, options.log10_amplitude_start,
-      options.log10_amplitude_end, options.continuation, make_segment, keep, after_run);
+  const segment_detail::SegmentedOutcome outcome =
+      pass(options.log10_amplitude_start, options.log10_amplitude_end, curve.points, curve.turns, {});
   segment_detail::put_outcome(outcome, curve);
+  // A run that stopped short of λ_end by itself (not by the user or a limit of the outputs): why, in
+  // physical terms, and — unless the point budget ran out — the curve completed from λ_end where it
+  // can be.
+  if (outcome.reason != StopReason::reached_end && !user_stopped && !overflow_at && !overdamped_at &&
+      !curve.points.empty()) {
+    const double omega = curve.points.back().state.omega;
+    const std::optional<detail::NearResonance> resonance = internal_resonance(system, *last_basis, omega);
+    if (resonance) {
+      curve.message += fmt::format(
+          ". {}: the curve runs through a {}:1 internal resonance, where a damping curve turns back in amplitude "
+          "and can meet non-smooth points of the friction laws",
+          resonance_words(*resonance, omega), resonance->harmonic);
+    }
+    bool met = false;
+    if (outcome.reason != StopReason::max_points) {
+      met = complete_from_far_end(curve, options, *metric,
+                                  [&](std::vector<BackbonePoint>& back, std::vector<BackboneTurn>& turns,
+                                      const std::function<bool(const BackbonePoint&)>& meets) {
+                                    return pass(options.log10_amplitude_end, options.log10_amplitude_start, back,
+                                                turns, meets);
+                                  });
+      if (!met) overflow_at.reset();  // of the run from λ_end, whose points are not kept
+      if (met && options.max_damping_ratio > 0.0)
+        overdamped_at = cut_at_damping_ratio(curve, options.max_damping_ratio);
+    }
+    if (resonance && !met) {
+      curve.message += fmt::format(". Harmonics below {} leave that interaction out", resonance->harmonic);
+    }
+  }
   if (overdamped_at && !overflow_at) {
     const double zeta = curve.points.back().state.damping_ratio;
     curve.reason = StopReason::reached_end;
@@ -246,9 +354,7 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
         "on the last point before: narrow log10_amplitude",
         *overflow_at, contact::kMaxSlipRatio);
   }
-  if (!curve.completed() && !overflow_at && outcome.reason != StopReason::stopped_by_user && !curve.points.empty()) {
-    const std::string why = internal_resonance(system, *last_basis, curve.points.back().state.omega);
-    if (!why.empty()) curve.message += ". " + why;
+  if (!curve.completed() && !overflow_at && !user_stopped && !curve.points.empty()) {
     if (const hb::NonlinearModeState& last = curve.points.back().state; last.damping_ratio >= 1.0) {
       curve.message += fmt::format(
           ". The curve stopped where the mode is overdamped (ζ = {:.4g} at log10 q = {:.6g}): it does not "

@@ -29,6 +29,7 @@ std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const O
     t.refined = e.ok;
     t.message = e.message;
     t.points = e.points;
+    t.after_point = static_cast<int>(k);  // in r.points; placed on the curve by place_turns
     t.log10_amplitude = e.ok ? e.lambda : b.lambda;
     t.unknowns = e.ok ? e.x : b.x;
     t.log10_amplitude_bound = e.ok ? e.value_bound : std::abs(b.lambda - a.lambda);

@@ -6,6 +6,7 @@
 // after it, bounded by the λ between the two.
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,28 @@ namespace jointhb::continuation::detail {
 /// (Ω, ξ) as those of both EPMC residuals do (ζ = ξ / 2Ω, hb/nonlinear_mode.hpp,
 /// hb/interface_mode.hpp). `residual` returns the dense Jacobian (the refinement's bordered LU);
 /// empty `residual`: no refinement, every turn is reported unrefined with `why_unrefined` as its
-/// message.
+/// message. Each turn's after_point indexes r.points.
 std::vector<BackboneTurn> locate_turns(const ResidualFunction& residual, const Options& scaling, const Result& r,
                                        const std::string& why_unrefined = {});
+
+/// The turns of run `r` (after_point indexing r.points) placed on the curve's kept `points`:
+/// after_point becomes the index of the kept point with the same unknowns (`unknowns(point)`), or
+/// −1 where the run's point was not kept (a point dropped for a finer level).
+template <class PointT, class Unknowns>
+std::vector<BackboneTurn> place_turns(std::vector<BackboneTurn> turns, const Result& r,
+                                      const std::vector<PointT>& points, const Unknowns& unknowns) {
+  for (BackboneTurn& t : turns) {
+    const auto k = static_cast<std::size_t>(t.after_point);
+    t.after_point = -1;
+    if (k >= r.points.size()) continue;
+    for (std::size_t i = points.size(); i-- > 0;) {
+      if (unknowns(points[i]).size() == r.points[k].x.size() && unknowns(points[i]) == r.points[k].x) {
+        t.after_point = static_cast<int>(i);
+        break;
+      }
+    }
+  }
+  return turns;
+}
 
 }  // namespace jointhb::continuation::detail

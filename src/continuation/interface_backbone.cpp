@@ -205,7 +205,9 @@ InterfaceBackbone trace_interface_backbone(const hb::InterfaceModel& model, cons
     curve.rejected_steps += r.rejected_steps;
     interface_detail::add_curve_timings(curve.timings, run.epmc().balance().timings(), r);
     curve.timings.error_estimate += run.error_seconds();
-    curve.turns.insert(curve.turns.end(), run.turns().begin(), run.turns().end());
+    const std::vector<BackboneTurn> placed = detail::place_turns(
+        run.turns(), r, curve.points, [](const InterfaceBackbonePoint& p) -> const Eigen::VectorXd& { return p.unknowns; });
+    curve.turns.insert(curve.turns.end(), placed.begin(), placed.end());
   };
   const segment_detail::SegmentedOutcome outcome = segment_detail::trace_in_segments(
       options.accuracy, {options.mode.balance.harmonics, options.mode.balance.time_samples},

@@ -78,6 +78,23 @@ Eigen::VectorXd NonlinearModeResidual::linear_start() const {
   return y;
 }
 
+std::optional<Eigen::VectorXd> NonlinearModeResidual::slipping_start() const {
+  if (std::any_of(system_.contacts.begin(), system_.contacts.end(), [](const ContactElement& c) { return c.normal(); }))
+    return std::nullopt;
+  const LinearModes modes = linear_modes(system_, false);
+  const auto j = static_cast<Eigen::Index>(options_.mode - 1);
+  const double omega = modes.omega[j];
+  if (!(omega > 1e-8 * omega_)) return std::nullopt;  // a rigid-body mode once the contacts slip
+  Eigen::VectorXd shape = modes.shapes.col(j);
+  if (shape.dot(m_phi_) < 0.0) shape = -shape;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(unknowns());
+  const int a = balance_.basis().cosine_index(1);
+  for (int i = 0; i < system_.dofs(); ++i) y[balance_.index(i, a)] = shape[i];
+  y[unknowns() - 2] = omega;
+  y[unknowns() - 1] = system_.damping.nonZeros() == 0 ? 0.0 : shape.dot(system_.damping * shape);
+  return y;
+}
+
 std::pair<Eigen::VectorXd, Eigen::VectorXd> NonlinearModeResidual::harmonic(
     const Eigen::VectorXd& x, int order) const {
   const int n = system_.dofs();

@@ -261,6 +261,8 @@ py::list turns_list(const std::vector<continuation::BackboneTurn>& turns) {
     turn["damping_ratio"] = t.damping_ratio;
     turn["log10_amplitude_error_bound"] = t.log10_amplitude_bound;
     turn["refined"] = t.refined;
+    // between the curve's points after_point − 1 and after_point (None where not known)
+    turn["after_point"] = t.after_point >= 0 ? py::object(py::int_(t.after_point)) : py::object(py::none());
     out.append(turn);
   }
   return out;

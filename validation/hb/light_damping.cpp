@@ -128,24 +128,13 @@ const std::map<std::string, std::string>& known_stops() {
       // KNOWN STOP: step 5.96e-09 below min_step 1e-08 after the point at λ = 0.4085107889 (point
       // 119): the corrector moved 2.87e-06 from the predictor, more than 10 times the step
       {"frf 10dof jenkins zeta=0 F=1", "min_step"},
-      // KNOWN STOP: step 6.96e-09 below min_step 1e-08 after the point at λ = 2.121650522 (point
-      // 779): the corrector jumped 1.39e-08 back onto the branch already traced (3:1 internal
-      // resonance with mode 2 of the contact-free system)
-      {"damping 10dof jenkins zeta=0", "min_step"},
       // KNOWN STOP: step 7.94e-09 below min_step 1e-08 after the point at λ = 2.344899691 (point
-      // 722): the corrector jumped 1.59e-08 back onto the branch already traced (3:1, as above)
+      // 722): the corrector jumped 1.59e-08 back onto the branch already traced (3:1 internal
+      // resonance with mode 2 of the contact-free system); traced back from log10 q = 3.69897 as
+      // well, the curve did not meet this run (326 points, the last at log10 q = 2.76476, back onto
+      // its own branch). The other five 10-DOF damping curves, known stops until stop 50, are
+      // completed from both ends.
       {"damping 10dof jenkins zeta=0.0001", "min_step"},
-      // KNOWN STOP: step 9.29e-09 below min_step 1e-08 after the point at λ = 1.93034574 (point
-      // 719): the corrector jumped 1.86e-08 back onto the branch already traced
-      {"damping 10dof jenkins zeta=0.01", "min_step"},
-      // KNOWN STOP: step 6.26e-09 below min_step 1e-08 after the point at λ = 2.129442862 (point
-      // 682): the corrector jumped 1.25e-08 back onto the branch already traced (3:1, as above)
-      {"damping 10dof gaul-mayer zeta=0", "min_step"},
-      // KNOWN STOP: step 7.69e-09 below min_step 1e-08 after the point at λ = 2.127088959 (point
-      // 654): the corrector jumped 1.54e-08 back onto the branch already traced (3:1, as above)
-      {"damping 10dof gaul-mayer zeta=0.0001", "min_step"},
-      // KNOWN STOP: max_points = 1000 reached at λ = 1.508920516 (point 1000)
-      {"damping 10dof gaul-mayer zeta=0.01", "max_points"},
   };
   return stops;
 }
@@ -502,6 +491,13 @@ struct BackboneRun {
   double last_lambda = std::numeric_limits<double>::quiet_NaN();
   double last_zeta = std::numeric_limits<double>::quiet_NaN();
   double max_zeta = 0.0;
+  // A connected path of solutions (checked independently of the continuation, which may have
+  // joined two runs: continuation/backbone.hpp): the largest EPMC residual of a point, scaled by
+  // ω², and the largest distance between consecutive points in the continuation's norm (X̂ by 1,
+  // Ω by ω, ξ by 0.1 ω, λ by the range), against its largest step.
+  double max_residual = 0.0;
+  double max_gap = 0.0;
+  double max_step = 0.0;
 };
 
 BackboneRun run_backbone(const BackboneScenario& s, int max_points = 0) {
@@ -533,6 +529,21 @@ BackboneRun run_backbone(const BackboneScenario& s, int max_points = 0) {
   try {
     mode.emplace(s.system, o.mode);
   } catch (const std::exception&) {
+  }
+  r.max_step = o.continuation.max_step;
+  for (std::size_t k = 0; k < r.curve.points.size() && mode; ++k) {
+    const cont::BackbonePoint& p = r.curve.points[k];
+    const double w = mode->linear_omega();
+    hb::NonlinearModeResidual::Evaluation e;
+    mode->evaluate(p.unknowns, std::log10(p.state.amplitude), false, e);
+    r.max_residual = std::max(r.max_residual, e.residual.lpNorm<Eigen::Infinity>() / (w * w));
+    if (k == 0 || p.unknowns.size() != r.curve.points[k - 1].unknowns.size()) continue;
+    VectorXd d = p.unknowns - r.curve.points[k - 1].unknowns;
+    d[d.size() - 2] /= w;
+    d[d.size() - 1] /= 0.1 * w;
+    const double dl = std::log10(p.state.amplitude / r.curve.points[k - 1].state.amplitude) /
+                      std::abs(s.lambda_end - s.lambda_start);
+    r.max_gap = std::max(r.max_gap, std::sqrt(d.squaredNorm() + dl * dl));
   }
   for (const auto& p : r.curve.points) {
     const hb::NonlinearModeState& st = p.state;
@@ -1020,6 +1031,10 @@ int run(int argc, char** argv) {
     score.check(zeta_error <= kLinearZetaBound,
                 fmt::format("[{}] linear limit: zeta {:.6e} vs stuck {:.6e} (abs. {:.2e})", s.name,
                             r.first_zeta, s.zeta_linear, zeta_error));
+    score.check(r.max_residual <= 1e-10 && r.max_gap <= 2.0 * r.max_step,
+                fmt::format("[{}] not a connected path of solutions: residual {:.2e} (of omega^2), largest gap "
+                            "{:.3g} between consecutive points (max_step {:g})",
+                            s.name, r.max_residual, r.max_gap, r.max_step));
     table.row({csv_text(s.name),
                s.group,
                "damping",

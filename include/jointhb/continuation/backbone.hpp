@@ -27,8 +27,13 @@ struct BackboneOptions {
   /// Steps and tolerances (range and scales are set by trace_backbone). The residual tolerance
   /// defaults to 1e-12 (not 1e-10): the energy balance injected = viscous + ΣW_D then holds to
   /// ~1e-10 at every point (at 1e-10 it drifts to ~2e-8; validation/hb/README_epmc_convergence.md).
+  /// max_points bounds each run: the one from λ_start and, where it stops short, the one from
+  /// λ_end that completes the curve (docs/continuation.md, "A curve traced from both ends"); 2000
+  /// by default, as the run from λ_end through the 7:1 internal resonance of the 30-DOF chain of
+  /// tests/unit/hb/test_nonlinear_mode.cpp takes 1162 points.
   Options continuation = [] {
     Options o;
+    o.max_points = 2000;
     o.residual_tolerance = 1e-12;
     return o;
   }();

@@ -18,6 +18,9 @@ struct BackboneTurn {
   bool refined = false;          ///< false: reported at the accepted point after the turn
   std::string message;           ///< why it is not refined
   int points = 0;                ///< points corrected to locate it
+  /// Index in the curve's points of the first point after the turn (the turn lies between it and
+  /// the point before); −1 where not known
+  int after_point = -1;
   /// The curve's unknowns at the turn (X̂, Ω, ξ discrete; ŷ, Ω, ξ finite-element), in the basis
   /// of the points' unknowns
   Eigen::VectorXd unknowns;

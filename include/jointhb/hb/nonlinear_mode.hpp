@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -65,6 +66,12 @@ class NonlinearModeResidual {
   [[nodiscard]] const HarmonicBalance& balance() const { return balance_; }
   /// Y of the linear mode (contacts stuck): X̂ = φ in a₁, Ω = ω, ξ = φᵀ C φ.
   [[nodiscard]] Eigen::VectorXd linear_start() const;
+  /// Y of the same-numbered linear mode of the system with every friction contact slipping (the
+  /// contacts removed: the limit q → ∞, where the slip forces μF_N are negligible against the
+  /// elastic ones), signed to agree with φ: the start of a curve at large amplitude. Empty when
+  /// the system has a normal contact (whose large-amplitude limit is not the contact-free system)
+  /// or that mode has zero frequency.
+  [[nodiscard]] std::optional<Eigen::VectorXd> slipping_start() const;
   [[nodiscard]] double linear_omega() const { return omega_; }
   [[nodiscard]] double linear_damping_ratio() const;
 
