@@ -202,16 +202,38 @@ class DiscreteBackboneSegment {
 // that run met the curve, which is then joined and reaches λ_end; false leaves the curve as it was
 // and says so in its message.
 template <class Pass>
-bool complete_from_far_end(BackboneCurve& curve, const BackboneOptions& options, const detail::CurveMetric& metric,
-                           const Pass& pass) {
+bool complete_from_far_end(BackboneCurve& curve, const hb::DiscreteSystem& system, const BackboneOptions& options,
+                           const detail::CurveMetric& metric, const Pass& pass) {
+  // The joint's check (branch_between) on the EPMC equations at the first level, whose points the
+  // metric compares (points of other levels never meet).
+  const hb::NonlinearModeResidual epmc(system, options.mode);
+  const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
+    hb::NonlinearModeResidual::Evaluation e;
+    epmc.evaluate(y, lambda, jacobian, e);
+    Evaluation out;
+    out.ok = e.ok;
+    out.message = std::move(e.message);
+    out.residual = std::move(e.residual);
+    out.d_state = std::move(e.d_state);
+    out.d_parameter = std::move(e.d_parameter);
+    return out;
+  };
+  const double tolerance =
+      10.0 * options.continuation.residual_tolerance * epmc.linear_omega() * epmc.linear_omega();
   const auto unknowns = [](const BackbonePoint& p) -> const Eigen::VectorXd& { return p.unknowns; };
   const auto lambda = [](const BackbonePoint& p) { return std::log10(p.state.amplitude); };
   const auto step = [](const BackbonePoint& p) { return p.step; };
   std::vector<BackbonePoint> back;
   std::vector<BackboneTurn> back_turns;
   std::optional<std::size_t> met;  // in curve.points
+  int refused = 0;  // points within one step of the first run where no branch joins the two
   const std::function<bool(const BackbonePoint&)> meets = [&](const BackbonePoint& p) {
     met = detail::meeting_point(curve.points, p, metric, unknowns, lambda, step);
+    if (met && !detail::branch_between(residual, metric, curve.points[*met].unknowns, lambda(curve.points[*met]),
+                                       p.unknowns, lambda(p), tolerance)) {
+      met.reset();
+      ++refused;
+    }
     return met.has_value();
   };
   const segment_detail::SegmentedOutcome far = pass(back, back_turns, meets);
@@ -234,9 +256,10 @@ bool complete_from_far_end(BackboneCurve& curve, const BackboneOptions& options,
   curve.message = fmt::format(
       "reached λ_end = {:.10g} ({} points) from both ends: the run from log10 q = {:g} stopped after {} points at "
       "log10 q = {:.6g} ({}); traced back from log10 q = {:g}, the curve met it within one step at its point {} "
-      "(log10 q = {:.6g}) after {} points, and is joined there ({} points of the first run beyond it dropped)",
+      "(log10 q = {:.6g}) after {} points, and is joined there ({} points of the first run beyond it dropped{})",
       options.log10_amplitude_end, curve.points.size(), options.log10_amplitude_start, first_points, first_stop,
-      curve.message, options.log10_amplitude_end, k, joint, back.size(), first_points - k - 1);
+      curve.message, options.log10_amplitude_end, k, joint, back.size(), first_points - k - 1,
+      refused > 0 ? fmt::format("; {} nearer points on other sheets passed", refused) : "");
   return true;
 }
 
@@ -321,13 +344,17 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
     }
     bool met = false;
     if (outcome.reason != StopReason::max_points) {
-      met = complete_from_far_end(curve, options, *metric,
+      met = complete_from_far_end(curve, system, options, *metric,
                                   [&](std::vector<BackbonePoint>& back, std::vector<BackboneTurn>& turns,
                                       const std::function<bool(const BackbonePoint&)>& meets) {
                                     return pass(options.log10_amplitude_end, options.log10_amplitude_start, back,
                                                 turns, meets);
                                   });
       if (!met) overflow_at.reset();  // of the run from λ_end, whose points are not kept
+      if (user_stopped) {             // during the run from λ_end: the curve ends as the user asked
+        curve.reason = StopReason::stopped_by_user;
+        curve.message = "stopped by the callback while the curve was traced from its far end: " + curve.message;
+      }
       if (met && options.max_damping_ratio > 0.0)
         overdamped_at = cut_at_damping_ratio(curve, options.max_damping_ratio);
     }

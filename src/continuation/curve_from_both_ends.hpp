@@ -4,19 +4,23 @@
 // folds many times at kinks of the friction laws, and at a junction of sheets the run can take a
 // side loop that closes on itself — a second run traced from λ_end back towards λ_start is kept
 // up to the first of its points that lies within one continuation step of a point of the first
-// run. The curve is then the first run up to that point and the second run from there back to
-// λ_end: a connected path of converged points from end to end, like the points of one run.
+// run, where one branch joins the two (branch_between). The curve is then the first run up to
+// that point and the second run from there back to λ_end: a connected path of converged points
+// from end to end, like the points of one run.
 // Shared by discrete (backbone.cpp) and finite-element (interface_backbone.cpp) damping curves.
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <exception>
 #include <limits>
 #include <optional>
 #include <vector>
 
 #include "jointhb/continuation/curve_turn.hpp"
+#include "jointhb/continuation/pseudo_arclength.hpp"
 
 namespace jointhb::continuation::detail {
 
@@ -53,6 +57,52 @@ std::optional<std::size_t> meeting_point(const std::vector<PointT>& first, const
   const double beside = std::max(step(first[k]), k + 1 < first.size() ? step(first[k + 1]) : 0.0);
   if (nearest <= std::min(step(p), beside)) return k;
   return std::nullopt;
+}
+
+/// Whether one branch joins the nearby points (x_a, λ_a) and (x_b, λ_b): Newton's method on
+/// R(x, λ) = 0 and the hyperplane through their midpoint normal to their chord (both scaled by
+/// `metric`), started at the midpoint, converges (‖R‖_∞ ≤ `tolerance`) to a point within half the
+/// chord of it. A branch that runs from one point to the other crosses that hyperplane near the
+/// midpoint; two distinct sheets side by side run along it and hold no solution on it between them.
+/// `residual` gives the dense Jacobian (the discrete EPMC's); an evaluation that throws or is not
+/// ok counts as no branch.
+inline bool branch_between(const ResidualFunction& residual, const CurveMetric& metric, const Eigen::VectorXd& xa,
+                           double la, const Eigen::VectorXd& xb, double lb, double tolerance) {
+  const Eigen::Index n = xa.size();
+  if (xb.size() != n || metric.state_scale.size() != n) return false;
+  const auto scaled = [&](const Eigen::VectorXd& x, double l) {
+    Eigen::VectorXd z(n + 1);
+    z << x.cwiseQuotient(metric.state_scale), l / metric.parameter_scale;
+    return z;
+  };
+  const Eigen::VectorXd za = scaled(xa, la), zb = scaled(xb, lb);
+  const Eigen::VectorXd chord = zb - za, mid = 0.5 * (za + zb);
+  const double length = chord.norm();
+  if (!(length > 0.0)) return true;
+  Eigen::VectorXd z = mid;
+  constexpr int kIterations = 12;
+  for (int it = 0; it <= kIterations; ++it) {
+    Evaluation e;
+    try {  // an iterate the laws cannot evaluate (e.g. a negative slip of Gaul–Mayer) joins nothing
+      e = residual(z.head(n).cwiseProduct(metric.state_scale), z[n] * metric.parameter_scale, true);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (!e.ok || e.d_state.rows() != n || e.d_parameter.size() != n) return false;
+    const double off_plane = chord.dot(z - mid);
+    if (e.residual.lpNorm<Eigen::Infinity>() <= tolerance && std::abs(off_plane) <= 1e-12 * length * length)
+      return (z - mid).norm() <= 0.5 * length;
+    if (it == kIterations) break;
+    Eigen::MatrixXd j(n + 1, n + 1);
+    j.topLeftCorner(n, n) = e.d_state * metric.state_scale.asDiagonal();
+    j.topRightCorner(n, 1) = e.d_parameter * metric.parameter_scale;
+    j.row(n) = chord.transpose();
+    Eigen::VectorXd f(n + 1);
+    f << e.residual, off_plane;
+    z -= j.partialPivLu().solve(f);
+    if (!z.allFinite()) return false;
+  }
+  return false;
 }
 
 /// The turns of a run whose `after_point` indexes `points_before` .. of one run, kept when they lie

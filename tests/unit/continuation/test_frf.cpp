@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "../hb/corpus_chain.hpp"
+
 namespace jointhb::continuation {
 namespace {
 
@@ -186,37 +188,9 @@ TEST(FrfContinuation, UndampedStuckResonanceCornerIsCrossed) {
 // now; the curve completes and its first point is the stuck linear response (all contacts stuck at
 // Ω = 0.1: (K + K_T − Ω² M) X = F, closed form by a dense solve).
 TEST(FrfContinuation, UndampedChainWithAResonanceOnTheScaleSweepCompletes) {
-  const int n = 10;
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) {
-    k(i, i) += 1.0;
-    if (i > 0) {
-      k(i - 1, i - 1) += 1.0;
-      k(i, i - 1) -= 1.0;
-      k(i - 1, i) -= 1.0;
-    }
-  }
-  hb::DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
-  s.stiffness = k.sparseView();
-  s.damping = Eigen::MatrixXd::Zero(n, n).sparseView();
-  Eigen::MatrixXd stuck = k;
-  for (const auto& [a, b] : std::vector<std::pair<int, int>>{{1, -1}, {3, 2}, {5, -1}, {7, 6}, {9, -1}}) {
-    hb::ContactElement c;
-    c.law = "jenkins";
-    c.dof_a = a;
-    c.dof_b = b;
-    c.stiffness = 2.0;
-    c.friction_coefficient = 1.0;
-    c.normal_force = 1.0;
-    s.contacts.push_back(c);
-    stuck(a, a) += 2.0;
-    if (b >= 0) {
-      stuck(b, b) += 2.0;
-      stuck(a, b) -= 2.0;
-      stuck(b, a) -= 2.0;
-    }
-  }
+  const hb::DiscreteSystem s = hb::test::corpus_chain(0.0);
+  const Eigen::Index n = s.dofs();
+  const Eigen::MatrixXd stuck = Eigen::MatrixXd(hb::stuck_stiffness(s));
   hb::Excitation e;
   e.forces.push_back({9, 0.1, 1});
   FrfOptions o;

@@ -10,7 +10,10 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "corpus_chain.hpp"
 #include "jointhb/continuation/backbone.hpp"
 
 namespace jointhb::hb {
@@ -163,6 +166,64 @@ TEST(NonlinearMode, ExtremeAmplitudesEndOnFinitePoints) {
   EXPECT_NEAR(s.damping_ratio, down.linear_damping_ratio, 1e-9);
 }
 
+// A damping curve as one connected path of solutions from λ_start to λ_end, checked independently
+// of the continuation (which may have joined two runs, continuation/curve_from_both_ends.hpp):
+// every point's EPMC residual re-evaluated (scaled by ω²), the largest distance between
+// consecutive points in the continuation's norm (X̂ by 1, Ω by ω, ξ by 0.1 ω, λ by the range),
+// and the ends on λ_start and λ_end.
+struct ConnectedPath {
+  double residual = 0.0;
+  double gap = 0.0;
+};
+ConnectedPath connected_path(const DiscreteSystem& system, const continuation::BackboneOptions& o,
+                             const continuation::BackboneCurve& curve) {
+  const NonlinearModeResidual epmc(system, o.mode);
+  const double w = epmc.linear_omega();
+  const double range = std::abs(o.log10_amplitude_end - o.log10_amplitude_start);
+  const auto lambda = [](const continuation::BackbonePoint& p) { return std::log10(p.state.amplitude); };
+  ConnectedPath path;
+  EXPECT_DOUBLE_EQ(lambda(curve.points.front()), o.log10_amplitude_start);
+  EXPECT_NEAR(lambda(curve.points.back()), o.log10_amplitude_end, 1e-12);
+  for (std::size_t k = 0; k < curve.points.size(); ++k) {
+    NonlinearModeResidual::Evaluation e;
+    epmc.evaluate(curve.points[k].unknowns, lambda(curve.points[k]), false, e);
+    path.residual = std::max(path.residual, e.residual.lpNorm<Eigen::Infinity>() / (w * w));
+    if (k == 0) continue;
+    Eigen::VectorXd d = curve.points[k].unknowns - curve.points[k - 1].unknowns;
+    d[d.size() - 2] /= w;
+    d[d.size() - 1] /= 0.1 * w;
+    const double dl = (lambda(curve.points[k]) - lambda(curve.points[k - 1])) / range;
+    path.gap = std::max(path.gap, std::sqrt(d.squaredNorm() + dl * dl));
+  }
+  return path;
+}
+
+// The 10-DOF chain of the light-damping corpus (corpus_chain.hpp) at ζ = 1e-2: its damping curve over log10 q ∈
+// [log10 5e-7, log10 5e3] at H = 7, N_t = 256 folds near a 3:1 internal resonance with mode 2 of
+// the contact-free system: one run from below stops after 719 points at log10 q = 1.93 ("jumped
+// back onto the branch already traced"), and the curve is completed from above (540 points, 1.9 s;
+// a known stop of the corpus until stop 50).
+TEST(NonlinearMode, TenDofChainDampingCurveIsCompletedFromBothEnds) {
+  const DiscreteSystem s = test::corpus_chain(1e-2);
+  continuation::BackboneOptions o;
+  o.mode.harmonics = 7;
+  o.mode.time_samples = 256;
+  o.log10_amplitude_start = std::log10(5e-7);
+  o.log10_amplitude_end = std::log10(5e3);
+  o.error_estimate = false;
+  const continuation::BackboneCurve curve = continuation::trace_backbone(s, o);
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_NE(curve.message.find("from both ends"), std::string::npos) << curve.message;
+  EXPECT_NE(curve.message.find("jumped"), std::string::npos) << "the first run's stop: " << curve.message;
+  const ConnectedPath path = connected_path(s, o, curve);
+  EXPECT_LT(path.residual, 1e-10);
+  EXPECT_LT(path.gap, 2.0 * o.continuation.max_step);
+  for (const continuation::BackboneTurn& t : curve.turns) {
+    EXPECT_GE(t.after_point, 1);
+    EXPECT_LT(t.after_point, static_cast<int>(curve.points.size()));
+  }
+}
+
 // The 30-DOF chain of issues 18 and 23 (unit masses, springs of 225 N/m grounded at DOF 0 and free
 // at DOF 29, C = 0.02 I, ten Jenkins links k_T0 = 225, slip force 0.557): its stuck natural
 // frequencies are nearly 1 : 3 : 5 : 7 (ratios 2.995, 4.983, 6.943), so the damping curve of mode 1
@@ -198,6 +259,12 @@ DiscreteSystem chain30() {
 }
 
 TEST(NonlinearMode, ChainDampingCurveThroughTheInternalResonanceIsCompletedFromBothEnds) {
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  GTEST_SKIP() << "33 s in Release, minutes under AddressSanitizer: run by the Release stage; the joined "
+                  "curve's code runs under the sanitizers in TenDofChainDampingCurveIsCompletedFromBothEnds";
+#endif
+#endif
   continuation::BackboneOptions o;
   o.mode.mode = 1;
   o.mode.time_samples = 256;
@@ -215,10 +282,12 @@ TEST(NonlinearMode, ChainDampingCurveThroughTheInternalResonanceIsCompletedFromB
   EXPECT_NE(h7.message.find("7:1 internal resonance"), std::string::npos) << h7.message;
   EXPECT_NE(h7.message.find("mode 4 of the stuck system"), std::string::npos) << h7.message;
 
-  // The joined curve is one connected path of solutions from end to end, checked independently of
-  // the continuation: every point solves the EPMC equations, consecutive points lie no further
-  // apart (in the continuation's scaled norm) than its largest step allows, the ends are on
-  // λ_start and λ_end.
+  // The joined curve is one connected path of solutions from end to end (independent checks).
+  const ConnectedPath path = connected_path(chain30(), o, h7);
+  EXPECT_LT(path.residual, 1e-10);
+  EXPECT_LT(path.gap, 2.0 * o.continuation.max_step);
+  std::printf("H = 7: %zu points, %zu turns, max scaled residual %.2e, largest gap %.3g\n", h7.points.size(),
+              h7.turns.size(), path.residual, path.gap);
   const NonlinearModeResidual epmc(chain30(), o.mode);
   const double w = epmc.linear_omega();
   const auto lambda = [](const continuation::BackbonePoint& p) { return std::log10(p.state.amplitude); };
@@ -229,19 +298,6 @@ TEST(NonlinearMode, ChainDampingCurveThroughTheInternalResonanceIsCompletedFromB
     const double dl = (lambda(a) - lambda(b)) / 4.0;
     return std::sqrt(d.squaredNorm() + dl * dl);
   };
-  EXPECT_DOUBLE_EQ(lambda(h7.points.front()), -3.0);
-  EXPECT_NEAR(lambda(h7.points.back()), 1.0, 1e-12);
-  double residual = 0.0, gap = 0.0;
-  for (std::size_t k = 0; k < h7.points.size(); ++k) {
-    NonlinearModeResidual::Evaluation e;
-    epmc.evaluate(h7.points[k].unknowns, lambda(h7.points[k]), false, e);
-    residual = std::max(residual, e.residual.lpNorm<Eigen::Infinity>() / (w * w));
-    if (k > 0) gap = std::max(gap, distance(h7.points[k - 1], h7.points[k]));
-  }
-  EXPECT_LT(residual, 1e-10);
-  EXPECT_LT(gap, 2.0 * o.continuation.max_step);
-  std::printf("H = 7: %zu points, %zu turns, max scaled residual %.2e, largest gap %.3g\n", h7.points.size(),
-              h7.turns.size(), residual, gap);
   // Away from the internal resonance the curve is H = 5's (which one run traces, turning 8 times):
   // up to log10 q = −0.5 the same stuck linear mode, from 0.5 (after its last turn) the same
   // gross-slip branch up to the truncation of harmonics 7 (interpolated in λ; both single-valued
