@@ -41,6 +41,17 @@ std::string resonance_words(const detail::NearResonance& r, double omega) {
                      r.harmonic * omega, 100.0 * r.distance, r.mode, r.stuck ? "stuck" : "contact-free", r.omega);
 }
 
+// The continuation's view of an EPMC evaluation (its residual and Jacobian moved out of `e`).
+Evaluation continuation_evaluation(hb::NonlinearModeResidual::Evaluation& e) {
+  Evaluation out;
+  out.ok = e.ok;
+  out.message = e.message;
+  out.residual = std::move(e.residual);
+  out.d_state = std::move(e.d_state);
+  out.d_parameter = std::move(e.d_parameter);
+  return out;
+}
+
 // Every output a point reports is a finite number (a curve whose amplitude range reaches ~1e154
 // overflows W_D ∝ q² while the state itself is still finite).
 bool finite_outputs(const hb::NonlinearModeState& s) {
@@ -132,13 +143,7 @@ class DiscreteBackboneSegment {
       epmc_.evaluate(y, lambda, jacobian, last_);
       last_y_ = y;
       last_lambda_ = lambda;
-      Evaluation out;
-      out.ok = last_.ok;
-      out.message = last_.message;
-      out.residual = std::move(last_.residual);
-      out.d_state = std::move(last_.d_state);
-      out.d_parameter = std::move(last_.d_parameter);
-      return out;
+      return continuation_evaluation(last_);
     };
     const AcceptCallback accept = [&](const Point& p) {
       BackbonePoint b;
@@ -210,13 +215,7 @@ bool complete_from_far_end(BackboneCurve& curve, const hb::DiscreteSystem& syste
   const ResidualFunction residual = [&](const Eigen::VectorXd& y, double lambda, bool jacobian) {
     hb::NonlinearModeResidual::Evaluation e;
     epmc.evaluate(y, lambda, jacobian, e);
-    Evaluation out;
-    out.ok = e.ok;
-    out.message = std::move(e.message);
-    out.residual = std::move(e.residual);
-    out.d_state = std::move(e.d_state);
-    out.d_parameter = std::move(e.d_parameter);
-    return out;
+    return continuation_evaluation(e);
   };
   const double tolerance =
       10.0 * options.continuation.residual_tolerance * epmc.linear_omega() * epmc.linear_omega();

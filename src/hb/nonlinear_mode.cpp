@@ -69,13 +69,17 @@ double NonlinearModeResidual::linear_damping_ratio() const {
   return phi_.dot(system_.damping * phi_) / (2.0 * omega_);
 }
 
-Eigen::VectorXd NonlinearModeResidual::linear_start() const {
+Eigen::VectorXd NonlinearModeResidual::mode_start(const Eigen::VectorXd& shape, double omega, double xi) const {
   Eigen::VectorXd y = Eigen::VectorXd::Zero(unknowns());
   const int a = balance_.basis().cosine_index(1);
-  for (int i = 0; i < system_.dofs(); ++i) y[balance_.index(i, a)] = phi_[i];
-  y[unknowns() - 2] = omega_;
-  y[unknowns() - 1] = 2.0 * linear_damping_ratio() * omega_;
+  for (int i = 0; i < system_.dofs(); ++i) y[balance_.index(i, a)] = shape[i];
+  y[unknowns() - 2] = omega;
+  y[unknowns() - 1] = xi;
   return y;
+}
+
+Eigen::VectorXd NonlinearModeResidual::linear_start() const {
+  return mode_start(phi_, omega_, 2.0 * linear_damping_ratio() * omega_);
 }
 
 std::optional<Eigen::VectorXd> NonlinearModeResidual::slipping_start() const {
@@ -87,12 +91,7 @@ std::optional<Eigen::VectorXd> NonlinearModeResidual::slipping_start() const {
   if (!(omega > 1e-8 * omega_)) return std::nullopt;  // a rigid-body mode once the contacts slip
   Eigen::VectorXd shape = modes.shapes.col(j);
   if (shape.dot(m_phi_) < 0.0) shape = -shape;
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(unknowns());
-  const int a = balance_.basis().cosine_index(1);
-  for (int i = 0; i < system_.dofs(); ++i) y[balance_.index(i, a)] = shape[i];
-  y[unknowns() - 2] = omega;
-  y[unknowns() - 1] = system_.damping.nonZeros() == 0 ? 0.0 : shape.dot(system_.damping * shape);
-  return y;
+  return mode_start(shape, omega, system_.damping.nonZeros() == 0 ? 0.0 : shape.dot(system_.damping * shape));
 }
 
 std::pair<Eigen::VectorXd, Eigen::VectorXd> NonlinearModeResidual::harmonic(

@@ -103,6 +103,9 @@ class NonlinearModeResidual {
   DiscreteSystem system_;
   NonlinearModeOptions options_;
   HarmonicBalance balance_;
+  // Y of a mass-normalised linear mode: `shape` in a₁, Ω = ω, ξ = 2ζω of that mode.
+  [[nodiscard]] Eigen::VectorXd mode_start(const Eigen::VectorXd& shape, double omega, double xi) const;
+
   Eigen::VectorXd phi_;    // linear mode, mass-normalised
   Eigen::VectorXd m_phi_;  // M φ
   double omega_ = 0.0;

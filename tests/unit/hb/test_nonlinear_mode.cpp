@@ -175,25 +175,29 @@ struct ConnectedPath {
   double residual = 0.0;
   double gap = 0.0;
 };
+double log10_amplitude(const continuation::BackbonePoint& p) { return std::log10(p.state.amplitude); }
+// The continuation's scaled distance between two points of a damping curve traced with `o`, whose
+// linear ω is w.
+double scaled_distance(const continuation::BackboneOptions& o, double w, const continuation::BackbonePoint& a,
+                       const continuation::BackbonePoint& b) {
+  Eigen::VectorXd d = a.unknowns - b.unknowns;
+  d[d.size() - 2] /= w;
+  d[d.size() - 1] /= 0.1 * w;
+  const double dl = (log10_amplitude(a) - log10_amplitude(b)) / std::abs(o.log10_amplitude_end - o.log10_amplitude_start);
+  return std::sqrt(d.squaredNorm() + dl * dl);
+}
 ConnectedPath connected_path(const DiscreteSystem& system, const continuation::BackboneOptions& o,
                              const continuation::BackboneCurve& curve) {
   const NonlinearModeResidual epmc(system, o.mode);
   const double w = epmc.linear_omega();
-  const double range = std::abs(o.log10_amplitude_end - o.log10_amplitude_start);
-  const auto lambda = [](const continuation::BackbonePoint& p) { return std::log10(p.state.amplitude); };
   ConnectedPath path;
-  EXPECT_DOUBLE_EQ(lambda(curve.points.front()), o.log10_amplitude_start);
-  EXPECT_NEAR(lambda(curve.points.back()), o.log10_amplitude_end, 1e-12);
+  EXPECT_DOUBLE_EQ(log10_amplitude(curve.points.front()), o.log10_amplitude_start);
+  EXPECT_NEAR(log10_amplitude(curve.points.back()), o.log10_amplitude_end, 1e-12);
   for (std::size_t k = 0; k < curve.points.size(); ++k) {
     NonlinearModeResidual::Evaluation e;
-    epmc.evaluate(curve.points[k].unknowns, lambda(curve.points[k]), false, e);
+    epmc.evaluate(curve.points[k].unknowns, log10_amplitude(curve.points[k]), false, e);
     path.residual = std::max(path.residual, e.residual.lpNorm<Eigen::Infinity>() / (w * w));
-    if (k == 0) continue;
-    Eigen::VectorXd d = curve.points[k].unknowns - curve.points[k - 1].unknowns;
-    d[d.size() - 2] /= w;
-    d[d.size() - 1] /= 0.1 * w;
-    const double dl = (lambda(curve.points[k]) - lambda(curve.points[k - 1])) / range;
-    path.gap = std::max(path.gap, std::sqrt(d.squaredNorm() + dl * dl));
+    if (k > 0) path.gap = std::max(path.gap, scaled_distance(o, w, curve.points[k - 1], curve.points[k]));
   }
   return path;
 }
@@ -290,13 +294,9 @@ TEST(NonlinearMode, ChainDampingCurveThroughTheInternalResonanceIsCompletedFromB
               h7.turns.size(), path.residual, path.gap);
   const NonlinearModeResidual epmc(chain30(), o.mode);
   const double w = epmc.linear_omega();
-  const auto lambda = [](const continuation::BackbonePoint& p) { return std::log10(p.state.amplitude); };
+  const auto lambda = log10_amplitude;
   const auto distance = [&](const continuation::BackbonePoint& a, const continuation::BackbonePoint& b) {
-    Eigen::VectorXd d = a.unknowns - b.unknowns;
-    d[d.size() - 2] /= w;
-    d[d.size() - 1] /= 0.1 * w;
-    const double dl = (lambda(a) - lambda(b)) / 4.0;
-    return std::sqrt(d.squaredNorm() + dl * dl);
+    return scaled_distance(o, w, a, b);
   };
   // Away from the internal resonance the curve is H = 5's (which one run traces, turning 8 times):
   // up to log10 q = −0.5 the same stuck linear mode, from 0.5 (after its last turn) the same
