@@ -54,13 +54,15 @@ ordered_json contact_states_along(const std::vector<pipeline::BackbonePoint>& po
 
 // Stability of an FE FRF for summary.json: computed or not, the points known and unstable, the
 // bifurcations (type, point, Ω, the Ω of the point before), and one line naming them.
-ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bool computed) {
+ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bool computed,
+                               continuation::StabilityMethod method) {
   const StabilityCounts counts = stability_counts(points);
   std::string line;
   for (const pipeline::FrfPoint& p : points)
     if (p.bifurcation != hb::Bifurcation::none)
       line += fmt::format("{}{} at {:.6g} Hz", line.empty() ? "" : ", ", hb::to_string(p.bifurcation), p.frequency_hz);
   return {{"computed", computed},
+          {"method", method == continuation::StabilityMethod::hill ? "hill" : "monodromy"},
           {"points_known", counts.known},
           {"unstable_points", counts.unstable},
           {"bifurcations", bifurcations_json(points)},
@@ -311,7 +313,7 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
         entry["peak"] = peak_json(r.curve.peak, *highest);
       }
       entry["fold_points"] = fold_points_json(r.curve.folds);
-      entry["stability"] = fe_stability_json(r.points, stability);
+      entry["stability"] = fe_stability_json(r.points, stability, fs.stability_method);
       if (stability) std::fprintf(stderr, "  stability: %s\n", entry["stability"]["line"].get<std::string>().c_str());
       summary["frfs"].push_back(std::move(entry));
       write_summary(dir / "summary.json", summary);

@@ -56,6 +56,7 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
     return fmt::format("output: must be in [0, {}), got {}", model.outputs.size(), output);
   if (std::string msg = accuracy.validate({balance.harmonics, balance.time_samples}); !msg.empty()) return msg;
   if (auto msg = monodromy.validate(); !msg.empty()) return "monodromy." + msg;
+  if (auto msg = hill.validate(); !msg.empty()) return "hill." + msg;
   return balance.validate();
 }
 
@@ -255,7 +256,10 @@ class InterfaceFrfSegment {
       return;
     }
     const auto start = support::Clock::now();
-    hb::FloquetResult floquet = hb::interface_orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
+    hb::FloquetResult floquet =
+        options_.stability_method == StabilityMethod::hill
+            ? hb::interface_hill_floquet(balance_, p.x, p.lambda, options_.hill)
+            : hb::interface_orbit_floquet(balance_, p.x, p.lambda, options_.monodromy);
     stability_seconds_ += support::seconds_since(start);
     f.stability_known = floquet.ok;
     f.stable = floquet.stable();

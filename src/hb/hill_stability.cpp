@@ -2,6 +2,7 @@
 #include "jointhb/hb/hill_stability.hpp"
 
 #include "../support/lapack_eig.hpp"
+#include "hill_companion.hpp"
 
 #include <fmt/format.h>
 
@@ -30,17 +31,6 @@ Eigen::MatrixXd kron_identity(const Eigen::MatrixXd& a, int m) {
   return out;
 }
 
-// The time derivative D_Ω of one signal's coefficients: harmonic h, (a, b) ↦ (hΩ b, −hΩ a).
-Eigen::MatrixXd derivative_block(const FourierBasis& basis, double omega) {
-  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(basis.size(), basis.size());
-  for (int h : basis.orders()) {
-    const int a = basis.cosine_index(h);
-    d(a, a + 1) = h * omega;
-    d(a + 1, a) = -h * omega;
-  }
-  return d;
-}
-
 // The companion matrix of Δ(λ) = J + λΔ₁ + λ²Δ₂ (eq. T-36), with Δ₂⁻¹ = M⁻¹ ⊗ I:
 //   [ 0                 I                           ]
 //   [ −(M⁻¹ ⊗ I) J     −(M⁻¹C ⊗ I) − 2 (I ⊗ D_Ω)   ].
@@ -58,7 +48,7 @@ Eigen::MatrixXd companion_matrix(const DiscreteSystem& system, const FourierBasi
   a.topRightCorner(size, size).setIdentity();
   a.bottomLeftCorner(size, size).noalias() = -kron_identity(mass_inverse, m) * jacobian;
   Eigen::MatrixXd first = -kron_identity(mass_inverse * damping, m);
-  const Eigen::MatrixXd d = derivative_block(basis, omega);
+  const Eigen::MatrixXd d = detail::time_derivative(basis, omega);
   for (int i = 0; i < n; ++i) first.block(static_cast<Eigen::Index>(i) * m, static_cast<Eigen::Index>(i) * m, m, m) -= 2.0 * d;
   a.bottomRightCorner(size, size) = first;
   return a;
@@ -136,8 +126,31 @@ FloquetResult hill_floquet(const DiscreteSystem& system, const FourierBasis& bas
     out.message = "the Jacobian or Ω is not finite";
     return out;
   }
-  const support::EigenDecomposition eig =
-      support::eigen_decomposition(companion_matrix(system, basis, jacobian, omega));
+  return detail::floquet_from_companion(companion_matrix(system, basis, jacobian, omega), basis, n,
+                                        omega, options);
+}
+
+namespace detail {
+
+Eigen::MatrixXd time_derivative(const FourierBasis& basis, double omega) {
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(basis.size(), basis.size());
+  for (int h : basis.orders()) {
+    const int a = basis.cosine_index(h);
+    d(a, a + 1) = h * omega;
+    d(a + 1, a) = -h * omega;
+  }
+  return d;
+}
+
+FloquetResult floquet_from_companion(const Eigen::MatrixXd& companion, const FourierBasis& basis,
+                                     int n, double omega, const HillOptions& options) {
+  FloquetResult out;
+  if (!companion.allFinite() || !(omega > 0.0) || !std::isfinite(omega)) {
+    out.message = "the companion matrix or Ω is not finite";
+    return out;
+  }
+  const Eigen::Index size = static_cast<Eigen::Index>(n) * basis.size();
+  const support::EigenDecomposition eig = support::eigen_decomposition(companion);
   if (!eig.ok) {
     out.message = "the eigensolver (LAPACK dgeev) did not converge";
     return out;
@@ -184,6 +197,8 @@ FloquetResult hill_floquet(const DiscreteSystem& system, const FourierBasis& bas
   out.ok = true;
   return out;
 }
+
+}  // namespace detail
 
 Bifurcation classify_bifurcation(const FloquetResult& before, const FloquetResult& after,
                                  bool turned) {

@@ -118,4 +118,11 @@ continuation::Stability read_stability_key(const yaml::Reader& reader, const YAM
                           : continuation::Stability::never;
 }
 
+continuation::StabilityMethod read_stability_method_key(const yaml::Reader& reader,
+                                                        const YAML::Node& value, const std::string& key) {
+  const std::string text = reader.text(value, key);
+  reader.check(value, key, check_one_of(text, {"monodromy", "hill"}));
+  return text == "hill" ? continuation::StabilityMethod::hill : continuation::StabilityMethod::monodromy;
+}
+
 }  // namespace jointhb::io

@@ -27,4 +27,8 @@ void read_accuracy_keys(const yaml::Reader& reader, const YAML::Node& node, cons
 continuation::Stability read_stability_key(const yaml::Reader& reader, const YAML::Node& value,
                                            const std::string& key);
 
+/// The value of a `stability_method:` key (`monodromy` or `hill`; the key's path in messages).
+continuation::StabilityMethod read_stability_method_key(const yaml::Reader& reader,
+                                                        const YAML::Node& value, const std::string& key);
+
 }  // namespace jointhb::io

@@ -675,13 +675,8 @@ class DiscreteCaseReader {
       read_accuracy_keys(reader_, e->value, f.path_of("accuracy"), o.harmonics, o.time_samples, true, o.accuracy);
     if (const auto* stability = f.find("stability"))  // Floquet multipliers at every point
       o.stability = read_stability_key(reader_, stability->value, f.path_of("stability"));
-    if (const auto* method = f.find("stability_method")) {
-      const std::string key = f.path_of("stability_method");
-      const std::string value = reader_.text(method->value, key);
-      reader_.check(method->value, key, check_one_of(value, {"monodromy", "hill"}));
-      o.stability_method = value == "hill" ? continuation::StabilityMethod::hill
-                                           : continuation::StabilityMethod::monodromy;
-    }
+    if (const auto* method = f.find("stability_method"))
+      o.stability_method = read_stability_method_key(reader_, method->value, f.path_of("stability_method"));
     if (const auto* steps = f.find("continuation")) {
       read_continuation(steps->value, f.path_of("continuation"), o.continuation);
     }

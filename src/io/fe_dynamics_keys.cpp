@@ -242,7 +242,7 @@ class DynamicsReader {
   FeFrfSpec read_frf(const YAML::Node& node, const std::string& path, const FeDynamicsSpec& d) const {
     const Fields f = r_.fields(node, path, {"frequency_hz", "omega", "force", "output", "harmonics", "time_samples",
                                             "periodic_tolerance", "tangential_stiffness", "continuation", "error_estimate",
-                                            "accuracy", "max_output_change", "stability"});
+                                            "accuracy", "max_output_change", "stability", "stability_method"});
     FeFrfSpec o;
     o.balance.harmonics = 1;
     const auto* hz = f.find("frequency_hz");
@@ -292,6 +292,8 @@ class DynamicsReader {
     r_.flag(f, "error_estimate", o.error_estimate);  // continuation/interface_error_estimate.hpp
     if (const auto* e = f.find("stability"))  // hb/interface_orbit_monodromy.hpp at every point
       o.stability = read_stability_key(r_, e->value, f.path_of("stability"));
+    if (const auto* e = f.find("stability_method"))  // or hb/interface_hill_stability.hpp
+      o.stability_method = read_stability_method_key(r_, e->value, f.path_of("stability_method"));
     read_balance(f, o.balance);
     // H and N_t per point from the estimates of the amplitudes (continuation/accuracy.hpp).
     if (const auto* e = f.find("accuracy"))

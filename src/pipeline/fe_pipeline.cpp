@@ -418,6 +418,7 @@ FrfCurve FePipeline::frf(std::size_t level, const FeFrfSpec& fs, const FrfCallba
   o.error_estimate = fs.error_estimate;
   o.accuracy = fs.accuracy;
   o.stability = fs.stability;
+  o.stability_method = fs.stability_method;
   FrfCurve out;
   out.level = level;
   out.force = fs.forces[level];

@@ -251,6 +251,27 @@ double output_change_from(double value) {
   return value;
 }
 
+// stability= of an FRF: None (the case's setting), 'auto', True or False; else ValueError.
+void stability_from(const py::object& value, continuation::Stability& out) {
+  if (value.is_none()) return;
+  if (py::isinstance<py::bool_>(value)) {
+    out = value.cast<bool>() ? continuation::Stability::always : continuation::Stability::never;
+    return;
+  }
+  if (py::isinstance<py::str>(value) && value.cast<std::string>() == "auto") {
+    out = continuation::Stability::automatic;
+    return;
+  }
+  throw py::value_error("stability: must be 'auto', True or False");
+}
+
+// stability_method= of an FRF: 'monodromy' or 'hill' (docs/stability.md); else ValueError.
+continuation::StabilityMethod stability_method_from(const std::string& value) {
+  if (value == "monodromy") return continuation::StabilityMethod::monodromy;
+  if (value == "hill") return continuation::StabilityMethod::hill;
+  throw py::value_error(fmt::format("stability_method: must be 'monodromy' or 'hill', got '{}'", value));
+}
+
 // The located turns of a damping curve in amplitude (BackboneTurn), a dict each.
 py::list turns_list(const std::vector<continuation::BackboneTurn>& turns) {
   py::list out;
@@ -573,7 +594,8 @@ class Pipeline {
   py::dict frf(std::size_t level, const py::object& callback, const std::optional<std::pair<double, double>>& frequency_hz,
                const std::optional<double>& force, const std::optional<int>& harmonics,
                const std::optional<bool>& error_estimate, const py::object& accuracy,
-               const std::optional<double>& max_output_change) {
+               const std::optional<double>& max_output_change, const py::object& stability,
+               const std::optional<std::string>& stability_method) {
     if (!case_->dynamics || !case_->dynamics->frf)
       throw py::value_error(case_->source + ": the case has no analysis.frf (give it one in the case file)");
     pipeline::FeFrfSpec fs = *case_->dynamics->frf;
@@ -586,6 +608,8 @@ class Pipeline {
     if (!accuracy.is_none())
       fs.accuracy = accuracy_from(accuracy, fs.balance.harmonics, fs.balance.time_samples, true);
     if (max_output_change) fs.continuation.max_output_change = output_change_from(*max_output_change);
+    stability_from(stability, fs.stability);
+    if (stability_method) fs.stability_method = stability_method_from(*stability_method);
     if (const std::string e = fs.balance.validate(); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     pipeline::FrfCurve r;
@@ -733,7 +757,8 @@ class DiscreteModel {
   py::dict frf(const std::optional<Eigen::VectorXd>& force, const std::optional<std::pair<double, double>>& omega,
                std::optional<int> output_dof, std::optional<int> harmonics, std::optional<int> time_samples,
                std::size_t level, const py::object& callback, const py::object& accuracy,
-               const std::optional<double>& max_output_change) {
+               const std::optional<double>& max_output_change, const py::object& stability,
+               const std::optional<std::string>& stability_method) {
     const pipeline::DiscreteProblem& pr = pipe_->problem();
     continuation::FrfOptions o = pr.frf.value_or(continuation::FrfOptions{});
     hb::Excitation x;
@@ -754,6 +779,8 @@ class DiscreteModel {
     if (harmonics || time_samples) o.accuracy = continuation::Accuracy{};  // a fixed level, as for backbone()
     if (!accuracy.is_none()) o.accuracy = accuracy_from(accuracy, o.harmonics, o.time_samples, true);
     if (max_output_change) o.continuation.max_output_change = output_change_from(*max_output_change);
+    stability_from(stability, o.stability);
+    if (stability_method) o.stability_method = stability_method_from(*stability_method);
     if (const std::string e = o.validate(dofs()); !e.empty()) throw py::value_error("frf: " + e);
     PointCallback on_point(callback);
     continuation::FrfCurve r;
@@ -1013,7 +1040,8 @@ PYBIND11_MODULE(_core, m) {
       .def("frf", &Pipeline::frf, py::arg("level") = 0, py::arg("callback") = py::none(), py::kw_only(),
            py::arg("frequency_hz") = py::none(), py::arg("force") = py::none(), py::arg("harmonics") = py::none(),
            py::arg("error_estimate") = py::none(), py::arg("accuracy") = py::none(),
-           py::arg("max_output_change") = py::none(),
+           py::arg("max_output_change") = py::none(), py::arg("stability") = py::none(),
+           py::arg("stability_method") = py::none(),
            "The nonlinear FRF at force level `level` of analysis.frf (or at `force` [N]): numpy arrays "
            "frequency_hz, amplitude_h1 [m], amplitude_max [m], dissipation [J]; peak, status, message. "
            "error_estimate=True adds amplitude_error_truncation, amplitude_error_aliasing, "
@@ -1022,7 +1050,9 @@ PYBIND11_MODULE(_core, m) {
            "and N_t per point; harmonics_of_points and time_samples_of_points give each point's level. "
            "max_output_change=0.05 limits the relative change of amplitude_h1 between two points. "
            "stable, max_floquet_multiplier (-1 where not computed: analysis.frf.stability, automatic up to "
-           "10 contact points) and bifurcation (list of str) give each point's stability.")
+           "10 contact points; stability=True/False/'auto' overrides it) and bifurcation (list of str) give "
+           "each point's stability; stability_method='monodromy' (default) or 'hill' (Hill's method, exact "
+           "at folds, docs/stability.md).")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },
                              "interfaces.<name>.pressure|decay|cutoff_gap|normal_stiffness|mu|n|stiffness_ratio|kt, bolts.<name>.preload, damping.*")
       .def("get", [](Pipeline& p, const std::string& name) { return p.pipe().parameter(name); }, py::arg("name"))
@@ -1058,14 +1088,16 @@ PYBIND11_MODULE(_core, m) {
       .def("frf", &DiscreteModel::frf, py::arg("force") = py::none(), py::arg("omega") = py::none(),
            py::arg("output_dof") = py::none(), py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(),
            py::arg("level") = 0, py::arg("callback") = py::none(), py::arg("accuracy") = py::none(),
-           py::arg("max_output_change") = py::none(),
+           py::arg("max_output_change") = py::none(), py::arg("stability") = py::none(),
+           py::arg("stability_method") = py::none(),
            "Nonlinear FRF under f(t) = force cos(Omega t) (force: amplitude per DOF [N]) over omega = (start, end) "
            "[rad/s]; without force, the case's excitation level `level` and analysis.frf settings. Numpy arrays "
            "omega, frequency_hz, amplitude_h1, amplitude_max [m], dissipation [J], stable (1/0, -1: not "
            "computed), max_floquet_multiplier, bifurcation (list of str); peak and folds (dicts: omega, "
            "amplitude_h1, error_bound, refined); status, message. accuracy={'amplitude': 1e-3} chooses H and "
            "N_t per point (harmonics_of_points, time_samples_of_points); max_output_change limits the relative "
-           "change of amplitude_h1 between two points.")
+           "change of amplitude_h1 between two points. stability=True/False/'auto' and stability_method="
+           "'monodromy'|'hill' override analysis.frf's (docs/stability.md).")
       .def("backbone", &DiscreteModel::backbone, py::arg("mode") = 1, py::arg("log10_amplitude") = py::none(),
            py::arg("harmonics") = py::none(), py::arg("time_samples") = py::none(), py::arg("callback") = py::none(),
            py::arg("accuracy") = py::none(), py::arg("max_output_change") = py::none(),

@@ -64,6 +64,16 @@ class LapackLu {
     return x;
   }
 
+  /// A⁻¹ B for several right-hand sides at once (valid only when rcond() > 0).
+  [[nodiscard]] Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const {
+    Eigen::MatrixXd x = b;
+    const char no = 'N';
+    const int columns = static_cast<int>(b.cols());
+    int info = 0;
+    if (columns > 0) dgetrs_(&no, &n_, &columns, lu_.data(), &n_, pivots_.data(), x.data(), &n_, &info);
+    return x;
+  }
+
  private:
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;

@@ -14,6 +14,7 @@
 #include "jointhb/continuation/frf.hpp"
 #include "jointhb/continuation/pseudo_arclength.hpp"
 #include "jointhb/hb/interface_mode.hpp"
+#include "jointhb/hb/interface_hill_stability.hpp"
 #include "jointhb/hb/interface_orbit_monodromy.hpp"
 
 namespace jointhb::continuation {
@@ -163,7 +164,12 @@ struct InterfaceFrfOptions {
   /// quasi-statically; O(N_f (3P)³) per point): automatic when the joint has at most
   /// kAutomaticInterfaceStabilityPoints contact points.
   Stability stability = Stability::automatic;
-  hb::OrbitMonodromyOptions monodromy;  ///< its settings
+  /// monodromy (default; right for slipping contacts) or Hill's method on the balance's Jacobian
+  /// (hb/interface_hill_stability.hpp, eq. T-36a: exact at folds, the memory of slipping
+  /// contacts frozen; docs/stability.md §2 and §7)
+  StabilityMethod stability_method = StabilityMethod::monodromy;
+  hb::OrbitMonodromyOptions monodromy;  ///< the monodromy's settings
+  hb::HillOptions hill;                 ///< Hill's method settings
   /// Locate the folds and the resonance peak between accepted points (as FrfOptions::
   /// refine_extrema), by bordered Newton on the run's Jacobian: dense, or matrix-free with GMRES
   /// and the run's preconditioner (continuation/curve_refinement.hpp).

@@ -66,6 +66,8 @@ struct FeFrfSpec {
   /// Floquet multipliers of every point (continuation::InterfaceFrfOptions::stability): automatic
   /// for joints of at most continuation::kAutomaticInterfaceStabilityPoints points.
   continuation::Stability stability = continuation::Stability::automatic;
+  /// How (InterfaceFrfOptions::stability_method): the monodromy (default) or Hill's method.
+  continuation::StabilityMethod stability_method = continuation::StabilityMethod::monodromy;
   hb::InterfaceBalanceOptions balance;
   continuation::Options continuation = continuation::InterfaceFrfOptions{}.continuation;  ///< as above
 };

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "interface_test_model.hpp"
+#include "one_point_joint_orbit.hpp"
 #include "jointhb/continuation/interface_response.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
 #include "jointhb/hb/orbit_monodromy.hpp"
@@ -25,71 +26,6 @@ namespace {
 
 using namespace jointhb::hb::testing;
 using cd = std::complex<double>;
-
-// Newton's method with step halving on a residual `evaluate(x, jacobian) → (R, J)` (a stuck
-// start is far from a slipping solution: kinks).
-template <class Evaluate>
-Eigen::VectorXd solve(Eigen::VectorXd x, const Evaluate& evaluate) {
-  Eigen::VectorXd r;
-  Eigen::MatrixXd j;
-  std::tie(r, j) = evaluate(x);
-  for (int it = 0; it < 100 && r.lpNorm<Eigen::Infinity>() > 1e-13; ++it) {
-    const Eigen::VectorXd dx = j.partialPivLu().solve(r);
-    const double norm = r.norm();
-    for (double alpha = 1.0; alpha > 1e-4; alpha *= 0.5) {
-      Eigen::VectorXd rt;
-      Eigen::MatrixXd jt;
-      std::tie(rt, jt) = evaluate(Eigen::VectorXd(x - alpha * dx));
-      if (rt.norm() < (1.0 - 0.25 * alpha) * norm) {
-        x -= alpha * dx;
-        r = std::move(rt);
-        j = std::move(jt);
-        break;
-      }
-    }
-  }
-  return x;
-}
-
-// The forced response (force F cos Ωt on x1) of the discrete system at Ω.
-Eigen::VectorXd discrete_solution(const HarmonicBalance& b, double omega) {
-  return solve(b.stuck_solution(omega), [&](const Eigen::VectorXd& x) {
-    HarmonicBalanceEvaluation ev;
-    b.evaluate(x, omega, true, ev);
-    return std::pair{ev.residual, Eigen::MatrixXd(ev.d_coefficients)};
-  });
-}
-
-// The discrete coefficients mapped to the joint's unknowns: η = ΦᵀMx, δg = (x0, 0, 0).
-Eigen::VectorXd joint_unknowns(const InterfaceBalance& joint, const HarmonicBalance& b,
-                               const Eigen::VectorXd& x, double m0 = 1.0) {
-  Eigen::MatrixXd phi;
-  two_dof_joint_modes(3.0, m0, phi);
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(joint.unknowns());
-  const FourierBasis& db = b.basis();
-  const FourierBasis& jb = joint.basis();
-  for (const int k : db.orders()) {  // k ≥ 1: the orbit's mean is zero (symmetric case)
-    for (int c = 0; c < 2; ++c) {
-      const int di = db.cosine_index(k) + c;
-      const int ji = jb.cosine_index(k) + c;
-      const double x0 = x[b.index(0, di)], x1 = x[b.index(1, di)];
-      for (int j = 0; j < joint.modes(); ++j) y[joint.modal_index(j, ji)] = phi(0, j) * m0 * x0 + phi(1, j) * x1;
-      y[joint.gap_index(0, 0, ji)] = x0;
-    }
-  }
-  return y;
-}
-
-// Largest distance from each multiplier of `subset` to the nearest of `all`.
-double matched(const Eigen::VectorXcd& subset, const Eigen::VectorXcd& all) {
-  double worst = 0.0;
-  for (const cd& r : subset) {
-    double best = 1e300;
-    for (const cd& q : all) best = std::min(best, std::abs(r - q));
-    worst = std::max(worst, best);
-  }
-  return worst;
-}
 
 TEST(InterfaceOrbitMonodromy, OnePointJointHasTheDiscreteSystemsMultipliers) {
   // Force 0.2 on x1 at Ω = 1.05, below the stuck ω₁ = 1.181: the contact slips every half period
@@ -256,7 +192,7 @@ TEST(InterfaceOrbitMonodromy, EveryPointOfAnFrfHasTheDiscreteSystemsStability) {
       HarmonicBalanceEvaluation mapped;
       b.evaluate(x, p.omega, false, mapped);
       EXPECT_LT(mapped.residual.lpNorm<Eigen::Infinity>(), 1e-9) << p.omega;  // one orbit, both models
-      x = solve(x, [&](const Eigen::VectorXd& v) {
+      x = newton_solve(x, [&](const Eigen::VectorXd& v) {
         HarmonicBalanceEvaluation ev;
         b.evaluate(v, p.omega, true, ev);
         return std::pair{ev.residual, Eigen::MatrixXd(ev.d_coefficients)};
@@ -375,7 +311,7 @@ TEST(InterfaceOrbitMonodromy, GaulMayerJointMatchesShootingOfItsTimeIntegration)
   const InterfaceBalance b(model, o);
   const double omega = 0.8 * std::sqrt(b.model().omega2[0]), force = 0.5;
   const Eigen::VectorXd load = b.cosine_load(force);
-  const Eigen::VectorXd y = solve(b.linear_solution(omega, load), [&](const Eigen::VectorXd& v) {
+  const Eigen::VectorXd y = newton_solve(b.linear_solution(omega, load), [&](const Eigen::VectorXd& v) {
     InterfaceBalanceEvaluation ev;
     b.evaluate(v, omega, 0.0, load, true, ev);
     return std::pair{ev.residual, ev.jacobian};

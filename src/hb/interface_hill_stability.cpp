@@ -1,0 +1,101 @@
+// Hill's method for a finite-element joint's harmonic-balance solution
+// (hb/interface_hill_stability.hpp, eq. T-36a).
+#include "jointhb/hb/interface_hill_stability.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "../support/lapack_lu.hpp"
+#include "hill_companion.hpp"
+
+namespace jointhb::hb {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// ∂residual/∂y at the evaluation `at` (scaled rows): its dense matrix, or column by column from
+// apply_jacobian when the balance assembles only the point blocks.
+MatrixXd dense_jacobian(const InterfaceBalance& balance, const InterfaceBalanceEvaluation& at,
+                        double omega) {
+  const Eigen::Index u = balance.unknowns();
+  if (at.jacobian.rows() == u && at.jacobian.cols() == u) return at.jacobian;
+  MatrixXd j(u, u);
+  VectorXd unit = VectorXd::Zero(u);
+  for (Eigen::Index c = 0; c < u; ++c) {
+    unit[c] = 1.0;
+    j.col(c) = balance.apply_jacobian(at, omega, 0.0, unit);
+    unit[c] = 0.0;
+  }
+  return j;
+}
+
+// S of eq. T-36a in unscaled modal rows: ω_ref² (J_ηη − J_ηg J_gg⁻¹ J_gη) of the scaled Jacobian
+// (the gap rows' scale cancels in J_gg⁻¹ J_gη). Empty when J_gg is singular.
+MatrixXd condensed_stiffness(const InterfaceBalance& balance, const MatrixXd& j) {
+  const Eigen::Index modal = static_cast<Eigen::Index>(balance.modes()) * balance.basis().size();
+  const Eigen::Index gaps = j.rows() - modal;
+  const support::LapackLu gap_block(j.bottomRightCorner(gaps, gaps));
+  if (!(gap_block.rcond() > 0.0)) return {};
+  MatrixXd s = j.topLeftCorner(modal, modal);
+  s.noalias() -= j.topRightCorner(modal, gaps) * gap_block.solve_columns(j.bottomLeftCorner(gaps, modal));
+  s *= balance.reference_omega() * balance.reference_omega();
+  // A rigid-body mode's mean row holds η_j0 = 0 (ω_ref² η_j0); its equation of motion has no
+  // stiffness (Gφ_j = 0: nothing couples it).
+  const int m = balance.basis().size();
+  for (int r = 0; r < balance.model().rigid_modes; ++r) s(r * m, r * m) = 0.0;
+  return s;
+}
+
+// The companion matrix of (S + λΔ₁ + λ² I) P_η = 0:  [0, I; −S, −Δ₁],
+// Δ₁ = diag(c_j) ⊗ I + 2 I ⊗ D_Ω with c_j = a + b ω_j² (Rayleigh damping of mode j).
+MatrixXd companion_matrix(const InterfaceBalance& balance, const MatrixXd& s, double omega) {
+  const InterfaceModel& model = balance.model();
+  const int m = balance.basis().size();
+  const Eigen::Index size = s.rows();
+  const MatrixXd d = detail::time_derivative(balance.basis(), omega);
+  MatrixXd a = MatrixXd::Zero(2 * size, 2 * size);
+  a.topRightCorner(size, size).setIdentity();
+  a.bottomLeftCorner(size, size) = -s;
+  for (int j = 0; j < balance.modes(); ++j) {
+    const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
+    const double damping = model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[j];
+    auto block = a.block(size + o, size + o, m, m);
+    block = -2.0 * d;
+    block.diagonal().array() -= damping;
+  }
+  return a;
+}
+
+}  // namespace
+
+FloquetResult interface_hill_floquet(const InterfaceBalance& balance, const VectorXd& y,
+                                     double omega, const HillOptions& options) {
+  if (auto msg = options.validate(); !msg.empty()) throw std::invalid_argument(msg);
+  if (y.size() != balance.unknowns()) {
+    throw std::invalid_argument(fmt::format("interface_hill_floquet: {} unknowns, expected {}",
+                                            y.size(), balance.unknowns()));
+  }
+  FloquetResult out;
+  if (!(omega > 0.0) || !std::isfinite(omega) || !y.allFinite()) {
+    out.message = "Ω or the unknowns are not finite";
+    return out;
+  }
+  InterfaceBalanceEvaluation at;
+  balance.evaluate(y, omega, 0.0, VectorXd(), true, at);
+  if (!at.ok) {
+    out.message = "the Jacobian could not be evaluated: " + at.message;
+    return out;
+  }
+  const MatrixXd s = condensed_stiffness(balance, dense_jacobian(balance, at, omega));
+  if (s.size() == 0) {
+    out.message = "the gap rows' block J_gg of the Jacobian is singular";
+    return out;
+  }
+  return detail::floquet_from_companion(companion_matrix(balance, s, omega), balance.basis(),
+                                        balance.modes(), omega, options);
+}
+
+}  // namespace jointhb::hb
