@@ -66,8 +66,9 @@ ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bo
           {"points_known", counts.known},
           {"unstable_points", counts.unstable},
           {"bifurcations", bifurcations_json(points)},
-          {"line", fmt::format("{} of {} points known, {} unstable{}{}", counts.known, points.size(), counts.unstable,
-                               line.empty() ? "" : "; ", line)}};
+          {"line", fmt::format("{} of {} points known ({}), {} unstable{}{}", counts.known, points.size(),
+                               method == continuation::StabilityMethod::hill ? "Hill's method" : "monodromy",
+                               counts.unstable, line.empty() ? "" : "; ", line)}};
 }
 
 ordered_json timings_json(const continuation::InterfaceTimings& t) {

@@ -32,24 +32,26 @@ MatrixXd dense_jacobian(const InterfaceBalance& balance, const InterfaceBalanceE
   return j;
 }
 
-// S of eq. T-36a in unscaled modal rows: ω_ref² (J_ηη − J_ηg J_gg⁻¹ J_gη) of the scaled Jacobian
-// (the gap rows' scale cancels in J_gg⁻¹ J_gη). Empty when J_gg is singular.
+// S of eq. T-36a in unscaled modal rows, over the elastic kept modes (j ≥ rigid_modes):
+// ω_ref² (J_ηη − J_ηg J_gg⁻¹ J_gη) of the scaled Jacobian (the gap rows' scale cancels in
+// J_gg⁻¹ J_gη). A rigid-body mode does not move the interface (Gφ_j = 0): nothing couples it, and
+// its exponents 0 and −a are left out. Empty when J_gg is singular.
 MatrixXd condensed_stiffness(const InterfaceBalance& balance, const MatrixXd& j) {
-  const Eigen::Index modal = static_cast<Eigen::Index>(balance.modes()) * balance.basis().size();
+  const Eigen::Index m = balance.basis().size();
+  const Eigen::Index first = static_cast<Eigen::Index>(balance.model().rigid_modes) * m;
+  const Eigen::Index modal = static_cast<Eigen::Index>(balance.modes()) * m;
+  const Eigen::Index elastic = modal - first;
   const Eigen::Index gaps = j.rows() - modal;
   const support::LapackLu gap_block(j.bottomRightCorner(gaps, gaps));
   if (!(gap_block.rcond() > 0.0)) return {};
-  MatrixXd s = j.topLeftCorner(modal, modal);
-  s.noalias() -= j.topRightCorner(modal, gaps) * gap_block.solve_columns(j.bottomLeftCorner(gaps, modal));
+  MatrixXd s = j.block(first, first, elastic, elastic);
+  s.noalias() -= j.block(first, modal, elastic, gaps) *
+                 gap_block.solve_columns(j.block(modal, first, gaps, elastic));
   s *= balance.reference_omega() * balance.reference_omega();
-  // A rigid-body mode's mean row holds η_j0 = 0 (ω_ref² η_j0); its equation of motion has no
-  // stiffness (Gφ_j = 0: nothing couples it).
-  const int m = balance.basis().size();
-  for (int r = 0; r < balance.model().rigid_modes; ++r) s(r * m, r * m) = 0.0;
   return s;
 }
 
-// The companion matrix of (S + λΔ₁ + λ² I) P_η = 0:  [0, I; −S, −Δ₁],
+// The companion matrix of (S + λΔ₁ + λ² I) P_η = 0 over the elastic kept modes:  [0, I; −S, −Δ₁],
 // Δ₁ = diag(c_j) ⊗ I + 2 I ⊗ D_Ω with c_j = a + b ω_j² (Rayleigh damping of mode j).
 MatrixXd companion_matrix(const InterfaceBalance& balance, const MatrixXd& s, double omega) {
   const InterfaceModel& model = balance.model();
@@ -59,8 +61,8 @@ MatrixXd companion_matrix(const InterfaceBalance& balance, const MatrixXd& s, do
   MatrixXd a = MatrixXd::Zero(2 * size, 2 * size);
   a.topRightCorner(size, size).setIdentity();
   a.bottomLeftCorner(size, size) = -s;
-  for (int j = 0; j < balance.modes(); ++j) {
-    const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
+  for (int j = model.rigid_modes; j < balance.modes(); ++j) {
+    const Eigen::Index o = static_cast<Eigen::Index>(j - model.rigid_modes) * m;
     const double damping = model.rayleigh_mass + model.rayleigh_stiffness * model.omega2[j];
     auto block = a.block(size + o, size + o, m, m);
     block = -2.0 * d;
@@ -95,7 +97,7 @@ FloquetResult interface_hill_floquet(const InterfaceBalance& balance, const Vect
     return out;
   }
   return detail::floquet_from_companion(companion_matrix(balance, s, omega), balance.basis(),
-                                        balance.modes(), omega, options);
+                                        balance.modes() - balance.model().rigid_modes, omega, options);
 }
 
 }  // namespace jointhb::hb

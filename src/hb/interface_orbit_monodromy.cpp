@@ -203,6 +203,15 @@ FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const Vec
   }
   MatrixXd phi(d, d);
   phi << eta, vel, force;
+  // A rigid-body kept mode does not move the interface (Gφ_j = 0): its rows and columns hold only
+  // its own trivial multipliers (1 and the damped velocity), left out.
+  const int rigid = model.rigid_modes;
+  if (rigid > 0) {
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index k = 0; k < d; ++k)
+      if (!(k < rigid || (k >= ns && k < ns + rigid))) keep.push_back(k);
+    phi = MatrixXd(phi(keep, keep));
+  }
   return floquet_from_monodromy(phi, period, options.unstable_tolerance);
 }
 

@@ -458,3 +458,37 @@ def test_the_fe_frf_peak_is_located_between_its_points_as_the_program_does(tmp_p
     peak = json.load(open(tmp_path / "cli" / "summary.json"))["frfs"][0]["peak"]
     assert peak["refined"] and peak["frequency_hz"] == r["peak_frequency_hz"]
     assert peak["amplitude_h1"] == r["peak_amplitude"] and peak["amplitude_h1_error_bound"] == r["peak_amplitude_bound"]
+
+
+def test_hills_method_on_an_fe_frf_has_the_stuck_joints_multipliers_at_small_force(tmp_path):
+    """Case 12's lap, FRF at 1 mN across its first resonance (H = 1) with stability by Hill's method
+    (stability=True, stability_method='hill': docs/stability.md §7, T-36a): at so small a force the
+    joint is stuck (the Gaul–Mayer points' tangent is C_pre), so the largest multiplier is the least
+    damped elastic mode's e^{-c_1 T / 2}, c_j = alpha + beta omega_j^2 (closed form; the rigid-body
+    modes' trivial multipliers are left out). The program reports the method in summary.json."""
+    truth = (SOURCE / "cases/12-fit-lap/truth.yaml").read_text()
+    frf = "  frf: {frequency_hz: [955, 965], force: [0.001], harmonics: 1}\n  nonlinear_modes:"
+    text = truth.replace("  nonlinear_modes:", frf, 1)
+    assert frf in text
+    case = tmp_path / "case.yaml"
+    case.write_text(text)
+    pipe = jointhb.Pipeline(jointhb.load_case(str(case)))
+    im = pipe.interface_model()
+    omega = 2 * np.pi * np.asarray(im["frequencies_hz"])[im["rigid_modes"]:]
+    c = im["rayleigh_alpha"] + im["rayleigh_beta"] * omega ** 2
+    r = pipe.frf(stability=True, stability_method="hill")
+    assert r["status"] == "ok" and len(r["omega"]) > 5
+    assert np.all(r["stable"] == 1)
+    period = 2 * np.pi / np.asarray(r["omega"])
+    expected = np.exp(-0.5 * np.min(c) * period)
+    assert np.max(np.abs(r["max_floquet_multiplier"] - expected)) < 1e-6, (r["max_floquet_multiplier"], expected)
+    with pytest.raises(ValueError, match="stability_method"):
+        pipe.frf(stability=True, stability_method="shooting")
+    with pytest.raises(ValueError, match="stability"):
+        pipe.frf(stability="sometimes")
+    cli = text.replace("harmonics: 1}", "harmonics: 1, stability: true, stability_method: hill}", 1)
+    (tmp_path / "cli.yaml").write_text(cli)
+    subprocess.run([PROGRAM, "run", str(tmp_path / "cli.yaml"), "-o", str(tmp_path / "out")], check=True,
+                   capture_output=True, cwd=SOURCE / "cases/12-fit-lap")
+    st = json.load(open(tmp_path / "out" / "summary.json"))["frfs"][0]["stability"]
+    assert st["method"] == "hill" and st["computed"] and st["points_known"] == len(r["omega"]), st

@@ -53,6 +53,7 @@
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
+#include "lap_interface.hpp"
 
 // The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
 namespace jointhb_study_fe_interface_scaling {
@@ -83,55 +84,13 @@ double time_call(F&& f, double min_seconds = 0.2) {
   return since(t) / calls;
 }
 
-int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
-  int best = 0;
-  for (int i = 1; i < mesh.num_nodes(); ++i)
-    if ((mesh.coordinates.col(i) - x).norm() < (mesh.coordinates.col(best) - x).norm()) best = i;
-  return best;
-}
-
 struct Mesh {
   int nx, ny;  // nz = 1; points = 4 · (0.4 nx) · ny (nodal integration per overlap face corner)
 };
 
-struct Built {
-  hb::InterfaceModel model;
-  double f1 = 0.0, seconds = 0.0;
-  int kept_modes = 0;
-};
+using Built = validation::LapInterface;
 
-// The model of lap_damping: cutoff 20 f_1, 0.5 % stiffness-proportional damping at f_1.
-Built build(const Mesh& mesh) {
-  Built out;
-  const auto t0 = Clock::now();
-  validation::LapCaseOptions lo;
-  lo.nx = mesh.nx;
-  lo.ny = mesh.ny;
-  lo.nz = 1;
-  const io::FeCase c = io::parse_fe_case(validation::lap_case_yaml(lo), "lap.yaml");
-  // Structure and preload through the pipeline object (as `jointhb run`); the condensation below
-  // keeps this study's own cutoff and damping rule (a probe model for f_1).
-  pipeline::FePipeline pipe(c, c);
-  const preload::PreloadModel& model = pipe.structure();
-  const preload::PreloadResult& p = pipe.preload();
-  const int n = c.mesh.num_dofs();
-  const int drive = nearest_node(c.mesh, {0.160, 0.015, 0.008});
-  const reduction::ModalLoad load{"end force", Eigen::VectorXd::Unit(n, 3 * drive + 2)};
-  const std::vector<reduction::ModalOutputSpec> outputs{{"drive z", Eigen::VectorXd::Unit(n, 3 * drive + 2)}};
-  reduction::ModalInterfaceOptions mo;
-  mo.modal.shift = -std::pow(kTwoPi * 10.0, 2);
-  mo.cutoff_hz = 1000.0;
-  const reduction::ModalInterfaceResult probe = reduction::build_modal_interface(model, p, load, outputs, mo);
-  const double f1 = std::sqrt(probe.model.omega2[probe.model.rigid_modes]) / kTwoPi;
-  mo.cutoff_hz = 20.0 * f1;
-  mo.rayleigh_stiffness = 2.0 * 0.005 / (kTwoPi * f1);
-  reduction::ModalInterfaceResult mi = reduction::build_modal_interface(model, p, load, outputs, mo);
-  out.model = std::move(mi.model);
-  out.kept_modes = mi.kept_modes;
-  out.f1 = std::sqrt(out.model.omega2[out.model.rigid_modes]) / kTwoPi;
-  out.seconds = since(t0);
-  return out;
-}
+Built build(const Mesh& mesh) { return validation::lap_interface(mesh.nx, mesh.ny); }
 
 struct Limits {
   double dense_limit = 9000;     // unknowns: dense Jacobian and LU (8U² bytes each)

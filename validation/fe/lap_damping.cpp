@@ -58,6 +58,7 @@
 #include "jointhb/reduction/contact_patches.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
+#include "lap_interface.hpp"
 #include "study_arguments.hpp"
 
 // The study is one function of the multi-call program jointhb_validate_fe (CMakeLists.txt).
@@ -68,12 +69,7 @@ namespace {
 using namespace jointhb;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
-  int best = 0;
-  for (int i = 1; i < mesh.num_nodes(); ++i)
-    if ((mesh.coordinates.col(i) - x).norm() < (mesh.coordinates.col(best) - x).norm()) best = i;
-  return best;
-}
+using validation::nearest_node;
 
 struct Run {
   std::string label;

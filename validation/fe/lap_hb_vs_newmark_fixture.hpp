@@ -16,6 +16,7 @@
 #include "jointhb/preload/preload_solver.hpp"
 #include "jointhb/reduction/modal_interface.hpp"
 #include "lap_case.hpp"
+#include "lap_interface.hpp"  // nearest_node
 
 namespace jointhb::validation {
 
@@ -27,13 +28,6 @@ struct LapFixture {
   int drive_node = 0;
   [[nodiscard]] int drive_dof() const { return 3 * drive_node + 2; }
 };
-
-inline int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
-  int best = 0;
-  for (int i = 1; i < mesh.num_nodes(); ++i)
-    if ((mesh.coordinates.col(i) - x).norm() < (mesh.coordinates.col(best) - x).norm()) best = i;
-  return best;
-}
 
 /// nx × ny × nz per plate; footprint_radius [m] must reach the nodes next to the bolt axis
 /// (4.5 mm for 5 mm elements, 6 mm for 10 mm elements).

@@ -159,10 +159,10 @@ struct InterfaceFrfOptions {
   /// Accuracy on request (accuracy.amplitude: amplitude_h1 and amplitude_max): H and N_t chosen per
   /// point, as InterfaceBackboneOptions::accuracy.
   Accuracy accuracy;
-  /// Floquet multipliers of every accepted point by the monodromy of the reduced model along
+  /// Floquet multipliers of every accepted point, by the monodromy of the reduced model along
   /// the orbit (hb/interface_orbit_monodromy.hpp: kept modes exactly, residual modes
-  /// quasi-statically; O(N_f (3P)³) per point): automatic when the joint has at most
-  /// kAutomaticInterfaceStabilityPoints contact points.
+  /// quasi-statically; O(N_f (3P)³) per point) or by Hill's method (stability_method; O((3Pm)³)):
+  /// automatic when the joint has at most kAutomaticInterfaceStabilityPoints contact points.
   Stability stability = Stability::automatic;
   /// monodromy (default; right for slipping contacts) or Hill's method on the balance's Jacobian
   /// (hb/interface_hill_stability.hpp, eq. T-36a: exact at folds, the memory of slipping

@@ -18,9 +18,12 @@
 // Two approximations besides those of the discrete method (the frozen memory of hysteretic laws,
 // hb/hill_stability.hpp): the residual modes respond at each harmonic's frequency kΩ (R_k of
 // eq. T-23, not at kΩ − iλ): a relative error O(|λ|/(kΩ)) on their first-order dynamic
-// correction, itself O((kΩ)²/μ_r) of their quasi-static response; and a rigid-body kept mode's
-// mean, held at zero by the balance, is given its true equation η̈ + a η̇ = 0 (exponents 0 and −a).
-// Both are exact at λ = 0, so folds (ρ = +1) are located exactly.
+// correction, itself O((kΩ)²/μ_r) of their quasi-static response (exact at λ = 0, so folds,
+// ρ = +1, are located exactly); and with static_mean_tangential (T-28) the mean of a perturbation
+// meets the preloaded stiffness C_pre at every point, as the balance's equations say (a slow drift
+// of the joint is held by its static stiffness), where the laws in time would slip.
+// Rigid-body kept modes do not move the interface (Gφ_j = 0): their trivial exponents (0 and −a,
+// multipliers 1 and e^{−aT}) are left out, so a free-free structure's max |ρ| says something.
 //
 // Cost: the Jacobian (dense, or U products of apply_jacobian when the balance is matrix-free), an
 // LU of the 3Pm × 3Pm block J_gg and n_s m solves with it: O((3Pm)³); the eigenproblem is
@@ -36,7 +39,7 @@
 namespace jointhb::hb {
 
 /// The Floquet multipliers of the solution y (the balance's unknowns) at Ω (forced response,
-/// ξ = 0) by Hill's method (T-36a): 2 n_s exponents and multipliers, kept_centre and
+/// ξ = 0) by Hill's method (T-36a): 2 (n_s − rigid modes) exponents and multipliers, kept_centre and
 /// rejected_centre as for discrete systems. ok = false with a message when a point's periodic
 /// state does not converge, J_gg is singular or the eigensolver fails. Throws
 /// std::invalid_argument on invalid options or a vector of the wrong size.

@@ -19,7 +19,8 @@
 // force states' part), δF = W_i (Aα_i + D_i GΦ η) where D_i = A (K_i − C_pre) and
 // W_i = (I + D_i R0)⁻¹; η by the trapezoidal rule (average acceleration), as in
 // hb/orbit_monodromy.hpp, from each unit initial state of z = (η, η̇, δt_T of the points that
-// slip or open). ρ = eig(∂z(T)/∂z(0)). A point that sticks during the whole period with a constant
+// slip or open). ρ = eig(∂z(T)/∂z(0)), without the two trivial multipliers of each rigid-body kept
+// mode (it does not move the interface: 1 and its damped velocity). A point that sticks during the whole period with a constant
 // tangential stiffness is that spring (no force state, no neutral multiplier).
 //
 // Cost: N_f steps, each an LU of the 3P × 3P matrix I + D_i R0 where D_i changed (every step when

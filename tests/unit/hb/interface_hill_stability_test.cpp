@@ -20,6 +20,7 @@
 #include "interface_test_model.hpp"
 #include "one_point_joint_orbit.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
+#include "jointhb/hb/interface_orbit_monodromy.hpp"
 
 namespace jointhb::hb {
 namespace {
@@ -140,24 +141,84 @@ TEST(InterfaceHillStability, SlippingJointHasTheDiscreteSystemsExponents) {
   }
 }
 
-TEST(InterfaceHillStability, MatrixFreeBalanceGivesTheSameMultipliers) {
-  // The Jacobian assembled column by column from apply_jacobian (a balance without the dense
-  // matrix) against the dense one, on the slipping orbit of a Jenkins joint with residual modes.
-  const double omega = 1.05, force = 0.2;
+// The joint's unknowns on the orbit of the one-point Jenkins joint (every mode kept) forced by
+// `force` on x1 at Ω: the discrete twin's solution (same H and N_t) mapped to the joint.
+Eigen::VectorXd jenkins_orbit(const InterfaceBalance& joint, double omega, double force) {
   Excitation e;
   e.forces.push_back({1, force, 1});
   HarmonicBalanceOptions ho;
-  ho.harmonics = 5;
-  ho.time_samples = 128;
+  ho.harmonics = joint.options().harmonics;
+  ho.time_samples = joint.options().time_samples;
   const HarmonicBalance b(two_dof_discrete(3.0), e, ho);
-  const Eigen::VectorXd x = discrete_solution(b, omega);
+  return joint_unknowns(joint, b, discrete_solution(b, omega));
+}
+
+// The joint with a rigid-body mode put first (ω² = 0, Gφ = 0, unloaded, not observed), and the
+// unknowns y of the joint without it extended by that mode's zero coefficients.
+InterfaceModel with_rigid_mode(const InterfaceModel& joint) {
+  InterfaceModel m = joint;
+  const Eigen::Index ns = joint.num_modes();
+  m.rigid_modes = 1;
+  m.omega2.resize(ns + 1);
+  m.omega2 << 0.0, joint.omega2;
+  m.gap_shapes.resize(3, ns + 1);
+  m.gap_shapes << Eigen::Vector3d::Zero(), joint.gap_shapes;
+  m.load_modal.resize(ns + 1);
+  m.load_modal << 0.0, joint.load_modal;
+  for (InterfaceOutput& o : m.outputs) {
+    const Eigen::VectorXd modal = o.modal;
+    o.modal.resize(ns + 1);
+    o.modal << 0.0, modal;
+  }
+  return m;
+}
+
+TEST(InterfaceHillStability, RigidBodyModesAddNothing) {
+  // A free-free structure's rigid-body modes do not move the interface: the multipliers of the
+  // joint with one more (rigid) kept mode are those without it, by Hill's method and by the
+  // monodromy (its trivial multipliers 1 and e^{−aT} left out), on the slipping orbit of the
+  // one-point Jenkins joint.
+  const double omega = 1.05, force = 0.2;
+  InterfaceBalanceOptions jo;
+  jo.harmonics = 5;
+  jo.time_samples = 128;
+  const InterfaceBalance elastic(two_dof_joint(3.0), jo);
+  const InterfaceBalance free(with_rigid_mode(two_dof_joint(3.0)), jo);
+  const Eigen::VectorXd y = jenkins_orbit(elastic, omega, force);
+  const Eigen::Index m = elastic.basis().size();
+  Eigen::VectorXd y_free = Eigen::VectorXd::Zero(free.unknowns());
+  y_free.tail(y.size()) = y;
+  InterfaceBalanceEvaluation check;
+  free.evaluate(y_free, omega, 0.0, free.cosine_load(force), false, check);
+  ASSERT_LT(check.residual.lpNorm<Eigen::Infinity>(), 1e-10);  // the same orbit
+  ASSERT_EQ(free.modal_index(1, 0), m);
+
+  const FloquetResult h0 = interface_hill_floquet(elastic, y, omega);
+  const FloquetResult h1 = interface_hill_floquet(free, y_free, omega);
+  ASSERT_TRUE(h0.ok && h1.ok) << h0.message << h1.message;
+  ASSERT_EQ(h1.multipliers.size(), h0.multipliers.size());
+  EXPECT_LT(matched(h1.multipliers, h0.multipliers), 1e-12);
+  OrbitMonodromyOptions mo;
+  mo.samples = 512;
+  const FloquetResult m0 = interface_orbit_floquet(elastic, y, omega, mo);
+  const FloquetResult m1 = interface_orbit_floquet(free, y_free, omega, mo);
+  ASSERT_TRUE(m0.ok && m1.ok) << m0.message << m1.message;
+  ASSERT_EQ(m1.multipliers.size(), m0.multipliers.size());
+  EXPECT_LT(matched(m1.multipliers, m0.multipliers), 1e-12);
+  EXPECT_LT(m1.max_multiplier, 1.0 - 1e-3);  // damped: the neutral rigid-body multiplier is not there
+}
+
+TEST(InterfaceHillStability, MatrixFreeBalanceGivesTheSameMultipliers) {
+  // The Jacobian assembled column by column from apply_jacobian (a balance without the dense
+  // matrix) against the dense one, on the slipping orbit of a Jenkins joint with residual modes.
+  const double omega = 1.05;
   InterfaceBalanceOptions jo;
   jo.harmonics = 5;
   jo.time_samples = 128;
   const InterfaceBalance dense(two_dof_joint(3.0), jo);
   jo.dense_jacobian = false;
   const InterfaceBalance matrix_free(two_dof_joint(3.0), jo);
-  const Eigen::VectorXd y = joint_unknowns(dense, b, x);
+  const Eigen::VectorXd y = jenkins_orbit(dense, omega, 0.2);
   const FloquetResult rd = interface_hill_floquet(dense, y, omega);
   const FloquetResult rm = interface_hill_floquet(matrix_free, y, omega);
   ASSERT_TRUE(rd.ok && rm.ok) << rd.message << rm.message;
