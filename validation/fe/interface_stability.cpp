@@ -129,6 +129,7 @@ int run(int argc, char** argv) {
     const double frf_seconds = since(t0);
     std::printf("P = %d (%d kept modes, %ld unknowns): FRF %zu points in %.2f s, %s\n", P, lap.kept_modes,
                 static_cast<long>(frf.unknowns), frf.points.size(), frf_seconds, frf.message.c_str());
+    std::fflush(stdout);  // progress also when not on a terminal
     if (frf.points.empty()) {
       ok = false;
       continue;
@@ -184,6 +185,7 @@ int run(int argc, char** argv) {
                 s.sampled, median(s.hill_s), median(s.monodromy_s), s.distance, s.modulus,
                 mesh.fine_reference ? fmt::format(" (N_f = 4096 changes that by {:.1e})", s.own_error).c_str() : "",
                 s.agreed, s.failed);
+    std::fflush(stdout);
     if (s.failed > 0 || s.agreed != s.sampled) ok = false;
   }
   std::fclose(points);
