@@ -259,6 +259,17 @@ CurveExtremum refine_extremum(const ResidualFunction& residual, const Options& s
   out.value = q.value(best.x, best.lambda);
   out.value_bound = bound;
   out.lambda_bracket = std::abs(hi.lambda - lo.lambda);
+  // Where q' changes sign once between a and b, their extremum lies beyond both q(a) and q(b). A
+  // value strictly between them is a stationary point of another kind (q' changes sign several
+  // times between the points: several turns, or a smooth fold beside a kink): not the extremum.
+  const double qa = q.value(a.x, a.lambda), qb = q.value(b.x, b.lambda);
+  if (out.value > std::min(qa, qb) + bound && out.value < std::max(qa, qb) - bound) {
+    out.ok = false;
+    out.message = fmt::format(
+        "the refinement found a stationary point ({:.10g}) between the two points' values ({:.10g}, "
+        "{:.10g}), not their extremum (the quantity turns more than once between them)",
+        out.value, qa, qb);
+  }
   return out;
 }
 
