@@ -278,6 +278,8 @@ def syntax_cases():
         "omega-huge": (dump(set_at(DISCRETE_FRF, "analysis.frf.omega", [70.0, 1e150])), "key 'analysis.frf.omega[1]'"),
         "inf-mass": (dump(set_at(DISCRETE_FRF, "model.mass", [[float("inf"), 0.0], [0.0, 1.0]])), "key 'model.mass"),
         "output-dof": (dump(set_at(DISCRETE_FRF, "analysis.frf.output_dof", 2)), "key 'analysis.frf.output_dof'"),
+        "stability-method": (dump(set_at(DISCRETE_FRF, "analysis.frf.stability_method", "shooting")),
+                             "key 'analysis.frf.stability_method'"),
         "mode-zero": (dump(set_at(DISCRETE_MODES, "analysis.nonlinear_modes.mode", 0)),
                       "key 'analysis.nonlinear_modes.mode'"),
         "mode-beyond": (dump(set_at(DISCRETE_MODES, "analysis.nonlinear_modes.mode", 2)),
