@@ -258,7 +258,8 @@ std::vector<NamedStatus> run_fe_dynamics(pipeline::FePipeline& pipe, const std::
   // ---- frequency responses -------------------------------------------------------------------
   if (d.frf) {
     const io::FeFrfSpec& fs = *d.frf;
-    const bool stability = continuation::computes_interface_stability(fs.stability, points);
+    const bool stability = continuation::computes_interface_stability(fs.stability, points, fs.stability_method,
+                                                                      fs.balance.harmonics);
     io::CsvWriter csv(dir / "frf.csv", frf_columns_with_stability(kFeFrfColumns, stability));
     summary["outputs"]["frf"] = "frf.csv";
     summary["frfs"] = ordered_json::array();

@@ -60,8 +60,9 @@ std::string InterfaceFrfOptions::validate(const hb::InterfaceModel& model) const
   return balance.validate();
 }
 
-bool computes_interface_stability(Stability stability, int points) {
+bool computes_interface_stability(Stability stability, int points, StabilityMethod method, int harmonics) {
   if (stability != Stability::automatic) return stability == Stability::always;
+  if (method == StabilityMethod::hill) return 3L * points * (2L * harmonics + 1) <= kAutomaticInterfaceHillGapUnknowns;
   return points <= kAutomaticInterfaceStabilityPoints;
 }
 
@@ -251,7 +252,8 @@ class InterfaceFrfSegment {
   // The Floquet multipliers of an accepted point (options.stability) and what changed since the
   // previous one of this run; without them, a turn of Ω is reported as a fold.
   void add_stability(InterfaceFrfPoint& f, const Point& p) {
-    if (!computes_interface_stability(options_.stability, balance_.points())) {
+    if (!computes_interface_stability(options_.stability, balance_.points(), options_.stability_method,
+                                      balance_.options().harmonics)) {
       if (p.fold) f.bifurcation = hb::Bifurcation::fold;
       return;
     }

@@ -1050,7 +1050,7 @@ PYBIND11_MODULE(_core, m) {
            "and N_t per point; harmonics_of_points and time_samples_of_points give each point's level. "
            "max_output_change=0.05 limits the relative change of amplitude_h1 between two points. "
            "stable, max_floquet_multiplier (-1 where not computed: analysis.frf.stability, automatic up to "
-           "10 contact points; stability=True/False/'auto' overrides it) and bifurcation (list of str) give "
+           "10 contact points, 3P(2H+1) <= 2100 for Hill's method; stability=True/False/'auto' overrides it) and bifurcation (list of str) give "
            "each point's stability; stability_method='monodromy' (default) or 'hill' (Hill's method, exact "
            "at folds, docs/stability.md).")
       .def_property_readonly("parameter_names", [](const Pipeline& p) { return const_cast<Pipeline&>(p).pipe().parameter_names(); },

@@ -484,6 +484,9 @@ def test_hills_method_on_an_fe_frf_has_the_stuck_joints_multipliers_at_small_for
     period = 2 * np.pi / np.asarray(r["omega"])
     expected = np.exp(-0.5 * np.min(c) * period)
     assert np.max(np.abs(r["max_floquet_multiplier"] - expected)) < 1e-6, (r["max_floquet_multiplier"], expected)
+    # The case's stability (auto) with Hill's method: 63 merged points at H = 1, 3P(2H+1) = 567 <= 2100
+    auto = pipe.frf(stability_method="hill")
+    assert np.all(auto["stable"] == 1) and np.allclose(auto["max_floquet_multiplier"], r["max_floquet_multiplier"])
     with pytest.raises(ValueError, match="stability_method"):
         pipe.frf(stability=True, stability_method="shooting")
     with pytest.raises(ValueError, match="stability"):

@@ -133,6 +133,10 @@ InterfaceBackbone trace_interface_backbone(
 /// multipliers of an FE FRF (measured: 0.03 s per point at 10 points with N_f = 1024, H = 3;
 /// docs/stability.md §7).
 inline constexpr int kAutomaticInterfaceStabilityPoints = 10;
+/// The largest 3P(2H + 1) for which Stability::automatic computes Hill's method for an FE FRF
+/// (its LU of J_gg is O((3P(2H+1))³): 0.26 s per point at P = 96, H = 3, i.e. 2016;
+/// validation/fe/README_interface_stability.md).
+inline constexpr int kAutomaticInterfaceHillGapUnknowns = 2100;
 
 struct InterfaceFrfOptions {
   double omega_start = 0.0, omega_end = 0.0;  ///< [rad/s], > 0, different
@@ -162,7 +166,7 @@ struct InterfaceFrfOptions {
   /// Floquet multipliers of every accepted point, by the monodromy of the reduced model along
   /// the orbit (hb/interface_orbit_monodromy.hpp: kept modes exactly, residual modes
   /// quasi-statically; O(N_f (3P)³) per point) or by Hill's method (stability_method; O((3Pm)³)):
-  /// automatic when the joint has at most kAutomaticInterfaceStabilityPoints contact points.
+  /// automatic as computes_interface_stability says.
   Stability stability = Stability::automatic;
   /// monodromy (default; right for slipping contacts) or Hill's method on the balance's Jacobian
   /// (hb/interface_hill_stability.hpp, eq. T-36a: exact at folds, the memory of slipping
@@ -200,8 +204,12 @@ struct InterfaceFrfPoint {
 };
 
 /// Whether trace_interface_frf with InterfaceFrfOptions::stability = `stability` computes the
-/// stability of the points of a joint of `points` contact points.
-[[nodiscard]] bool computes_interface_stability(Stability stability, int points);
+/// stability of the points of a joint of `points` contact points by `method` at H = `harmonics`:
+/// automatic — the monodromy up to kAutomaticInterfaceStabilityPoints points, Hill's method up to
+/// kAutomaticInterfaceHillGapUnknowns gap unknowns 3P(2H + 1).
+[[nodiscard]] bool computes_interface_stability(Stability stability, int points,
+                                                StabilityMethod method = StabilityMethod::monodromy,
+                                                int harmonics = 1);
 
 struct InterfaceFrf {
   std::vector<InterfaceFrfPoint> points;

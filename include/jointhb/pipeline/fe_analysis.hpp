@@ -64,7 +64,8 @@ struct FeFrfSpec {
   /// continuation/accuracy.hpp), starting from balance's; inactive by default.
   continuation::Accuracy accuracy;
   /// Floquet multipliers of every point (continuation::InterfaceFrfOptions::stability): automatic
-  /// for joints of at most continuation::kAutomaticInterfaceStabilityPoints points.
+  /// as continuation::computes_interface_stability says (monodromy: at most 10 points; Hill's method:
+  /// 3P(2H + 1) ≤ 2100).
   continuation::Stability stability = continuation::Stability::automatic;
   /// How (InterfaceFrfOptions::stability_method): the monodromy (default) or Hill's method.
   continuation::StabilityMethod stability_method = continuation::StabilityMethod::monodromy;

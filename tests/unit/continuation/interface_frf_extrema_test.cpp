@@ -158,3 +158,21 @@ TEST(InterfaceFrfExtrema, HillsMethodHasMultiplierOneAtTheFoldsAndTheMonodromysV
 
 }  // namespace
 }  // namespace jointhb::continuation
+
+namespace jointhb::continuation {
+namespace {
+
+TEST(InterfaceFrfStability, AutomaticChoiceFollowsEachMethodsCost) {
+  // The monodromy (O(N_f (3P)³)) up to 10 contact points; Hill's method (O((3P(2H+1))³)) up to
+  // 3P(2H + 1) = 2100 gap unknowns; always and never whatever the size.
+  EXPECT_TRUE(computes_interface_stability(Stability::automatic, 10));
+  EXPECT_FALSE(computes_interface_stability(Stability::automatic, 11));
+  EXPECT_TRUE(computes_interface_stability(Stability::automatic, 100, StabilityMethod::hill, 3));   // 2100
+  EXPECT_FALSE(computes_interface_stability(Stability::automatic, 101, StabilityMethod::hill, 3));  // 2121
+  EXPECT_FALSE(computes_interface_stability(Stability::automatic, 100, StabilityMethod::hill, 7));
+  EXPECT_TRUE(computes_interface_stability(Stability::always, 10000, StabilityMethod::monodromy, 7));
+  EXPECT_FALSE(computes_interface_stability(Stability::never, 1, StabilityMethod::hill, 1));
+}
+
+}  // namespace
+}  // namespace jointhb::continuation
