@@ -62,7 +62,7 @@ ordered_json fe_stability_json(const std::vector<pipeline::FrfPoint>& points, bo
     if (p.bifurcation != hb::Bifurcation::none)
       line += fmt::format("{}{} at {:.6g} Hz", line.empty() ? "" : ", ", hb::to_string(p.bifurcation), p.frequency_hz);
   return {{"computed", computed},
-          {"method", method == continuation::StabilityMethod::hill ? "hill" : "monodromy"},
+          {"method", continuation::to_string(method)},
           {"points_known", counts.known},
           {"unstable_points", counts.unstable},
           {"bifurcations", bifurcations_json(points)},

@@ -122,9 +122,7 @@ Json inputs_json(const io::DiscreteCase& c) {
                      {"stability", f.stability == continuation::Stability::automatic ? "auto"
                                    : f.stability == continuation::Stability::always  ? "true"
                                                                                      : "false"},
-                     {"stability_method",
-                      f.stability_method == continuation::StabilityMethod::hill ? "hill"
-                                                                                : "monodromy"},
+                     {"stability_method", continuation::to_string(f.stability_method)},
                      {"continuation",
                       {{"initial_step", f.continuation.initial_step},
                        {"min_step", f.continuation.min_step},

@@ -303,6 +303,10 @@ std::string FrfOptions::validate(int dofs) const {
   return balance_options(*this).validate();
 }
 
+std::string to_string(StabilityMethod method) {
+  return method == StabilityMethod::hill ? "hill" : "monodromy";
+}
+
 bool computes_stability(const FrfOptions& options, int dofs) {
   // Hill's method works on the full basis 0..H even where the curve keeps odd harmonics only.
   if (options.stability != Stability::automatic) return options.stability == Stability::always;

@@ -2,12 +2,10 @@
 // (hb/interface_hill_stability.hpp, eq. T-36a).
 #include "jointhb/hb/interface_hill_stability.hpp"
 
-#include <fmt/format.h>
-
-#include <cmath>
 #include <stdexcept>
 
 #include "../support/lapack_lu.hpp"
+#include "floquet_input.hpp"
 #include "hill_companion.hpp"
 
 namespace jointhb::hb {
@@ -76,15 +74,9 @@ MatrixXd companion_matrix(const InterfaceBalance& balance, const MatrixXd& s, do
 FloquetResult interface_hill_floquet(const InterfaceBalance& balance, const VectorXd& y,
                                      double omega, const HillOptions& options) {
   if (auto msg = options.validate(); !msg.empty()) throw std::invalid_argument(msg);
-  if (y.size() != balance.unknowns()) {
-    throw std::invalid_argument(fmt::format("interface_hill_floquet: {} unknowns, expected {}",
-                                            y.size(), balance.unknowns()));
-  }
   FloquetResult out;
-  if (!(omega > 0.0) || !std::isfinite(omega) || !y.allFinite()) {
-    out.message = "Ω or the unknowns are not finite";
-    return out;
-  }
+  out.message = detail::floquet_input_problem("interface_hill_floquet", "unknowns", y, balance.unknowns(), omega);
+  if (!out.message.empty()) return out;
   InterfaceBalanceEvaluation at;
   balance.evaluate(y, omega, 0.0, VectorXd(), true, at);
   if (!at.ok) {

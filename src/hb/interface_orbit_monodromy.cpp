@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "floquet_input.hpp"
 #include "jointhb/contact/contact_point.hpp"
 
 namespace jointhb::hb {
@@ -47,15 +48,9 @@ Eigen::Matrix3d landing_tangent(const PointSteps& s, std::size_t i, std::size_t 
 FloquetResult interface_orbit_floquet(const InterfaceBalance& balance, const VectorXd& y,
                                       double omega, const OrbitMonodromyOptions& options) {
   if (auto msg = options.validate(); !msg.empty()) throw std::invalid_argument(msg);
-  if (y.size() != balance.unknowns()) {
-    throw std::invalid_argument(fmt::format("interface_orbit_floquet: {} unknowns, expected {}",
-                                            y.size(), balance.unknowns()));
-  }
   FloquetResult out;
-  if (!(omega > 0.0) || !std::isfinite(omega) || !y.allFinite()) {
-    out.message = "Ω or the unknowns are not finite";
-    return out;
-  }
+  out.message = detail::floquet_input_problem("interface_orbit_floquet", "unknowns", y, balance.unknowns(), omega);
+  if (!out.message.empty()) return out;
   const InterfaceModel& model = balance.model();
   const int ns = balance.modes();
   const int P = balance.points();

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "floquet_input.hpp"
 #include "jointhb/contact/periodic_state.hpp"
 #include "jointhb/contact/preloaded_normal_law.hpp"
 #include "../support/lapack_eig.hpp"
@@ -70,15 +71,10 @@ std::string OrbitMonodromyOptions::validate() const {
 FloquetResult orbit_floquet(const HarmonicBalance& balance, const Eigen::VectorXd& coefficients,
                             double omega, const OrbitMonodromyOptions& options) {
   if (auto msg = options.validate(); !msg.empty()) throw std::invalid_argument(msg);
-  if (coefficients.size() != balance.unknowns()) {
-    throw std::invalid_argument(fmt::format("orbit_floquet: {} coefficients, expected {}",
-                                            coefficients.size(), balance.unknowns()));
-  }
   FloquetResult out;
-  if (!(omega > 0.0) || !std::isfinite(omega) || !coefficients.allFinite()) {
-    out.message = "Ω or the coefficients are not finite";
-    return out;
-  }
+  out.message =
+      detail::floquet_input_problem("orbit_floquet", "coefficients", coefficients, balance.unknowns(), omega);
+  if (!out.message.empty()) return out;
   const DiscreteSystem& s = balance.system();
   const int n = s.dofs();
   const int nf = options.samples;

@@ -57,24 +57,26 @@ class LapackLu {
   /// A⁻¹ b (valid only when rcond() > 0).
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
     Eigen::VectorXd x = b;
-    const char no = 'N';
-    const int one = 1;
-    int info = 0;
-    dgetrs_(&no, &n_, &one, lu_.data(), &n_, pivots_.data(), x.data(), &n_, &info);
+    solve_in_place(x.data(), 1);
     return x;
   }
 
   /// A⁻¹ B for several right-hand sides at once (valid only when rcond() > 0).
   [[nodiscard]] Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const {
     Eigen::MatrixXd x = b;
-    const char no = 'N';
-    const int columns = static_cast<int>(b.cols());
-    int info = 0;
-    if (columns > 0) dgetrs_(&no, &n_, &columns, lu_.data(), &n_, pivots_.data(), x.data(), &n_, &info);
+    solve_in_place(x.data(), static_cast<int>(b.cols()));
     return x;
   }
 
  private:
+  // Overwrites the n × columns column-major right-hand sides at `data` with A⁻¹ times them.
+  void solve_in_place(double* data, int columns) const {
+    if (columns <= 0) return;
+    const char no = 'N';
+    int info = 0;
+    dgetrs_(&no, &n_, &columns, lu_.data(), &n_, pivots_.data(), data, &n_, &info);
+  }
+
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
   int n_ = 0;

@@ -437,16 +437,23 @@ def test_accuracy_chooses_the_harmonics_per_point_as_the_program_does(tmp_path, 
         lap.backbone(1, harmonics=9, accuracy={"damping": 1e-2, "max_harmonics": 7})
 
 
+def lap_case_with_frf(tmp_path, frf):
+    """Case 12's truth (the bolted lap) with `analysis.frf: {frf}` added, written to
+    tmp_path/case.yaml: (its path, its text)."""
+    truth = (SOURCE / "cases/12-fit-lap/truth.yaml").read_text()
+    entry = "  frf: {" + frf + "}\n  nonlinear_modes:"
+    text = truth.replace("  nonlinear_modes:", entry, 1)
+    assert entry in text
+    case = tmp_path / "case.yaml"
+    case.write_text(text)
+    return case, text
+
+
 def test_the_fe_frf_peak_is_located_between_its_points_as_the_program_does(tmp_path):
     """Case 12's lap with an FRF at 2 N across its first resonance (H = 3, matrix-free): the peak is
     located between the accepted points (docs/stability.md §3, finite-element FRFs) with a bound far
     below its distance to the highest point, as the program's summary.json reports it."""
-    truth = (SOURCE / "cases/12-fit-lap/truth.yaml").read_text()
-    frf = "  frf: {frequency_hz: [941, 949], force: [2.0], harmonics: 3}\n  nonlinear_modes:"
-    text = truth.replace("  nonlinear_modes:", frf, 1)
-    assert frf in text
-    case = tmp_path / "case.yaml"
-    case.write_text(text)
+    case, _ = lap_case_with_frf(tmp_path, "frequency_hz: [941, 949], force: [2.0], harmonics: 3")
     r = jointhb.Pipeline(jointhb.load_case(str(case))).frf()
     assert r["status"] == "ok" and r["peak_refined"] and r["folds"] == []
     highest = int(np.argmax(r["amplitude_h1"]))
@@ -468,12 +475,7 @@ def test_hills_method_on_an_fe_frf_has_the_stuck_joints_multipliers_at_small_for
     joint is stuck (the Gaul–Mayer points' tangent is C_pre), so the largest multiplier is the least
     damped elastic mode's e^{-c_1 T / 2}, c_j = alpha + beta omega_j^2 (closed form; the rigid-body
     modes' trivial multipliers are left out). The program reports the method in summary.json."""
-    truth = (SOURCE / "cases/12-fit-lap/truth.yaml").read_text()
-    frf = "  frf: {frequency_hz: [955, 965], force: [0.001], harmonics: 1}\n  nonlinear_modes:"
-    text = truth.replace("  nonlinear_modes:", frf, 1)
-    assert frf in text
-    case = tmp_path / "case.yaml"
-    case.write_text(text)
+    case, text = lap_case_with_frf(tmp_path, "frequency_hz: [955, 965], force: [0.001], harmonics: 1")
     pipe = jointhb.Pipeline(jointhb.load_case(str(case)))
     im = pipe.interface_model()
     omega = 2 * np.pi * np.asarray(im["frequencies_hz"])[im["rigid_modes"]:]

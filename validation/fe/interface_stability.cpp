@@ -22,7 +22,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -30,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "../../src/support/stopwatch.hpp"
 #include "jointhb/continuation/interface_response.hpp"
 #include "jointhb/hb/interface_hill_stability.hpp"
 #include "jointhb/hb/interface_orbit_monodromy.hpp"
@@ -42,10 +42,9 @@ namespace jointhb_study_fe_interface_stability {
 namespace {
 
 using namespace jointhb;
-using Clock = std::chrono::steady_clock;
+using support::Clock;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -126,7 +125,7 @@ int run(int argc, char** argv) {
     o.refine_extrema = false;
     const auto t0 = Clock::now();
     const continuation::InterfaceFrf frf = continuation::trace_interface_frf(lap.model, o);
-    const double frf_seconds = since(t0);
+    const double frf_seconds = support::seconds_since(t0);
     std::printf("P = %d (%d kept modes, %ld unknowns): FRF %zu points in %.2f s, %s\n", P, lap.kept_modes,
                 static_cast<long>(frf.unknowns), frf.points.size(), frf_seconds, frf.message.c_str());
     std::fflush(stdout);  // progress also when not on a terminal
@@ -143,15 +142,15 @@ int run(int argc, char** argv) {
       const continuation::InterfaceFrfPoint& p = frf.points[k];
       auto t = Clock::now();
       const hb::FloquetResult hill = hb::interface_hill_floquet(balance, p.unknowns, p.omega);
-      s.hill_s.push_back(since(t));
+      s.hill_s.push_back(support::seconds_since(t));
       t = Clock::now();
       const hb::FloquetResult mono = hb::interface_orbit_floquet(balance, p.unknowns, p.omega, coarse);
-      s.monodromy_s.push_back(since(t));
+      s.monodromy_s.push_back(support::seconds_since(t));
       hb::FloquetResult mono_fine;
       if (mesh.fine_reference) {
         t = Clock::now();
         mono_fine = hb::interface_orbit_floquet(balance, p.unknowns, p.omega, fine);
-        s.monodromy_fine_s.push_back(since(t));
+        s.monodromy_fine_s.push_back(support::seconds_since(t));
       }
       ++s.sampled;
       if (!hill.ok || !mono.ok || (mesh.fine_reference && !mono_fine.ok)) {

@@ -6,7 +6,6 @@
 // and interface_stability.
 
 #include <Eigen/Core>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -14,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "../../src/support/stopwatch.hpp"
 #include "jointhb/fe/mesh.hpp"
 #include "jointhb/io/fe_case.hpp"
 #include "jointhb/pipeline/fe_pipeline.hpp"
@@ -40,10 +40,9 @@ inline int nearest_node(const fe::Mesh& mesh, const Eigen::Vector3d& x) {
 /// integration per overlap face corner); footprint_radius [m] of the bolt heads and nuts must reach
 /// a face centre (6 mm for 10 mm elements).
 inline LapInterface lap_interface(int nx, int ny, double footprint_radius = 0.0045) {
-  using Clock = std::chrono::steady_clock;
   constexpr double two_pi = 2.0 * std::numbers::pi;
   LapInterface out;
-  const auto t0 = Clock::now();
+  const auto t0 = support::Clock::now();
   LapCaseOptions lo;
   lo.nx = nx;
   lo.ny = ny;
@@ -72,7 +71,7 @@ inline LapInterface lap_interface(int nx, int ny, double footprint_radius = 0.00
   out.model = std::move(mi.model);
   out.kept_modes = mi.kept_modes;
   out.f1 = std::sqrt(out.model.omega2[out.model.rigid_modes]) / two_pi;
-  out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  out.seconds = support::seconds_since(t0);
   return out;
 }
 

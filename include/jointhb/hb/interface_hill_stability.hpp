@@ -12,8 +12,8 @@
 // rows hold no λ, so Δ₂ is singular on them and the companion form of T-36 does not exist. They are
 // eliminated instead (a Schur complement, exact):
 //   (S + λ Δ₁ + λ² I) P_η = 0,   S = J_ηη − J_ηg J_gg⁻¹ J_gη,                          (T-36a)
-// a quadratic eigenvalue problem in the n_s kept modes alone, solved in companion form and the
-// 2n_s most centred exponents kept (T-37, T-38), as for discrete systems.
+// a quadratic eigenvalue problem in the elastic kept modes alone, solved in companion form and the
+// 2(n_s − n_rigid) most centred exponents kept (T-37, T-38), as for discrete systems.
 //
 // Two approximations besides those of the discrete method (the frozen memory of hysteretic laws,
 // hb/hill_stability.hpp): the residual modes respond at each harmonic's frequency kΩ (R_k of
@@ -27,9 +27,10 @@
 //
 // Cost: the Jacobian (dense, or U products of apply_jacobian when the balance is matrix-free), an
 // LU of the 3Pm × 3Pm block J_gg and n_s m solves with it: O((3Pm)³); the eigenproblem is
-// 2n_s m square. Against the monodromy's O(N_f (3P)³) (hb/interface_orbit_monodromy.hpp) it is
-// cheaper by about N_f/m³ (≈ 12 at N_f = 4096, H = 3), but its multipliers of slipping contacts
-// are wrong away from folds (docs/stability.md §2).
+// 2(n_s − n_rigid)m square. Against the monodromy's O(N_f (3P)³) (hb/interface_orbit_monodromy.hpp)
+// it was 10–70 times cheaper per point at N_f = 1024, H = 3 on the lap at P = 24–192
+// (validation/fe/README_interface_stability.md), but its multipliers of slipping contacts are
+// wrong away from folds (docs/stability.md §2).
 
 #include <Eigen/Core>
 

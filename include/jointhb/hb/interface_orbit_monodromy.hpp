@@ -20,8 +20,9 @@
 // W_i = (I + D_i R0)⁻¹; η by the trapezoidal rule (average acceleration), as in
 // hb/orbit_monodromy.hpp, from each unit initial state of z = (η, η̇, δt_T of the points that
 // slip or open). ρ = eig(∂z(T)/∂z(0)), without the two trivial multipliers of each rigid-body kept
-// mode (it does not move the interface: 1 and its damped velocity). A point that sticks during the whole period with a constant
-// tangential stiffness is that spring (no force state, no neutral multiplier).
+// mode (it does not move the interface: 1 and its damped velocity). A point that sticks during
+// the whole period with a constant tangential stiffness is that spring (no force state, no
+// neutral multiplier).
 //
 // Cost: N_f steps, each an LU of the 3P × 3P matrix I + D_i R0 where D_i changed (every step when
 // a normal law's stiffness varies along the orbit) and n_s × n_s solves on 2n_s + 2P_s columns:

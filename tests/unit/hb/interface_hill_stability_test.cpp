@@ -99,29 +99,17 @@ TEST(InterfaceHillStability, SlippingJointHasTheDiscreteSystemsExponents) {
   for (const bool gaul_mayer : {false, true}) {
     for (const double omega : {1.05, 0.9}) {
       SCOPED_TRACE(::testing::Message() << (gaul_mayer ? "gaul-mayer" : "jenkins") << " Ω " << omega);
-      const double force = 0.2;
-      Excitation e;
-      e.forces.push_back({1, force, 1});
-      HarmonicBalanceOptions ho;
-      ho.harmonics = 7;
-      ho.time_samples = 256;
-      const HarmonicBalance b(two_dof_discrete(3.0, 1.0, gaul_mayer), e, ho);
-      const Eigen::VectorXd x = discrete_solution(b, omega);
-
       InterfaceBalanceOptions jo;
       jo.harmonics = 7;
       jo.time_samples = 256;
       jo.static_mean_tangential = false;  // as the discrete system: the mean of t_T from the law
-      const InterfaceBalance joint(two_dof_joint(3.0, 4, 1.0, gaul_mayer), jo);
-      const Eigen::VectorXd y = joint_unknowns(joint, b, x);
-      InterfaceBalanceEvaluation je;
-      joint.evaluate(y, omega, 0.0, joint.cosine_load(force), false, je);
-      ASSERT_TRUE(je.ok) << je.message;
-      ASSERT_LT(je.residual.lpNorm<Eigen::Infinity>(), 1e-10);  // one orbit, both models
-      ASSERT_GT(je.slipping_points, 0);
+      const TwinOrbit t = twin_orbit(omega, 0.2, gaul_mayer, jo);
+      ASSERT_TRUE(t.at.ok) << t.at.message;
+      ASSERT_LT(t.at.residual.lpNorm<Eigen::Infinity>(), 1e-10);  // one orbit, both models
+      ASSERT_GT(t.at.slipping_points, 0);
 
-      const FloquetResult rd = HillStability(b).evaluate(x, omega);
-      const FloquetResult rj = interface_hill_floquet(joint, y, omega);
+      const FloquetResult rd = HillStability(t.discrete).evaluate(t.x, omega);
+      const FloquetResult rj = interface_hill_floquet(t.joint, t.y, omega);
       ASSERT_TRUE(rd.ok) << rd.message;
       ASSERT_TRUE(rj.ok) << rj.message;
       ASSERT_EQ(rd.multipliers.size(), 4);
@@ -139,18 +127,6 @@ TEST(InterfaceHillStability, SlippingJointHasTheDiscreteSystemsExponents) {
                   rj.kept_centre, rj.rejected_centre);
     }
   }
-}
-
-// The joint's unknowns on the orbit of the one-point Jenkins joint (every mode kept) forced by
-// `force` on x1 at Ω: the discrete twin's solution (same H and N_t) mapped to the joint.
-Eigen::VectorXd jenkins_orbit(const InterfaceBalance& joint, double omega, double force) {
-  Excitation e;
-  e.forces.push_back({1, force, 1});
-  HarmonicBalanceOptions ho;
-  ho.harmonics = joint.options().harmonics;
-  ho.time_samples = joint.options().time_samples;
-  const HarmonicBalance b(two_dof_discrete(3.0), e, ho);
-  return joint_unknowns(joint, b, discrete_solution(b, omega));
 }
 
 // The joint with a rigid-body mode put first (ω² = 0, Gφ = 0, unloaded, not observed), and the
@@ -182,9 +158,10 @@ TEST(InterfaceHillStability, RigidBodyModesAddNothing) {
   InterfaceBalanceOptions jo;
   jo.harmonics = 5;
   jo.time_samples = 128;
-  const InterfaceBalance elastic(two_dof_joint(3.0), jo);
+  const TwinOrbit t = twin_orbit(omega, force, false, jo);
+  const InterfaceBalance& elastic = t.joint;
+  const Eigen::VectorXd& y = t.y;
   const InterfaceBalance free(with_rigid_mode(two_dof_joint(3.0)), jo);
-  const Eigen::VectorXd y = jenkins_orbit(elastic, omega, force);
   const Eigen::Index m = elastic.basis().size();
   Eigen::VectorXd y_free = Eigen::VectorXd::Zero(free.unknowns());
   y_free.tail(y.size()) = y;
@@ -210,15 +187,16 @@ TEST(InterfaceHillStability, RigidBodyModesAddNothing) {
 
 TEST(InterfaceHillStability, MatrixFreeBalanceGivesTheSameMultipliers) {
   // The Jacobian assembled column by column from apply_jacobian (a balance without the dense
-  // matrix) against the dense one, on the slipping orbit of a Jenkins joint with residual modes.
+  // matrix) against the dense one, on the slipping orbit of the one-point Jenkins joint.
   const double omega = 1.05;
   InterfaceBalanceOptions jo;
   jo.harmonics = 5;
   jo.time_samples = 128;
-  const InterfaceBalance dense(two_dof_joint(3.0), jo);
+  const TwinOrbit t = twin_orbit(omega, 0.2, false, jo);
+  const InterfaceBalance& dense = t.joint;
+  const Eigen::VectorXd& y = t.y;
   jo.dense_jacobian = false;
   const InterfaceBalance matrix_free(two_dof_joint(3.0), jo);
-  const Eigen::VectorXd y = jenkins_orbit(dense, omega, 0.2);
   const FloquetResult rd = interface_hill_floquet(dense, y, omega);
   const FloquetResult rm = interface_hill_floquet(matrix_free, y, omega);
   ASSERT_TRUE(rd.ok && rm.ok) << rd.message << rm.message;

@@ -38,30 +38,18 @@ TEST(InterfaceOrbitMonodromy, OnePointJointHasTheDiscreteSystemsMultipliers) {
   const double omega = 1.05, force = 0.2;
   for (const bool gaul_mayer : {false, true}) {
     SCOPED_TRACE(gaul_mayer ? "gaul-mayer" : "jenkins");
-    const DiscreteSystem d = two_dof_discrete(3.0, 1.0, gaul_mayer);
-    Excitation e;
-    e.forces.push_back({1, force, 1});
-    HarmonicBalanceOptions ho;
-    ho.harmonics = 7;
-    ho.time_samples = 256;
-    const HarmonicBalance b(d, e, ho);
-    const Eigen::VectorXd x = discrete_solution(b, omega);
-
     InterfaceBalanceOptions jo;
     jo.harmonics = 7;
     jo.time_samples = 256;
-    const InterfaceBalance joint(two_dof_joint(3.0, 4, 1.0, gaul_mayer), jo);
-    const Eigen::VectorXd y = joint_unknowns(joint, b, x);
-    InterfaceBalanceEvaluation je;
-    joint.evaluate(y, omega, 0.0, joint.cosine_load(force), false, je);
-    ASSERT_TRUE(je.ok) << je.message;
-    ASSERT_LT(je.residual.lpNorm<Eigen::Infinity>(), 1e-10);  // one orbit, both models
-    ASSERT_GT(je.slipping_points, 0);
+    const TwinOrbit t = twin_orbit(omega, force, gaul_mayer, jo);
+    ASSERT_TRUE(t.at.ok) << t.at.message;
+    ASSERT_LT(t.at.residual.lpNorm<Eigen::Infinity>(), 1e-10);  // one orbit, both models
+    ASSERT_GT(t.at.slipping_points, 0);
 
     OrbitMonodromyOptions mo;
     mo.samples = 2048;
-    const FloquetResult rd = orbit_floquet(b, x, omega, mo);
-    const FloquetResult rj = interface_orbit_floquet(joint, y, omega, mo);
+    const FloquetResult rd = orbit_floquet(t.discrete, t.x, omega, mo);
+    const FloquetResult rj = interface_orbit_floquet(t.joint, t.y, omega, mo);
     ASSERT_TRUE(rd.ok) << rd.message;
     ASSERT_TRUE(rj.ok) << rj.message;
     ASSERT_EQ(rd.multipliers.size(), 5);

@@ -79,4 +79,28 @@ inline double matched(const Eigen::VectorXcd& subset, const Eigen::VectorXcd& al
   return worst;
 }
 
+// The one-point joint (every mode kept; Jenkins or Gaul–Mayer) and its discrete twin on one orbit:
+// force `force` on x1 at Ω, the discrete solution x at the H and N_t of `joint_options`, its map y
+// to the joint's unknowns, and the joint's loaded residual there (`at`, without the Jacobian).
+struct TwinOrbit {
+  HarmonicBalance discrete;
+  InterfaceBalance joint;
+  Eigen::VectorXd x, y;
+  InterfaceBalanceEvaluation at;
+};
+
+inline TwinOrbit twin_orbit(double omega, double force, bool gaul_mayer, const InterfaceBalanceOptions& joint_options) {
+  Excitation e;
+  e.forces.push_back({1, force, 1});
+  HarmonicBalanceOptions ho;
+  ho.harmonics = joint_options.harmonics;
+  ho.time_samples = joint_options.time_samples;
+  TwinOrbit t{HarmonicBalance(two_dof_discrete(3.0, 1.0, gaul_mayer), e, ho),
+              InterfaceBalance(two_dof_joint(3.0, 4, 1.0, gaul_mayer), joint_options), {}, {}, {}};
+  t.x = discrete_solution(t.discrete, omega);
+  t.y = joint_unknowns(t.joint, t.discrete, t.x);
+  t.joint.evaluate(t.y, omega, 0.0, t.joint.cosine_load(force), false, t.at);
+  return t;
+}
+
 }  // namespace jointhb::hb::testing
