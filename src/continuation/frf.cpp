@@ -5,6 +5,7 @@
 #include "curve_refinement.hpp"
 #include "frf_extrema.hpp"
 #include "linear_limits.hpp"
+#include "phase_bridge.hpp"
 #include "segmented_curve.hpp"
 
 #include <fmt/format.h>
@@ -16,7 +17,9 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -252,6 +255,23 @@ std::string stop_diagnosis(const DiscreteSystem& system, const FrfCurve& curve) 
       omega, 100.0 * best->distance, best->omega, best->zeta, peak);
 }
 
+// For a completed curve: its highest point lies within 2 % of a natural frequency of the
+// contact-free system damped below ζ = 1e-3 (stop_diagnosis), i.e. the curve passed a resonance that
+// friction cannot bound (crossing it at fixed phase, docs/continuation.md): a note saying so, or
+// empty. The points beside it are the two flanks of a peak without bound, not a bounded maximum.
+std::string unbounded_passage(const DiscreteSystem& system, const FrfCurve& curve) {
+  const auto top = std::max_element(curve.points.begin(), curve.points.end(),
+                                    [](const FrfPoint& a, const FrfPoint& b) { return a.amplitude_max < b.amplitude_max; });
+  if (top == curve.points.end()) return {};
+  const std::optional<detail::NearResonance> best = detail::nearest_resonance(system, top->omega, {1}, 0.02, 1e-3);
+  if (!best || best->stuck) return {};
+  return fmt::format(
+      ". The curve passed Ω = {:.6g} rad/s, within {:.2g} % of the natural frequency {:.6g} rad/s of the system "
+      "with every contact slipping, damped only ζ = {:.2g}: friction cannot bound that resonance (for one "
+      "contact: F > 4 μF_N / π) and the response there (here up to {:.3g}) grows without bound",
+      top->omega, 100.0 * best->distance, best->omega, best->zeta, top->amplitude_max);
+}
+
 // The first guess at Ω_start: the stuck linear response, or, where the stuck system is undamped
 // and Ω_start is its natural frequency (a singular dynamic stiffness: no finite stuck response),
 // the stuck response 0.1 % above or below it. That guess is far into slip; the start corrector
@@ -323,6 +343,30 @@ FrfOptions frf_options_at(const FrfOptions& options, Level level) {
   o.harmonics = level.harmonics;
   o.time_samples = level.time_samples;
   return o;
+}
+
+// The runs of one segment (DiscreteFrfSegment::run_legs): a continuation run whose accepted point
+// exceeds kRescaleFactor times the state scale starts again with the scale raised to it; at most
+// kMaxLegs runs (rescalings and crossings at fixed phase) per segment.
+constexpr double kRescaleFactor = 10.0;
+constexpr int kMaxLegs = 24;
+// A restart beyond a crossing may not turn the phase back by more than this (radians).
+constexpr double kPhaseBacktrack = 1e-3;
+// The fixed frequencies tried beyond a crossing: Ω_B (1 ± kBeyondFirst 2^k), k < kBeyondSteps (up to
+// 0.8 % of Ω_B).
+constexpr double kBeyondFirst = 1e-9;
+constexpr int kBeyondSteps = 24;
+
+// Adds run r's counts and timings to the segment's `total`, whose reason and message become r's.
+void add_run(Result& total, const Result& r) {
+  total.rejected_steps += r.rejected_steps;
+  total.corrector_iterations += r.corrector_iterations;
+  total.evaluations += r.evaluations;
+  total.evaluation_seconds += r.evaluation_seconds;
+  total.linear_solve_seconds += r.linear_solve_seconds;
+  total.factorisations += r.factorisations;
+  total.reason = r.reason;
+  total.message = r.message;
 }
 
 // What every segment of one FRF shares: the system, the options, the scales of the arclength (one
@@ -400,8 +444,7 @@ class DiscreteFrfSegment {
   // Discrete estimates are one Newton step each: the truncation part is always made.
   Result run(const Eigen::VectorXd& x0, const Options& c, const Judge& judge,
              const std::function<bool()>& /*wants_truncation*/) {
-    const AcceptCallback accept = [&](const Point& p) { return accept_point(p, judge); };
-    Result r = trace(residual_, x0, c, accept);
+    Result r = run_legs(x0, c, judge);
     if (r.reason == StopReason::start_failed && first_segment_) {
       // Newton from the stuck solution can fail where the contacts slip grossly at Ω_start (stiff
       // Jenkins contacts make R piecewise linear with kinks wherever a sample switches between
@@ -412,7 +455,7 @@ class DiscreteFrfSegment {
           start_by_ladder(shared_.system, shared_.excitation, options_, balance_, c, iterations, why);
       shared_.ladder_iterations += r.corrector_iterations + iterations;
       if (start) {
-        r = trace(residual_, *start, c, accept);
+        r = run_legs(*start, c, judge);
       } else {
         r.message += "; " + why;
       }
@@ -438,6 +481,197 @@ class DiscreteFrfSegment {
   }
 
  private:
+  // The run in legs (docs/continuation.md, "Crossing a resonance at fixed phase"): a continuation
+  // run from x0; where it stops short of its end (min_step), a crossing at fixed phase
+  // (phase_bridge.hpp) and a new run beyond it; where an accepted point outgrows the arclength's
+  // state scale kRescaleFactor times while the branch advances, a new run from that point with the
+  // scale raised to it (a scale the probe underestimated makes the arclength crawl: 1000 points
+  // over 2e-9 rad/s below an undamped stuck resonance). At most kMaxLegs runs.
+  Result run_legs(const Eigen::VectorXd& x0, Options c, const Judge& judge) {
+    Result total;
+    Eigen::VectorXd x = x0;
+    bool skip_first = false;  // the run starts on a point already kept
+    int crossings = 0, rescalings = 0;
+    Tally tally{0, c.parameter_start};
+    const int budget = c.max_points;
+    for (int leg = 0;; ++leg) {
+      Options o = c;
+      o.max_points = budget - tally.accepted + (skip_first ? 1 : 0);
+      std::optional<double> rescale;
+      bool first = true;
+      const AcceptCallback accept = [&](const Point& p) {
+        if (std::exchange(first, false) && skip_first) return true;
+        tally.add(p.lambda);
+        if (!accept_point(p, judge)) return false;
+        const double size = p.x.lpNorm<Eigen::Infinity>();
+        const bool onward = p.tangent.size() > 0 && p.tangent[p.tangent.size() - 1] * o.direction > 0.0;
+        if (onward && size > kRescaleFactor * o.state_scale[0] && leg + 1 < kMaxLegs) {
+          rescale = size;
+          return false;
+        }
+        return true;
+      };
+      Result r = trace(residual_, x, o, accept);
+      add_run(total, r);
+      if (leg == 0 && r.reason == StopReason::start_failed) return total;
+      if (rescale) {
+        ++rescalings;
+        const Point& last = r.points.back();
+        Eigen::VectorXd tangent = last.tangent;  // unscaled with the scales it was traced with
+        tangent.head(x.size()) = tangent.head(x.size()).cwiseProduct(o.state_scale);
+        tangent[x.size()] *= o.parameter_scale;
+        c.continued = Options::Continued{last.lambda, tangent};
+        c.state_scale.setConstant(*rescale);
+        x = last.x;
+        c.initial_step = std::clamp(last.step, c.min_step, c.max_step);
+        skip_first = true;
+        continue;
+      }
+      if (r.reason != StopReason::min_step || r.points.empty() || leg + 1 >= kMaxLegs) break;
+      std::optional<LegStart> next = cross_at_phase(r.points.back(), c, budget - tally.accepted, tally, judge, total);
+      if (!next) break;
+      ++crossings;
+      x = std::move(next->x);
+      c.continued = Options::Continued{next->omega, std::move(next->tangent)};
+      c.initial_step = options_.continuation.initial_step;
+      skip_first = next->kept;
+    }
+    if (crossings + rescalings > 0) {
+      const std::string legs = fmt::format("{} crossing{} at fixed phase, {} rescaling{} of the state", crossings,
+                                           crossings == 1 ? "" : "s", rescalings, rescalings == 1 ? "" : "s");
+      // The counts of the whole segment, not of its last run.
+      if (total.reason == StopReason::reached_end)
+        total.message = fmt::format("reached λ_end = {:.10g} ({} points, {} rejected steps; {})", c.parameter_end,
+                                    tally.accepted, total.rejected_steps, legs);
+      else if (total.reason == StopReason::max_points)
+        total.message = fmt::format("max_points = {} reached at λ = {:.10g} (point {}; {})", budget,
+                                    tally.last_lambda, tally.accepted, legs);
+      else
+        total.message = fmt::format("{} ({})", total.message, legs);
+    }
+    return total;
+  }
+
+  // The points a segment's runs passed to the judge, and the λ of the last.
+  struct Tally {
+    int accepted = 0;
+    double last_lambda = 0.0;
+    void add(double lambda) {
+      ++accepted;
+      last_lambda = lambda;
+    }
+  };
+
+  // Where a run continues after a crossing: a point of the branch at Ω, kept already or not, and
+  // the branch's direction there ((dx, dΩ), unscaled).
+  struct LegStart {
+    Eigen::VectorXd x;
+    double omega = 0.0;
+    bool kept = false;
+    Eigen::VectorXd tangent;
+  };
+
+  // The crossing at fixed phase from the last point p of a stopped run (phase_bridge.hpp), its
+  // points kept; then the start of the next run: the bridge's last point where the branch there
+  // advances in Ω again, else the first solution at fixed Ω = Ω_B (1 ± δ) beyond it, δ =
+  // kBeyondFirst 2^k, from B or from the stuck linear response, whose fundamental has not turned
+  // back.
+  std::optional<LegStart> cross_at_phase(const Point& p, const Options& c, int budget, Tally& tally,
+                                         const Judge& judge, Result& total) {
+    if (budget < 1) return std::nullopt;
+    const hb::FourierBasis& basis = balance_.basis();
+    const int a1 = basis.cosine_index(1);
+    if (a1 < 0) return std::nullopt;
+    detail::PhaseBridgeOptions b;
+    double largest = -1.0;
+    for (int dof = 0; dof < shared_.system.dofs(); ++dof) {  // the DOF with the largest fundamental
+      const Eigen::Index at = balance_.index(dof, a1);
+      if (const double a = std::hypot(p.x[at], p.x[at + 1]); a > largest) {
+        largest = a;
+        b.phase_cosine = at;
+      }
+    }
+    b.direction = c.direction;
+    b.omega_low = std::min(options_.omega_start, options_.omega_end);
+    b.omega_high = std::max(options_.omega_start, options_.omega_end);
+    b.residual_tolerance = c.residual_tolerance;
+    b.residual_scale = c.residual_scale;
+    b.step_tolerance = c.step_tolerance;
+    b.state_scale = c.state_scale[0];
+    b.parameter_scale = c.parameter_scale;
+    b.max_points = budget;
+    const detail::PhaseRotation rotate = [&](const Eigen::VectorXd& x, double phi) {
+      Eigen::VectorXd out = x;
+      for (int dof = 0; dof < shared_.system.dofs(); ++dof) {
+        for (const int h : basis.orders()) {
+          const Eigen::Index i = balance_.index(dof, basis.cosine_index(h));
+          const double cs = std::cos(h * phi), sn = std::sin(h * phi);
+          out[i] = x[i] * cs - x[i + 1] * sn;
+          out[i + 1] = x[i] * sn + x[i + 1] * cs;
+        }
+      }
+      return out;
+    };
+    const Eigen::VectorXd scale = c.state_scale;
+    const auto on_point = [&](const detail::PhaseBridgePoint& q) {
+      Point point;
+      point.x = q.x;
+      point.lambda = q.omega;
+      point.iterations = q.iterations;
+      point.step = q.step;
+      Eigen::VectorXd t(q.tangent.size());
+      t.head(q.x.size()) = q.tangent.head(q.x.size()).cwiseQuotient(scale);
+      t[q.x.size()] = q.tangent[q.x.size()] / c.parameter_scale;
+      point.tangent = t.normalized();
+      tally.add(q.omega);
+      return accept_point(point, judge);
+    };
+    const detail::PhaseBridge bridge = detail::bridge_by_phase(residual_, rotate, p.x, p.lambda, b, on_point);
+    total.corrector_iterations += bridge.iterations;
+    total.rejected_steps += bridge.rejected_steps;
+    using End = detail::PhaseBridge::End;
+    if (bridge.end == End::stopped || bridge.end == End::budget) {
+      total.reason = bridge.end == End::stopped ? StopReason::stopped_by_user : StopReason::max_points;
+      return std::nullopt;
+    }
+    // The last point of the crossing, or p where the phase could not turn (p is a corner already
+    // crossed: the far stuck leg of an undamped resonance, whose phase is π).
+    const Eigen::VectorXd& last_x = bridge.points.empty() ? p.x : bridge.points.back().x;
+    const double last_omega = bridge.points.empty() ? p.lambda : bridge.points.back().omega;
+    if (!bridge.points.empty()) {
+      const detail::PhaseBridgePoint& last = bridge.points.back();
+      const double advance = bridge.points.size() > 1 ? last.omega - bridge.points[bridge.points.size() - 2].omega
+                                                      : last.omega - p.lambda;
+      if ((bridge.end == End::omega_dominated || bridge.end == End::range) && advance * c.direction > 0.0)
+        return LegStart{last.x, last.omega, true, last.tangent};
+    }
+    const double theta = detail::fundamental_phase(last_x, b.phase_cosine);
+    for (int k = 0; k < kBeyondSteps; ++k) {
+      const double omega = last_omega * (1.0 + c.direction * kBeyondFirst * std::pow(2.0, k));
+      if (omega < b.omega_low || omega > b.omega_high) break;
+      // From B, and from the stuck linear response (the far leg of a resonance bounded by slip).
+      for (const Eigen::VectorXd& guess : {last_x, balance_.stuck_solution(omega)}) {
+        if (!guess.allFinite()) continue;
+        detail::FixedOmegaSolve s = detail::solve_at_omega(residual_, guess, omega, b);
+        total.corrector_iterations += s.iterations;
+        if (!s.converged) continue;
+        const double turn =
+            std::remainder(detail::fundamental_phase(s.x, b.phase_cosine) - theta, 2.0 * std::numbers::pi);
+        if (turn * c.direction < -kPhaseBacktrack) continue;
+        Eigen::VectorXd along = Eigen::VectorXd::Zero(s.x.size() + 1);
+        along[s.x.size()] = c.direction;
+        return LegStart{std::move(s.x), omega, false, along};
+      }
+    }
+    total.message += bridge.points.empty()
+                         ? fmt::format("; the crossing at fixed phase found no point ({}), nor a solution at "
+                                       "fixed Ω up to {:.3g} beyond", bridge.message,
+                                       kBeyondFirst * std::pow(2.0, kBeyondSteps - 1))
+                         : fmt::format("; crossed at fixed phase to Ω = {:.10g}, where no solution beyond was found",
+                                       last_omega);
+    return std::nullopt;
+  }
+
   bool accept_point(const Point& p, const Judge& judge) {
     FrfCurve& curve = shared_.curve;
     if (p.lambda != last_omega_ || p.x.size() != last_x_.size() || p.x != last_x_)
@@ -608,7 +842,9 @@ FrfCurve trace_frf(const DiscreteSystem& system, const Excitation& excitation, c
         "output overflows): beyond {:g} the laws' energies leave the range of doubles; the curve "
         "ends on the last point before (rescale the units or the forces)",
         *shared.overflow_at, shared.overflow_ratio, contact::kMaxSlipRatio);
-  } else if (!curve.completed() && curve.reason != StopReason::stopped_by_user) {
+  } else if (curve.completed()) {
+    curve.message += unbounded_passage(system, curve);
+  } else if (curve.reason != StopReason::stopped_by_user) {
     if (const std::string why = stop_diagnosis(system, curve); !why.empty()) curve.message += ". " + why;
     for (const auto& p : curve.points) {
       if (p.bifurcation != hb::Bifurcation::reversal) continue;

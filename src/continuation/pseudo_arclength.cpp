@@ -183,8 +183,10 @@ class Tracer {
   //     shorter step to retry with, and a poor x0 needs globalisation).
   enum class Safeguard { growth_test, line_search };
 
+  // `converged_before`: y is a point accepted by an earlier run, converged when its residual is within
+  // kSmallStepResidualFactor of the tolerance as after a small last step (Options::continued).
   Correction correct(VectorXd y, const Constraint& constraint, int max_iterations,
-                     Safeguard safeguard) {
+                     Safeguard safeguard, bool converged_before = false) {
     Correction out;
     if (constraint.fixed_lambda) y(n_) = constraint.d;
     Sample sample;
@@ -194,7 +196,7 @@ class Tracer {
     }
     double previous = std::numeric_limits<double>::infinity();
     double best = std::numeric_limits<double>::infinity();
-    double last_step = std::numeric_limits<double>::infinity();
+    double last_step = converged_before ? 0.0 : std::numeric_limits<double>::infinity();
     int growths = 0;
     for (int it = 0;; ++it) {
       const double tol = options_.residual_tolerance;
@@ -601,6 +603,11 @@ std::string Options::validate(Eigen::Index n) const {
     }
   }
   if (auto m = positive("parameter_scale", parameter_scale); !m.empty()) return m;
+  if (continued) {
+    if (!std::isfinite(continued->lambda)) return fmt::format("continued.lambda: must be finite, got {}", continued->lambda);
+    if (continued->tangent.size() != n + 1 || !continued->tangent.allFinite() || continued->tangent.norm() == 0.0)
+      return fmt::format("continued.tangent: must have size n + 1 = {}, be finite and non-zero", n + 1);
+  }
   if (linear_solver != LinearSolver::dense_lu && linear_solver != LinearSolver::newton_krylov) {
     return "linear_solver: must be dense_lu or newton_krylov";
   }
@@ -678,22 +685,29 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   };
 
   // Start: damped Newton at fixed λ = parameter_start from x0 (a poor x0 needs globalisation, and
-  // there is no shorter step to retry with).
-  const Correction start = tracer.correct(
-      tracer.scaled(x0, options.parameter_start), tracer.fixed_lambda(options.parameter_start),
-      options.max_start_iterations, Tracer::Safeguard::line_search);
+  // there is no shorter step to retry with), or, for a continued run, on the hyperplane through x0
+  // normal to its tangent (Options::continued).
+  const double lambda0 = options.continued ? options.continued->lambda : options.parameter_start;
+  VectorXd e_lambda = options.direction * VectorXd::Unit(n + 1, n);
+  Constraint start_constraint = tracer.fixed_lambda(lambda0);
+  if (options.continued) {
+    e_lambda = tracer.scaled(options.continued->tangent.head(n), options.continued->tangent[n]).normalized();
+    start_constraint = Constraint{e_lambda, e_lambda.dot(tracer.scaled(x0, lambda0)), std::nullopt};
+  }
+  const Correction start = tracer.correct(tracer.scaled(x0, lambda0), start_constraint,
+                                          options.max_start_iterations, Tracer::Safeguard::line_search,
+                                          options.continued.has_value());
   if (!start.converged) {
     result.reason = StopReason::start_failed;
-    result.message = fmt::format("start: the corrector at fixed λ = {:.10g} failed: {}",
-                                 options.parameter_start, start.failure);
+    result.message = fmt::format("start: the corrector at {} λ = {:.10g} failed: {}",
+                                 options.continued ? "the continued point," : "fixed", lambda0, start.failure);
     return result;
   }
   std::string why;
-  const VectorXd e_lambda = options.direction * VectorXd::Unit(n + 1, n);
   const std::optional<VectorXd> start_tangent = tracer.tangent(start.sample, e_lambda, why);
   if (!start_tangent) {
     result.reason = StopReason::start_failed;
-    result.message = fmt::format("start: at λ = {:.10g}: {}", options.parameter_start, why);
+    result.message = fmt::format("start: at λ = {:.10g}: {}", lambda0, why);
     return result;
   }
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -121,6 +122,17 @@ struct Options {
   /// newton_krylov: (0, 1e-6] relative residual ‖b − A z‖₂ / ‖b‖₂ of an accepted GMRES solution
   /// (the true residual, recomputed after GMRES).
   double krylov_tolerance = 1e-11;
+  /// A run that continues from a point of a branch traced before (with other scales, or after a
+  /// crossing at fixed phase: docs/continuation.md, "Crossing a resonance at fixed phase"): x0
+  /// lies on the branch at λ = lambda and the run leaves it along `tangent` ((dx, dλ), unscaled, size n + 1). The start is corrected on the
+  /// hyperplane through it normal to that tangent — not at fixed λ, which is singular where the
+  /// branch runs vertical in λ (an undamped resonance) — and its tangent is oriented along it;
+  /// parameter_start stays the bound behind which the run ends (left_range).
+  struct Continued {
+    double lambda = 0.0;
+    Eigen::VectorXd tangent;
+  };
+  std::optional<Continued> continued;
   /// newton_krylov with matrix-free Jacobians: when the preconditioner is rebuilt.
   PreconditionerRefresh preconditioner_refresh = PreconditionerRefresh::every_jacobian;
 

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>
+#include <string>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -179,6 +180,34 @@ TEST(FrfContinuation, UndampedStuckResonanceCornerIsCrossed) {
   }
 }
 
+// The undamped Jenkins oscillators at F = 10⁻⁶ μF_N of the light-damping corpus (four known stops
+// until stop 52): the stuck leg meets X_s = μF_N/k_T0 within 10⁻⁷ of ω_stuck and the branch turns
+// onto the friction cap, where the phase turns by π at nearly fixed Ω. The curve now crosses it
+// (docs/continuation.md, "Crossing a resonance at fixed phase": a rescaled arclength for k_T0/k =
+// 10⁻² and 1, the crossing at fixed phase for 10² and 10⁶) and reaches Ω_end. Off the cap every
+// point is the stuck linear response F/|k + k_T0 − Ω²| (phase 0 below, π above); the peak is X_s
+// up to the cap's excess, which the N_t = 256 balance resolves to ~10⁻⁴ X_s (its slip lasts less
+// than a sample: a staircase of solutions), and the far leg is reached within 0.8 X_s of it.
+TEST(FrfContinuation, UndampedJenkinsCapIsCrossedAtFixedPhase) {
+  const double f = 1e-6;
+  for (const double kt0 : {1e-2, 1.0, 1e2, 1e6}) {
+    const FrfCurve curve = trace_frf(oscillator(kt0, 1.0, 0.0), force(f), light_damping_options(kt0));
+    ASSERT_TRUE(curve.completed()) << "k_T0 " << kt0 << ": " << curve.message;
+    const double x_s = 1.0 / kt0, k_s = 1.0 + kt0;
+    double peak = 0.0, far_leg = 0.0;
+    for (const auto& p : curve.points) {
+      peak = std::max(peak, p.amplitude_h1);
+      if (p.amplitude_h1 >= x_s * (1.0 - 1e-9)) continue;  // on the cap
+      const double ref = f / std::abs(k_s - p.omega * p.omega);
+      EXPECT_NEAR(p.amplitude_h1, ref, 1e-6 * ref) << kt0 << " at " << p.omega;
+      if (p.omega > std::sqrt(k_s)) far_leg = std::max(far_leg, p.amplitude_h1);
+    }
+    EXPECT_GT(peak, x_s * (1.0 - 1e-9)) << kt0;
+    EXPECT_LT(peak, x_s * (1.0 + 1e-3)) << kt0;
+    EXPECT_GT(far_leg, 0.2 * x_s) << kt0;
+  }
+}
+
 // An undamped 10-DOF chain (unit masses and springs, x_0 tied to ground, Jenkins contacts k_T0 = 2,
 // μF_N = 1 at (1, ground), (3, 2), (5, ground), (7, 6), (9, ground); F = 0.1 at DOF 9) over
 // Ω ∈ [0.1, 2.5]. Its contact-free mode at exactly 1 rad/s is a point of the 65-frequency sweep
@@ -303,6 +332,29 @@ TEST(FrfContinuation, UnboundedGrossSlipResonanceIsNamedInTheStopMessage) {
   EXPECT_NE(curve.message.find("natural frequency 1 rad/s of the system with every contact slipping"),
             std::string::npos) << curve.message;
   EXPECT_NE(curve.message.find("grows without bound"), std::string::npos) << curve.message;
+}
+
+// Undamped, F = 10 μF_N (k_T0/k = 1, the light-damping corpus's settings): friction cannot bound
+// the contact-free resonance at Ω = 1, where the response grows without bound. The curve now
+// passes it (rescaled arclength, a crossing at fixed phase beyond the top) and reaches Ω_end; the
+// message says what it passed. Far above the slip amplitude the contact slips all period and its
+// force is a square wave ±μF_N in phase with the velocity, so at one harmonic
+// πF X sin θ = 4 μF_N X and (k − Ω²) X = F cos θ: X = √(F² − (4μF_N/π)²) / |k − Ω²|, exact up to
+// O(X_s/X) — both flanks of the peak follow it.
+TEST(FrfContinuation, UnboundedGrossSlipResonanceIsPassedOnItsClosedForm) {
+  const double f = 10.0;
+  const FrfCurve curve = trace_frf(oscillator(1.0, 1.0, 0.0), force(f), light_damping_options(1.0));
+  ASSERT_TRUE(curve.completed()) << curve.message;
+  EXPECT_NE(curve.message.find("grows without bound"), std::string::npos) << curve.message;
+  int below = 0, above = 0;
+  for (const auto& p : curve.points) {
+    if (p.amplitude_h1 < 1e3) continue;  // X_s = 1
+    const double ref = std::sqrt(f * f - std::pow(4.0 / std::numbers::pi, 2)) / std::abs(1.0 - p.omega * p.omega);
+    EXPECT_NEAR(p.amplitude_h1, ref, 1e-2 * ref) << p.omega;
+    (p.omega < 1.0 ? below : above) += 1;
+  }
+  EXPECT_GT(below, 10);
+  EXPECT_GT(above, 10);
 }
 
 TEST(FrfContinuation, JacobianCheckAlongAGaulMayerCurve) {

@@ -692,3 +692,39 @@ TEST(ContinuationArclength, StateScaleMakesALargeStateBehaveLikeTheUnitOne) {
   const auto u = jcont::trace(s_curve(unit), VectorXd::Constant(1, -2.2 * unit), unscaled);
   EXPECT_NE(u.reason, jcont::StopReason::reached_end) << describe(u);
 }
+
+// A continued run (Options::continued) on R = λ − x³ from (0, 0), where R_x = 0: the branch
+// x = λ^{1/3} runs vertical in λ there, so a start at fixed λ has a singular Jacobian; the
+// continued start is corrected on the hyperplane normal to the tangent it is given and follows
+// that tangent's orientation, with parameter_start still the bound behind which the run ends.
+TEST(ContinuationArclength, ContinuedRunStartsWhereFixedLambdaIsSingular) {
+  const jcont::ResidualFunction cubic = [](const VectorXd& x, double lambda, bool jacobian) {
+    jcont::Evaluation e;
+    e.residual = VectorXd::Constant(1, lambda - x(0) * x(0) * x(0));
+    if (jacobian) {
+      e.d_state = MatrixXd::Constant(1, 1, -3.0 * x(0) * x(0));
+      e.d_parameter = VectorXd::Ones(1);
+    }
+    return e;
+  };
+  jcont::Options o;
+  o.parameter_start = -1.0;
+  o.parameter_end = 1.0;
+  o.continued = jcont::Options::Continued{0.0, Eigen::Vector2d(1.0, 0.0)};
+  const auto up = jcont::trace(cubic, VectorXd::Zero(1), o);
+  ASSERT_EQ(up.reason, jcont::StopReason::reached_end) << describe(up);
+  EXPECT_EQ(up.points.front().lambda, 0.0);
+  for (const auto& p : up.points) EXPECT_NEAR(p.x(0), std::cbrt(p.lambda), 1e-9) << p.lambda;
+  EXPECT_NEAR(up.points.back().x(0), 1.0, 1e-12);
+
+  // Along −x the branch goes down to λ = −1 = parameter_start: left_range, last point on it.
+  o.continued->tangent = Eigen::Vector2d(-1.0, 0.0);
+  const auto down = jcont::trace(cubic, VectorXd::Zero(1), o);
+  ASSERT_EQ(down.reason, jcont::StopReason::left_range) << describe(down);
+  EXPECT_NEAR(down.points.back().lambda, -1.0, 1e-12);
+  EXPECT_NEAR(down.points.back().x(0), -1.0, 1e-9);
+
+  // The tangent must have size n + 1.
+  o.continued->tangent = Eigen::Vector3d(1.0, 0.0, 0.0);
+  EXPECT_THROW(jcont::trace(cubic, VectorXd::Zero(1), o), std::invalid_argument);
+}
