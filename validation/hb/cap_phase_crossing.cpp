@@ -1,15 +1,17 @@
 // An experiment for issue 23 (README_light_damping.md, "The friction cap crossed at fixed phase"):
-// the four undamped 1-DOF Jenkins FRFs at F = 1e-6 μF_N that the light-damping corpus still lists
-// as stops (k_T0/k = 1e-2, 1, 1e2, 1e6) end where the stuck leg reaches the slip amplitude X_s just
-// below ω_stuck and the branch turns by ~90° onto the friction cap: there slip holds |X₁| within
+// the four undamped 1-DOF Jenkins FRFs at F = 1e-6 μF_N that the light-damping corpus listed as
+// stops until stop 51 (k_T0/k = 1e-2, 1, 1e2, 1e6) ended where the stuck leg reaches the slip
+// amplitude X_s just below ω_stuck and the branch turns by ~90° onto the friction cap: there slip holds |X₁| within
 // 1e-6 of X_s while the phase of the response turns by π at nearly constant Ω. Neither the
 // arclength hyperplane nor a fixed Ω meets that cap robustly. This study crosses it with a corrector
 // at fixed phase θ of the fundamental — Newton on [R(X, Ω); −sin θ a₁ + cos θ b₁] in (X, Ω), with
 // the predictor rotating harmonic h of the previous point by h Δθ — for θ = kπ/64, k = 1 … 63, and
 // checks each point against the closed form of the cap at one harmonic: the energy balance
 // π F |X₁| sin θ = 4 μF_N (|X₁| − X_s) (the Jenkins element's dissipation per cycle, docs/theory.md
-// §2.3), i.e. |X₁|/X_s − 1 ≈ π (F/μF_N) sin θ / 4. It is not the library's FRF driver: the point is
-// whether a phase parametrisation would carry the curve across (the driver does not switch to it).
+// §2.3), i.e. |X₁|/X_s − 1 ≈ π (F/μF_N) sin θ / 4. It is not the library's FRF driver: the experiment of
+// stop 51 that showed a phase parametrisation carries the curve across; since stop 52 the driver
+// does so (continuation/phase_bridge.hpp, docs/continuation.md, "Crossing a resonance at fixed
+// phase").
 //
 //   cap_phase_crossing [--ci] OUTPUT_PREFIX
 // H = 7, N_t = 256 (the corpus's); --ci the same (0.1 s). Scored: every point converges
