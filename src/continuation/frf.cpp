@@ -5,6 +5,7 @@
 #include "curve_refinement.hpp"
 #include "frf_extrema.hpp"
 #include "linear_limits.hpp"
+#include "balance_adapters.hpp"
 #include "phase_bridge.hpp"
 #include "segmented_curve.hpp"
 
@@ -40,19 +41,7 @@ hb::HarmonicBalanceOptions balance_options(const FrfOptions& o) {
   return b;
 }
 
-ResidualFunction residual_of(const hb::HarmonicBalance& b) {
-  return [&b](const Eigen::VectorXd& x, double omega, bool jacobian) {
-    hb::HarmonicBalanceEvaluation ev;
-    b.evaluate(x, omega, jacobian, ev);
-    Evaluation e;
-    e.ok = ev.ok;
-    e.message = ev.message;
-    e.residual = std::move(ev.residual);
-    e.d_state = std::move(ev.d_coefficients);
-    e.d_parameter = std::move(ev.d_omega);
-    return e;
-  };
-}
+using detail::residual_of;
 
 // A sampled linear response more than this many times the median of the sweep has met an
 // undamped resonance to within round-off (a detuning ~1e-6 of ω² or less), not a peak: a 10-DOF
@@ -579,8 +568,7 @@ class DiscreteFrfSegment {
   std::optional<LegStart> cross_at_phase(const Point& p, const Options& c, int budget, Tally& tally,
                                          const Judge& judge, Result& total) {
     if (budget < 1) return std::nullopt;
-    const hb::FourierBasis& basis = balance_.basis();
-    const int a1 = basis.cosine_index(1);
+    const int a1 = balance_.basis().cosine_index(1);
     if (a1 < 0) return std::nullopt;
     detail::PhaseBridgeOptions b;
     double largest = -1.0;
@@ -600,18 +588,7 @@ class DiscreteFrfSegment {
     b.state_scale = c.state_scale[0];
     b.parameter_scale = c.parameter_scale;
     b.max_points = budget;
-    const detail::PhaseRotation rotate = [&](const Eigen::VectorXd& x, double phi) {
-      Eigen::VectorXd out = x;
-      for (int dof = 0; dof < shared_.system.dofs(); ++dof) {
-        for (const int h : basis.orders()) {
-          const Eigen::Index i = balance_.index(dof, basis.cosine_index(h));
-          const double cs = std::cos(h * phi), sn = std::sin(h * phi);
-          out[i] = x[i] * cs - x[i + 1] * sn;
-          out[i + 1] = x[i] * sn + x[i + 1] * cs;
-        }
-      }
-      return out;
-    };
+    const detail::PhaseRotation rotate = detail::harmonic_rotation(balance_, shared_.system.dofs());
     const Eigen::VectorXd scale = c.state_scale;
     const auto on_point = [&](const detail::PhaseBridgePoint& q) {
       Point point;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../../../src/continuation/balance_adapters.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
 
 namespace jointhb::continuation::detail {
@@ -30,19 +31,6 @@ hb::DiscreteSystem undamped_jenkins_oscillator() {
   return s;
 }
 
-ResidualFunction residual_of(const hb::HarmonicBalance& b) {
-  return [&b](const Eigen::VectorXd& x, double omega, bool jacobian) {
-    hb::HarmonicBalanceEvaluation ev;
-    b.evaluate(x, omega, jacobian, ev);
-    Evaluation e;
-    e.ok = ev.ok;
-    e.residual = ev.residual;
-    e.d_state = ev.d_coefficients;
-    e.d_parameter = ev.d_omega;
-    return e;
-  };
-}
-
 TEST(PhaseBridge, CrossesTheFrictionCapOfAnUndampedResonance) {
   const double force = 1e-6;
   hb::Excitation e;
@@ -52,15 +40,7 @@ TEST(PhaseBridge, CrossesTheFrictionCapOfAnUndampedResonance) {
   ho.time_samples = 256;
   const hb::HarmonicBalance b(undamped_jenkins_oscillator(), e, ho);
   const Eigen::Index a1 = b.index(0, b.basis().cosine_index(1));
-  const PhaseRotation rotate = [&](const Eigen::VectorXd& x, double phi) {
-    Eigen::VectorXd out = x;
-    for (const int h : b.basis().orders()) {
-      const Eigen::Index i = b.index(0, b.basis().cosine_index(h));
-      out[i] = x[i] * std::cos(h * phi) - x[i + 1] * std::sin(h * phi);
-      out[i + 1] = x[i] * std::sin(h * phi) + x[i + 1] * std::cos(h * phi);
-    }
-    return out;
-  };
+  const PhaseRotation rotate = harmonic_rotation(b, 1);
   // From just above the slip amplitude X_s = 1 at phase π/64, ω_stuck = √2.
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(b.unknowns());
   x0[a1] = (1.0 + 0.1 * force) * std::cos(kPi / 64);
