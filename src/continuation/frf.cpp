@@ -626,8 +626,10 @@ class DiscreteFrfSegment {
     for (int k = 0; k < kBeyondSteps; ++k) {
       const double omega = last_omega * (1.0 + c.direction * kBeyondFirst * std::pow(2.0, k));
       if (omega < b.omega_low || omega > b.omega_high) break;
-      // From B, and from the stuck linear response (the far leg of a resonance bounded by slip).
-      for (const Eigen::VectorXd& guess : {last_x, balance_.stuck_solution(omega)}) {
+      // From B, and, only where that fails, from the stuck linear response (the far leg of a
+      // resonance bounded by slip).
+      for (int g = 0; g < 2; ++g) {
+        const Eigen::VectorXd guess = g == 0 ? last_x : balance_.stuck_solution(omega);
         if (!guess.allFinite()) continue;
         detail::FixedOmegaSolve s = detail::solve_at_omega(residual_, guess, omega, b);
         total.corrector_iterations += s.iterations;

@@ -124,10 +124,11 @@ struct Options {
   double krylov_tolerance = 1e-11;
   /// A run that continues from a point of a branch traced before (with other scales, or after a
   /// crossing at fixed phase: docs/continuation.md, "Crossing a resonance at fixed phase"): x0
-  /// lies on the branch at λ = lambda and the run leaves it along `tangent` ((dx, dλ), unscaled, size n + 1). The start is corrected on the
-  /// hyperplane through it normal to that tangent — not at fixed λ, which is singular where the
-  /// branch runs vertical in λ (an undamped resonance) — and its tangent is oriented along it;
-  /// parameter_start stays the bound behind which the run ends (left_range).
+  /// lies on the branch at λ = lambda and the run leaves it along `tangent` ((dx, dλ), unscaled,
+  /// size n + 1). The start is corrected on the hyperplane through it normal to that tangent — not
+  /// at fixed λ, which is singular where the branch runs vertical in λ (an undamped resonance) —
+  /// and its tangent is oriented along it; parameter_start stays the bound behind which the run
+  /// ends (left_range).
   struct Continued {
     double lambda = 0.0;
     Eigen::VectorXd tangent;

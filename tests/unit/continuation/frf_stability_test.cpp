@@ -12,30 +12,13 @@
 #include <complex>
 #include <optional>
 
+#include "jenkins_oscillator.hpp"
+
 namespace jointhb::continuation {
 namespace {
 
-hb::DiscreteSystem jenkins_oscillator(double kt0, double slip_force, double c) {
-  hb::DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.stiffness = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.damping = Eigen::MatrixXd::Constant(1, 1, c).sparseView();
-  if (kt0 > 0.0) {
-    hb::ContactElement e;
-    e.law = "jenkins";
-    e.stiffness = kt0;
-    e.friction_coefficient = 1.0;
-    e.normal_force = slip_force;
-    s.contacts.push_back(e);
-  }
-  return s;
-}
-
-hb::Excitation force_at_dof0(double amplitude) {
-  hb::Excitation e;
-  e.forces.push_back({0, amplitude, 1});
-  return e;
-}
+using test::force_at_dof0;
+using test::jenkins_oscillator;
 
 // The branch point with |fundamental| = A near the guess (X, Ω): Newton on (R = 0, |X₁| = A).
 std::optional<std::pair<Eigen::VectorXd, double>> point_at_amplitude(const hb::HarmonicBalance& b,

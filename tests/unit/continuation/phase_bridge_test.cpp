@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "../../../src/continuation/balance_adapters.hpp"
+#include "jenkins_oscillator.hpp"
 #include "jointhb/hb/harmonic_balance.hpp"
 
 namespace jointhb::continuation::detail {
@@ -17,28 +18,12 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-hb::DiscreteSystem undamped_jenkins_oscillator() {
-  hb::DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.stiffness = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.damping = Eigen::MatrixXd::Zero(1, 1).sparseView();
-  hb::ContactElement c;
-  c.law = "jenkins";
-  c.stiffness = 1.0;
-  c.friction_coefficient = 1.0;
-  c.normal_force = 1.0;
-  s.contacts.push_back(c);
-  return s;
-}
-
 TEST(PhaseBridge, CrossesTheFrictionCapOfAnUndampedResonance) {
   const double force = 1e-6;
-  hb::Excitation e;
-  e.forces.push_back({0, force, 1});
   hb::HarmonicBalanceOptions ho;
   ho.harmonics = 7;
   ho.time_samples = 256;
-  const hb::HarmonicBalance b(undamped_jenkins_oscillator(), e, ho);
+  const hb::HarmonicBalance b(test::jenkins_oscillator(1.0, 1.0, 0.0), test::force_at_dof0(force), ho);
   const Eigen::Index a1 = b.index(0, b.basis().cosine_index(1));
   const PhaseRotation rotate = harmonic_rotation(b, 1);
   // From just above the slip amplitude X_s = 1 at phase π/64, ω_stuck = √2.

@@ -15,31 +15,17 @@
 #include <vector>
 
 #include "../hb/corpus_chain.hpp"
+#include "jenkins_oscillator.hpp"
 
 namespace jointhb::continuation {
 namespace {
 
+// The 1-DOF Jenkins oscillator (jenkins_oscillator.hpp) with ζ the damping ratio of the stuck system.
 hb::DiscreteSystem oscillator(double kt0, double mu_fn, double zeta) {
-  hb::DiscreteSystem s;
-  s.mass = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.stiffness = Eigen::MatrixXd::Constant(1, 1, 1.0).sparseView();
-  s.damping = Eigen::MatrixXd::Constant(1, 1, 2.0 * zeta * std::sqrt(1.0 + kt0)).sparseView();
-  if (kt0 > 0.0) {
-    hb::ContactElement c;
-    c.law = "jenkins";
-    c.stiffness = kt0;
-    c.friction_coefficient = 1.0;
-    c.normal_force = mu_fn;
-    s.contacts.push_back(c);
-  }
-  return s;
+  return test::jenkins_oscillator(kt0, mu_fn, 2.0 * zeta * std::sqrt(1.0 + kt0));
 }
 
-hb::Excitation force(double amplitude) {
-  hb::Excitation e;
-  e.forces.push_back({0, amplitude, 1});
-  return e;
-}
+hb::Excitation force(double amplitude) { return test::force_at_dof0(amplitude); }
 
 // The light-damping corpus's FRF (validation/hb/light_damping.cpp): Ω ∈ [0.5, 1.5 ω_stuck], H = 7,
 // N_t = 256; the reach of the curve and its peak only (no multipliers or error estimates).
