@@ -474,8 +474,8 @@ class DiscreteFrfSegment {
   // run from x0; where it stops short of its end (min_step), a crossing at fixed phase
   // (phase_bridge.hpp) and a new run beyond it; where an accepted point outgrows the arclength's
   // state scale kRescaleFactor times while the branch advances, a new run from that point with the
-  // scale raised to it (a scale the probe underestimated makes the arclength crawl: 1000 points
-  // over 2e-9 rad/s below an undamped stuck resonance). At most kMaxLegs runs.
+  // scale raised to it (a scale the probe underestimated makes the arclength crawl: 2.6e-11 rad/s
+  // per point, 1000 points below an undamped stuck resonance). At most kMaxLegs runs.
   Result run_legs(const Eigen::VectorXd& x0, Options c, const Judge& judge) {
     Result total;
     Eigen::VectorXd x = x0;
