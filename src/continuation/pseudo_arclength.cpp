@@ -82,6 +82,17 @@ constexpr double kCornerMinAlignment = 0.1;
 // and the run went on back along the whole branch and ended at λ_start, 398 points, as if it were
 // a curve that turned back (the polyline costs one scaled copy of each point, (n + 1) doubles).
 constexpr double kRetraceFraction = 0.5;
+// A run whose last kCrawlPoints accepted points each came only after a landing back on the branch
+// already traced creeps towards that branch: each step is halved because the distance to it
+// shrinks, and the run would spend ~1 point per halving down to min_step (23 from max_step). It
+// stops there as at min_step, and the FRF driver's crossing or the damping curve's run from its far
+// end takes over. Where two parts of the branch only pass close to each other, the distance
+// stops shrinking and a step of the same length passes without a landing on them (no growth
+// right after a rejection). On the 10-DOF chain's undamped FRF (F = μF_N), whose stuck branch
+// crosses the free families of the stuck system's superharmonic resonances (Ω = ω₆/5 = 0.3795,
+// ω₃/3 = 0.4085 rad/s), such creeping took 16–240 points at a time (docs/continuation.md, "Safeguard
+// against landing on the branch already traced").
+constexpr int kCrawlPoints = 4;
 // Crossing a corner: the step from y_k along the tangent at a point past the corner (trace()) is
 // tried at steps at or below kCornerStepFactor · max_step; its landing is accepted within this many
 // steps of its predictor (the branch is smooth past the corner) and when it does not go back along
@@ -766,6 +777,12 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   const auto retraces = [&](const VectorXd& y_f) {
     return distance_to_polyline(traced, y_f) < kRetraceFraction * (y_f - y).norm();
   };
+  // A landing on the last step itself (the segment y_{k−1} y_k, which `retraces` leaves out): the
+  // run would turn round and go back the way it came (kRetraceFraction).
+  const auto reverses = [&](const VectorXd& y_f) {
+    return !traced.empty() &&
+           distance_to_polyline({traced.back(), y}, y_f) < kRetraceFraction * (y_f - y).norm();
+  };
   // The outputs limited by max_output_change at the last accepted point, and the largest relative
   // change of one of them over a step (output_change).
   const bool limit_outputs = options.max_output_change > 0.0 && static_cast<bool>(options.outputs);
@@ -805,7 +822,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     const VectorXd moved = k.sample.y - y;
     if ((k.sample.y - predicted).norm() > kCrossingMoveFactor * step ||
         (!back && moved.dot(tau) < -kCornerMinAlignment * moved.norm()) ||
-        retraces(k.sample.y) || beyond_end(k.sample.lambda) || behind_start(k.sample.lambda))
+        retraces(k.sample.y) || beyond_end(k.sample.lambda) || behind_start(k.sample.lambda) ||
+        (back && reverses(k.sample.y)))
       return std::nullopt;
     std::string ignored;
     std::optional<VectorXd> t = tracer.tangent(k.sample, t_f, ignored);
@@ -827,7 +845,13 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     // between τ_f and τ_k: a fold at a kink that turns the branch by 122° (τ_f · τ_k = 0.526, the
     // chain at log10 q = −0.9137) is no corner by the 60° test of the way ahead, and the curve
     // stopped there until stop 48. Not back first: DiscreteFit.TwoDofRecoversBothJointsFromTwoModes
-    // failed (measured in stop 46, with one start; not analysed).
+    // failed (measured in stop 46, with one start; not analysed). A way back that lands on the last
+    // step itself (`reverses`) finds no far sheet and only turns the run round: on the 10-DOF
+    // chain's damping curve at ζ = 1e-4 (H = 7, light-damping corpus) it landed at log10 q =
+    // 2.34595, between the two points before, and the run crept back towards the first of them over
+    // 100 points to min_step; refused, the shorter step that follows passes the fold that lies
+    // 1.5·10⁻³ (scaled) beyond (measured by solving on spheres about the points: the branch is
+    // regular there and turns back within 1–3·10⁻³), and the curve completes at H = 5, 7 and 9.
     const int far_orientation = tracer.tangent_orientation();  // of τ_f, just computed
     const bool returning = orientation != 0 && far_orientation != 0 && orientation != far_orientation;
     if (t_far->dot(tau) <= kMaxTurnCosine)  // a corner
@@ -837,6 +861,8 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
   };
   double observed_change = 0.0;
   bool rejected_since_accept = false;
+  bool retraced_since_accept = false;  // a landing back on the traced branch since the last point
+  int creeping = 0;                    // accepted points in a row that each came after one (kCrawlPoints)
   std::string last_failure;
   for (;;) {
     // Predictor y_k + s τ_k, corrector on the hyperplane τ_kᵀ (y - y_k) = s.
@@ -859,6 +885,7 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
     if (failure.empty() && retraces(c.sample.y)) {
       failure = fmt::format("the corrector jumped {:.3g} back onto the branch already traced",
                             (c.sample.y - y).norm());
+      retraced_since_accept = true;
     }
 
     // A point beyond λ_end (or behind λ_start) is replaced by the corrector at fixed λ on that
@@ -1036,6 +1063,17 @@ Result trace(const ResidualFunction& residual, const Eigen::VectorXd& x0, const 
       continue;
     }
 
+    creeping = retraced_since_accept ? creeping + 1 : 0;
+    retraced_since_accept = false;
+    if (creeping >= kCrawlPoints) {
+      result.reason = StopReason::min_step;
+      result.message = fmt::format(
+          "the run crept towards the branch already traced after the point at λ = {:.10g} (point {}): "
+          "{} points in a row, each only after the corrector had jumped back onto that branch, the last at "
+          "step {:.3g}",
+          result.points.back().lambda, result.points.size(), kCrawlPoints, s);
+      return result;
+    }
     Point p;
     p.x = c.sample.x;
     p.lambda = c.sample.lambda;

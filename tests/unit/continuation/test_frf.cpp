@@ -347,7 +347,9 @@ double distance_to_curve(const FrfPoint& p, const FrfCurve& curve, double range)
 // checked against the same curve swept downward from Ω_end (an independent run, which stops
 // itself at Ω = 0.4303): where both exist, the upward points lie on the downward polyline — to
 // 10⁻³ in (Ω/range, ln|X₁|) but for a few points on sharp superharmonic loops that one of the two
-// runs resolves more coarsely (14 of 483 when written; the largest 0.087 at an antiresonance).
+// runs resolves more coarsely (14 of 483 when written, the largest 0.087 at an antiresonance; since
+// stop 53, whose rules against turning round and creeping change the upward run's path — 814
+// points, 3 crossings — 6 of 477, the largest 4.6e-3).
 TEST(FrfContinuation, ChainCrossingLandsOnTheBranchSweptDownward) {
   const hb::DiscreteSystem s = hb::test::corpus_chain(0.0);
   hb::Excitation e;
