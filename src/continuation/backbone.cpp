@@ -331,8 +331,8 @@ BackboneCurve trace_backbone(const hb::DiscreteSystem& system, const BackboneOpt
   // A run that stopped short of λ_end by itself (not by the user or a limit of the outputs): why, in
   // physical terms, and the curve completed from λ_end where it can be — also after the run spent
   // max_points, which bounds each run: at an internal resonance the first run can wander through
-  // the knot for all of them (the 10-DOF chain of the light-damping corpus at ζ = 1e-4 and 1e-2,
-  // H = 7: 2000 points between log10 q = 0.3 and 3.0), and the run from λ_end meets it after 20–40.
+  // the knot for all of them (four of the light-damping corpus's six 10-DOF chain curves, H = 7: 2000
+  // points between log10 q = 0.3 and 3.1), and the run from λ_end meets it after 19–85.
   if (outcome.reason != StopReason::reached_end && !user_stopped && !overflow_at && !overdamped_at &&
       !curve.points.empty()) {
     const double omega = curve.points.back().state.omega;
